@@ -1,0 +1,114 @@
+// Controller: starting one (channel, clock page, spawn) and its accounting.
+#include "controller.h"
+
+#include <signal.h>
+#include <sys/mman.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <time.h>
+
+#include <algorithm>
+
+#include "spawn.h"
+
+namespace tcs {
+
+Result<std::unique_ptr<Controller>> Controller::start(int id, const ControllerSpec &spec, int mode,
+						      const ClockOrigins &origins, const RealtimePlan &rt,
+						      const std::string &preload)
+{
+	auto c = std::make_unique<Controller>();
+	c->id = id;
+	c->scale = spec.cpu_scale;
+	c->name = spec.argv.empty() ? spec.path : spec.argv[0];
+
+	int sv[2];
+	if (socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0, sv) < 0)
+		return errno_error("socketpair");
+	c->channel.reset(sv[0]);
+	UniqueFd child_end(sv[1]);
+
+	UniqueFd page_fd(memfd_create("tcs-clock-page", MFD_CLOEXEC));
+	if (!page_fd)
+		return errno_error("memfd_create");
+	if (ftruncate(page_fd.get(), TCS_PAGE_SIZE) < 0)
+		return errno_error("ftruncate");
+	void *m = mmap(nullptr, TCS_PAGE_SIZE, PROT_READ | PROT_WRITE, MAP_SHARED, page_fd.get(), 0);
+	if (m == MAP_FAILED)
+		return errno_error("mmap");
+	c->page_ = static_cast<tcs_clock_page *>(m);
+	c->page_->magic = TCS_PAGE_MAGIC;
+	c->page_->version = TCS_PAGE_VERSION;
+	c->page_->mode = (uint32_t)mode;
+	c->page_->cpu_scale = spec.cpu_scale;
+	c->page_->mono_origin_ns = origins.mono_ns;
+	c->page_->real_origin_ns = origins.real_ns;
+	c->page_->tai_origin_ns = origins.tai_ns;
+
+	SpawnRequest req;
+	req.path = spec.path;
+	req.argv = spec.argv;
+	req.preload = preload;
+	req.channel_fd = child_end.get();
+	req.page_fd = page_fd.get();
+	req.realtime = rt;
+	auto spawned = spawn_stopped(req);
+	if (!spawned)
+		return spawned.error();
+	c->pid = spawned->pid;
+	c->pidfd = std::move(spawned->pidfd);
+	if (clock_getcpuclockid(c->pid, &c->cpu_clock_) != 0)
+		return errno_error("clock_getcpuclockid");
+	c->publish_slice(c->cpu_now());
+	return c;
+}
+
+Controller::~Controller()
+{
+	if (state != CtlState::Exited && pid > 0) {
+		kill(pid, SIGKILL); // never leave one behind, stopped or not
+		siginfo_t si;
+		waitid(P_PID, pid, &si, WEXITED);
+	}
+	if (page_)
+		munmap(page_, TCS_PAGE_SIZE);
+}
+
+int64_t Controller::cpu_now() const
+{
+	struct timespec ts;
+	if (clock_gettime(cpu_clock_, &ts) != 0)
+		return slice_.cpu_base; // it has just exited: no further CPU
+	return tcs_ts_to_ns(&ts);
+}
+
+void Controller::publish_slice(int64_t cpu_base)
+{
+	slice_ = tcs_slice{ v, cpu_base, charged };
+	tcs_page_write_slice(page_, slice_);
+}
+
+int64_t Controller::slice_cpu(int64_t cpu) const
+{
+	return tcs_slice_cpu(slice_.cpu_base, __atomic_load_n(&page_->exit_cpu, __ATOMIC_RELAXED), cpu);
+}
+
+void Controller::account(int64_t cpu, int mode)
+{
+	int64_t used = tcs_scale_cpu(slice_cpu(cpu), scale);
+	charged = std::max(charged, tcs_ns_add(slice_.charged_base, used));
+	if (mode == TCS_MODE_CPU)
+		v = std::max(v, tcs_ns_add(slice_.v_base, used));
+}
+
+uint64_t Controller::quick_waits() const
+{
+	return __atomic_load_n(&page_->quick_returns, __ATOMIC_RELAXED);
+}
+
+uint64_t Controller::past_deadlines() const
+{
+	return __atomic_load_n(&page_->past_deadlines, __ATOMIC_RELAXED);
+}
+
+} // namespace tcs

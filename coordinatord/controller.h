@@ -1,0 +1,96 @@
+// One controller process as the coordinator sees it: its channel, clock
+// page and pidfd, where it stands in virtual time, and what it is doing.
+// The scheduling decisions about it live in scheduler.cc.
+#pragma once
+
+#include <sys/types.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "error.h"
+#include "realtime.h"
+#include "tcs/clock_page.h"
+#include "unique_fd.h"
+
+namespace tcs {
+
+struct ControllerSpec {
+	std::string path;              // resolved executable
+	std::vector<std::string> argv; // as given
+	double cpu_scale = 1.0;
+};
+
+// The constants every controller's clock page starts with.
+struct ClockOrigins {
+	int64_t mono_ns = 0;
+	int64_t real_ns = 0;
+	int64_t tai_ns = 0;
+};
+
+enum class CtlState {
+	Ready,   // may run (stopped by SIGSTOP, or woken and not yet resumed)
+	Running, // resumed; the coordinator waits for it to block or use its budget
+	Blocked, // in a hooked wait until `deadline`
+	Exited,
+};
+
+struct LoopStats {
+	uint64_t waits = 0;          // BLOCK messages
+	uint64_t absolute_waits = 0; // of which absolute deadlines (periodic loops)
+	uint64_t preemptions = 0;    // budgets that ended with SIGSTOP
+};
+
+class Controller {
+public:
+	static Result<std::unique_ptr<Controller>> start(int id, const ControllerSpec &spec, int mode,
+							 const ClockOrigins &origins, const RealtimePlan &rt,
+							 const std::string &preload);
+	~Controller();
+
+	int id = 0;
+	pid_t pid = -1;
+	std::string name;
+	double scale = 1.0;
+	UniqueFd pidfd;
+	UniqueFd channel;
+
+	// The process's real CPU time now (ns), from its CPU-time clock.
+	int64_t cpu_now() const;
+	// Starts a new slice at the controller's current v and charge.
+	void publish_slice(int64_t cpu_base);
+	const tcs_slice &slice() const { return slice_; }
+	// Real CPU the current slice has used up to cpu (hooks' own cost excluded).
+	int64_t slice_cpu(int64_t cpu) const;
+	// Closes the slice at cpu: v and charged move forward, never back.
+	void account(int64_t cpu, int mode);
+	uint64_t quick_waits() const;
+	uint64_t past_deadlines() const;
+
+	// Scheduling state.
+	CtlState state = CtlState::Ready;
+	bool stopped = true;    // held by SIGSTOP
+	bool attached = false;  // the preload said HELLO
+	int64_t v = 0;          // virtual time (exact whenever not Running)
+	int64_t charged = 0;    // virtual CPU charged
+	int64_t budget = 0;     // real CPU this slice may use (cpu mode)
+	uint32_t wait_seq = 0;  // the BLOCK being served
+	int64_t deadline = 0;   // when Blocked
+	bool recheck = false;   // Blocked with per-step re-checks
+	int64_t rechecked_at = -1;
+	bool wake_pending = false; // Ready after a wait: WAKE still to send
+	uint16_t wake_reason = 0;
+	int exit_status = -1;   // wait status when Exited
+	bool ended_by_tcs = false; // exited after the run's end was called
+	std::string dropped;    // why tcs dropped it, if it did
+	LoopStats stats;
+
+private:
+	tcs_clock_page *page_ = nullptr;
+	clockid_t cpu_clock_ = 0;
+	tcs_slice slice_ = {};
+};
+
+} // namespace tcs

@@ -1,0 +1,316 @@
+// Coordinator: set-up, the event handlers, and the end of a run. The
+// scheduling decisions themselves are in scheduler.cc.
+#include "coordinator.h"
+
+#include <signal.h>
+#include <sys/signalfd.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <time.h>
+
+#include <algorithm>
+
+#include "tcs/protocol.h"
+
+namespace tcs {
+
+namespace {
+
+int64_t clock_ns(clockid_t id)
+{
+	struct timespec ts;
+	clock_gettime(id, &ts);
+	return tcs_ts_to_ns(&ts);
+}
+
+constexpr int64_t kProgressPeriod = 250 * TCS_NS_PER_MS;
+// How long controllers get to act on SIGTERM at the end before SIGKILL.
+constexpr int64_t kEndGrace = 2 * TCS_NS_PER_S;
+
+} // namespace
+
+Result<std::unique_ptr<Coordinator>> Coordinator::create(CoordinatorConfig config)
+{
+	std::unique_ptr<Coordinator> co(new Coordinator());
+	co->cfg_ = std::move(config);
+	if (auto s = co->init(); !s)
+		return s.error();
+	return co;
+}
+
+Status Coordinator::init()
+{
+	if (cfg_.step_ns <= 0)
+		return Error{ "the simulation step must be positive" };
+	if (auto s = loop_.init(); !s)
+		return s;
+	for (Timer *t : { &budget_timer_, &progress_timer_, &kill_timer_, &idle_timer_ })
+		if (auto s = t->init(); !s)
+			return s;
+
+	// Signals arrive as events; controllers get a clean mask (spawn.cc).
+	sigset_t mask;
+	sigemptyset(&mask);
+	for (int s : { SIGINT, SIGTERM, SIGHUP, SIGQUIT })
+		sigaddset(&mask, s);
+	if (sigprocmask(SIG_BLOCK, &mask, nullptr) < 0)
+		return errno_error("sigprocmask");
+	signal_fd_.reset(signalfd(-1, &mask, SFD_CLOEXEC | SFD_NONBLOCK));
+	if (!signal_fd_)
+		return errno_error("signalfd");
+	signal(SIGPIPE, SIG_IGN);
+
+	rt_ = setup_realtime(cfg_.want_fifo);
+	if (!rt_.warning.empty())
+		warn_once(rt_.warning);
+
+	origins_.mono_ns = clock_ns(CLOCK_MONOTONIC);
+	origins_.real_ns = cfg_.epoch_ns ? *cfg_.epoch_ns : clock_ns(CLOCK_REALTIME);
+	origins_.tai_ns = origins_.real_ns + (clock_ns(CLOCK_TAI) - clock_ns(CLOCK_REALTIME));
+
+	Status st = Ok{};
+	auto watch = [&](int fd, EventLoop::Handler h) {
+		if (st)
+			st = loop_.add(fd, std::move(h));
+	};
+	watch(signal_fd_.get(), [this](uint32_t) { on_signal(); });
+	watch(budget_timer_.fd(), [this](uint32_t) { on_budget(); });
+	watch(progress_timer_.fd(), [this](uint32_t) { on_progress(); });
+	watch(idle_timer_.fd(), [this](uint32_t) { on_idle(); });
+	watch(kill_timer_.fd(), [this](uint32_t) {
+		kill_timer_.consume();
+		for (auto &c : ctls_)
+			if (c->state != CtlState::Exited)
+				kill(c->pid, SIGKILL);
+	});
+	return st;
+}
+
+Coordinator::~Coordinator()
+{
+	// Controller's destructor kills and reaps anything still alive.
+	ctls_.clear();
+}
+
+Status Coordinator::add_controller(const ControllerSpec &spec)
+{
+	auto c = Controller::start((int)ctls_.size() + 1, spec, cfg_.mode, origins_, rt_, cfg_.preload);
+	if (!c)
+		return c.error();
+	Controller *raw = c->get();
+	ctls_.push_back(std::move(*c));
+	if (auto s = loop_.add(raw->channel.get(), [this, raw](uint32_t) { on_channel(*raw); }); !s)
+		return s;
+	return loop_.add(raw->pidfd.get(), [this, raw](uint32_t) { on_pidfd(*raw); });
+}
+
+Result<RunReport> Coordinator::run()
+{
+	wall_start_ = clock_ns(CLOCK_MONOTONIC);
+	if (cfg_.on_progress)
+		progress_timer_.arm(kProgressPeriod, kProgressPeriod);
+	schedule();
+	while (alive() > 0 && fatal_) {
+		if (auto s = loop_.dispatch(); !s)
+			fatal_ = s;
+	}
+	budget_timer_.disarm();
+	progress_timer_.disarm();
+	if (!fatal_)
+		return fatal_.error();
+
+	RunReport r;
+	r.reason = end_reason_;
+	r.signal = end_signal_;
+	r.virtual_ns = sim_ns_;
+	r.wall_ns = clock_ns(CLOCK_MONOTONIC) - wall_start_;
+	r.steps = steps_;
+	r.realtime = rt_;
+	for (auto &c : ctls_) {
+		ControllerReport cr;
+		cr.id = c->id;
+		cr.pid = c->pid;
+		cr.name = c->name;
+		cr.wait_status = c->exit_status;
+		cr.attached = c->attached;
+		cr.virtual_ns = c->v;
+		cr.charged_ns = c->charged;
+		cr.waits = c->stats.waits + c->quick_waits();
+		cr.periodic_waits = c->stats.absolute_waits + c->past_deadlines();
+		cr.deadline_misses = c->past_deadlines();
+		cr.preemptions = c->stats.preemptions;
+		cr.ended_by_tcs = c->ended_by_tcs;
+		cr.dropped = c->dropped;
+		r.controllers.push_back(cr);
+	}
+	return r;
+}
+
+int64_t Coordinator::alive() const
+{
+	return std::count_if(ctls_.begin(), ctls_.end(), [](auto &c) { return c->state != CtlState::Exited; });
+}
+
+void Coordinator::on_channel(Controller &c)
+{
+	for (;;) {
+		alignas(8) unsigned char buf[sizeof(struct tcs_msg) + 1];
+		ssize_t n = recv(c.channel.get(), buf, sizeof buf, MSG_DONTWAIT);
+		if (n < 0 && (errno == EAGAIN || errno == EINTR))
+			return;
+		if (n == 0 || (n < 0 && errno == ECONNRESET)) {
+			// Every copy of the controller's end is closed: it is exiting
+			// (its pidfd tells when). Nothing more will come.
+			loop_.remove(c.channel.get());
+			return;
+		}
+		struct tcs_msg m;
+		if (const char *why = tcs_msg_check(buf, (long)n, &m)) {
+			drop(c, std::string("bad message on its channel: ") + why);
+			return;
+		}
+		on_message(c, m);
+		if (c.state == CtlState::Exited)
+			return;
+	}
+}
+
+void Coordinator::on_message(Controller &c, const ::tcs_msg &m)
+{
+	switch (m.type) {
+	case TCS_MSG_HELLO:
+		if (m.arg != c.pid) {
+			drop(c, "HELLO from pid " + std::to_string(m.arg) + " on pid " + std::to_string(c.pid) + "'s channel");
+			return;
+		}
+		c.attached = true;
+		return;
+	case TCS_MSG_BLOCK:
+		on_block(c, m);
+		return;
+	case TCS_MSG_EARLY:
+		on_early(c, m);
+		return;
+	}
+}
+
+void Coordinator::on_pidfd(Controller &c)
+{
+	if (c.state == CtlState::Exited)
+		return;
+	siginfo_t si = {};
+	// Peek first: a zombie's CPU clock still reads, so its last slice counts.
+	if (waitid(P_PIDFD, (id_t)c.pidfd.get(), &si, WEXITED | WNOHANG | WNOWAIT) < 0 || si.si_pid == 0)
+		return;
+	c.account(c.cpu_now(), cfg_.mode);
+	si = {};
+	if (waitid(P_PIDFD, (id_t)c.pidfd.get(), &si, WEXITED | WNOHANG) < 0 || si.si_pid == 0)
+		return;
+	int status = si.si_code == CLD_EXITED ? W_EXITCODE(si.si_status, 0) : si.si_status & 0x7f;
+	if (si.si_code == CLD_DUMPED)
+		status |= WCOREFLAG;
+	on_exit(c, status);
+}
+
+void Coordinator::on_exit(Controller &c, int wait_status)
+{
+	c.state = CtlState::Exited;
+	c.exit_status = wait_status;
+	loop_.remove(c.channel.get());
+	loop_.remove(c.pidfd.get());
+	if (running_ == &c) {
+		running_ = nullptr;
+		budget_timer_.disarm();
+	}
+	c.ended_by_tcs = ending_;
+	schedule();
+}
+
+void Coordinator::drop(Controller &c, const std::string &why)
+{
+	c.dropped = why;
+	kill(c.pid, SIGKILL);
+	// Its pidfd reports the death; until then it must not be scheduled.
+	if (running_ == &c) {
+		running_ = nullptr;
+		budget_timer_.disarm();
+	}
+	loop_.remove(c.channel.get());
+	c.state = CtlState::Blocked;
+	c.deadline = TCS_NEVER;
+	c.recheck = false;
+	c.wake_pending = false;
+	schedule();
+}
+
+void Coordinator::on_signal()
+{
+	struct signalfd_siginfo si;
+	while (read(signal_fd_.get(), &si, sizeof si) == (ssize_t)sizeof si) {
+		if (ending_ && end_reason_ == EndReason::Signal) {
+			// Asked twice: no more grace.
+			for (auto &c : ctls_)
+				if (c->state != CtlState::Exited)
+					kill(c->pid, SIGKILL);
+			continue;
+		}
+		begin_end(EndReason::Signal, (int)si.ssi_signo);
+	}
+}
+
+void Coordinator::on_progress()
+{
+	progress_timer_.consume();
+	if (cfg_.on_progress && !ending_)
+		cfg_.on_progress(sim_ns_, clock_ns(CLOCK_MONOTONIC) - wall_start_);
+	if (cfg_.mode == TCS_MODE_LOCKSTEP && running_ &&
+	    running_->slice_cpu(running_->cpu_now()) > 10 * TCS_NS_PER_S)
+		warn_once("in lockstep mode virtual time advances only when controllers wait, and '" + running_->name +
+			  "' has computed for 10 s without waiting");
+}
+
+void Coordinator::warn_once(const std::string &what)
+{
+	if (std::find(warned_.begin(), warned_.end(), what) != warned_.end())
+		return;
+	warned_.push_back(what);
+	if (cfg_.on_warning)
+		cfg_.on_warning(what);
+}
+
+void Coordinator::begin_end(EndReason reason, int signo)
+{
+	if (!ending_) {
+		end_reason_ = reason;
+		end_signal_ = signo;
+	} else if (reason == EndReason::Signal && end_reason_ != EndReason::Signal) {
+		end_reason_ = reason;
+		end_signal_ = signo;
+	}
+	if (ending_)
+		return;
+	ending_ = true;
+	budget_timer_.disarm();
+	running_ = nullptr;
+	// Let every controller act on SIGTERM: running, with its waits answered
+	// at once, then SIGKILL after the grace period.
+	for (auto &c : ctls_) {
+		if (c->state == CtlState::Exited)
+			continue;
+		kill(c->pid, SIGTERM);
+		if (c->state == CtlState::Blocked) {
+			c->wake_pending = true;
+			c->wake_reason = TCS_WAKE_DEADLINE;
+		}
+		if (c->wake_pending)
+			send_wake(*c);
+		if (c->stopped) {
+			kill(c->pid, SIGCONT);
+			c->stopped = false;
+		}
+		c->state = CtlState::Running;
+	}
+	kill_timer_.arm(kEndGrace);
+}
+
+} // namespace tcs

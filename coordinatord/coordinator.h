@@ -1,0 +1,127 @@
+// The coordinator: owns virtual time, spawns and schedules controllers with
+// SIGSTOP/SIGCONT and CPU budgets, serves their waits, and advances the
+// world in fixed steps under conservative synchronisation (DESIGN.md §2).
+// tcs-run uses it in-process; it never prints: it reports.
+#pragma once
+
+#include <sys/types.h>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "controller.h"
+#include "error.h"
+#include "event_loop.h"
+#include "realtime.h"
+#include "tcs/clock_page.h"
+#include "tcs/protocol.h"
+
+namespace tcs {
+
+struct CoordinatorConfig {
+	int mode = TCS_MODE_CPU;
+	int64_t step_ns = 1000000;          // the simulation step dt
+	int64_t duration_ns = -1;           // stop at this virtual time; < 0: when all exit
+	std::optional<int64_t> epoch_ns;    // CLOCK_REALTIME at V = 0; default: now
+	std::string preload;                // absolute path of libtcs_preload.so
+	bool want_fifo = true;
+	// Called about every 250 ms of wall time while running (may be empty).
+	std::function<void(int64_t virtual_ns, int64_t wall_ns)> on_progress;
+	// Called once per distinct warning (may be empty).
+	std::function<void(const std::string &)> on_warning;
+};
+
+struct ControllerReport {
+	int id = 0;
+	pid_t pid = -1;
+	std::string name;
+	int wait_status = -1;     // as from waitpid; -1 if it never ended by itself
+	bool ended_by_tcs = false; // stopped by tcs at the end of the run
+	std::string dropped;      // non-empty: tcs dropped it, and why
+	bool attached = false;    // libtcs_preload reported in
+	int64_t virtual_ns = 0;
+	int64_t charged_ns = 0;
+	uint64_t waits = 0;           // waits served (including those that returned at once)
+	uint64_t periodic_waits = 0;  // absolute-deadline waits (a periodic loop's cycles)
+	uint64_t deadline_misses = 0; // absolute deadlines already past when asked for
+	uint64_t preemptions = 0;
+};
+
+enum class EndReason { AllExited, Duration, Signal };
+
+struct RunReport {
+	EndReason reason = EndReason::AllExited;
+	int signal = 0; // EndReason::Signal
+	int64_t virtual_ns = 0;
+	int64_t wall_ns = 0;
+	int64_t steps = 0;
+	RealtimePlan realtime;
+	std::vector<ControllerReport> controllers;
+};
+
+class Coordinator {
+public:
+	static Result<std::unique_ptr<Coordinator>> create(CoordinatorConfig config);
+	~Coordinator();
+
+	// Spawns a controller (held stopped until run()).
+	Status add_controller(const ControllerSpec &spec);
+	// Runs until every controller has exited, the duration is reached, or a
+	// signal ends the run; every controller is gone when it returns.
+	Result<RunReport> run();
+
+private:
+	Coordinator() = default;
+	Status init();
+
+	// Events (coordinator.cc).
+	void on_channel(Controller &c);
+	void on_message(Controller &c, const ::tcs_msg &m);
+	void on_pidfd(Controller &c);
+	void on_exit(Controller &c, int wait_status);
+	void on_signal();
+	void on_progress();
+	void drop(Controller &c, const std::string &why);
+	void warn_once(const std::string &what);
+
+	// Scheduling (scheduler.cc).
+	void schedule();
+	bool advance_to(int64_t next);
+	void on_idle();
+	void resume(Controller &c, int64_t target);
+	void on_budget();
+	void preempt(Controller &c);
+	void on_block(Controller &c, const ::tcs_msg &m);
+	void on_early(Controller &c, const ::tcs_msg &m);
+	void wake(Controller &c, int64_t v, uint16_t reason);
+	void send_wake(Controller &c);
+	void begin_end(EndReason reason, int signo = 0);
+	int64_t alive() const;
+
+	CoordinatorConfig cfg_;
+	RealtimePlan rt_;
+	ClockOrigins origins_;
+	EventLoop loop_;
+	Timer budget_timer_;
+	Timer progress_timer_;
+	Timer kill_timer_;
+	Timer idle_timer_;
+	UniqueFd signal_fd_;
+	std::vector<std::unique_ptr<Controller>> ctls_;
+	std::vector<std::string> warned_;
+
+	int64_t sim_ns_ = 0;    // S: the simulation clock
+	int64_t steps_ = 0;
+	Controller *running_ = nullptr;
+	bool ending_ = false;
+	EndReason end_reason_ = EndReason::AllExited;
+	int end_signal_ = 0;
+	int64_t wall_start_ = 0;
+	Status fatal_ = Ok{};
+};
+
+} // namespace tcs

@@ -1,0 +1,234 @@
+// Conservative synchronisation (DESIGN.md §2). The world steps from S to
+// S+dt only when every controller has reached S+dt (then it is held by
+// SIGSTOP) or waits for a time at or past it. Until then the controllers
+// that are behind run one at a time on the coordinator's core, each with a
+// CPU budget that ends exactly at S+dt; since each one's virtual time is its
+// own CPU, each has a virtual CPU of its own whatever the host has.
+//
+// Accounting is exact: a budget is armed as a wall-clock timer (wall time is
+// never less than the CPU a pinned process gets), and when it fires the
+// controller's CPU-time clock says how far it really got. Short of its
+// budget (it was blocked in the kernel, or another task ran), the timer is
+// re-armed for the rest; past it, SIGSTOP, and the overshoot simply stays in
+// its virtual time, so the next budget is that much shorter and no error
+// accumulates (the TCS paper's §3.8 correction, with exact accounting).
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "coordinator.h"
+#include "tcs/protocol.h"
+
+namespace tcs {
+
+namespace {
+// Below this a budget timer costs more than it measures.
+constexpr int64_t kMinBudget = 2 * TCS_NS_PER_US;
+} // namespace
+
+void Coordinator::schedule()
+{
+	if (running_ || ending_ || !fatal_)
+		return;
+	for (;;) {
+		const int64_t target = sim_ns_ + cfg_.step_ns;
+		Controller *best = nullptr;
+		int64_t best_at = TCS_NEVER;
+		int64_t next_event = TCS_NEVER;
+		bool any = false, recheck = false;
+		for (auto &cp : ctls_) {
+			Controller &c = *cp;
+			int64_t at; // the earliest virtual time c can run again
+			if (c.state == CtlState::Exited)
+				continue;
+			if (c.state == CtlState::Running)
+				return;
+			if (c.state == CtlState::Ready) {
+				at = c.v;
+			} else if (c.recheck && c.rechecked_at < sim_ns_) {
+				at = std::max(c.v, sim_ns_);
+			} else {
+				at = c.deadline == TCS_NEVER ? TCS_NEVER : std::max(c.v, c.deadline);
+			}
+			any = true;
+			recheck |= c.state == CtlState::Blocked && c.recheck;
+			if (at < target && at < best_at) {
+				best = &c;
+				best_at = at;
+			} else if (at >= target) {
+				next_event = std::min(next_event, at);
+			}
+		}
+		if (!any)
+			return; // everyone has exited; run() notices
+		if (best) {
+			if (best->state == CtlState::Blocked) {
+				bool due = best->deadline < target;
+				best->rechecked_at = sim_ns_;
+				wake(*best, due ? std::max(best->v, best->deadline) : best_at,
+				     due ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK);
+			}
+			resume(*best, target);
+			return;
+		}
+
+		// Nobody can run before target: the world steps.
+		if (!recheck && next_event == TCS_NEVER) {
+			// Every controller waits for something only the real world
+			// can end: let virtual time pass at real-time speed.
+			idle_timer_.arm(cfg_.step_ns);
+			return;
+		}
+		int64_t next = target;
+		if (!recheck && next_event > target)
+			next = next_event - next_event % cfg_.step_ns; // skip steps nobody acts in
+		if (!advance_to(next))
+			return;
+	}
+}
+
+bool Coordinator::advance_to(int64_t next)
+{
+	if (cfg_.duration_ns >= 0 && next >= cfg_.duration_ns)
+		next = std::max(cfg_.duration_ns, sim_ns_);
+	steps_ += (next - sim_ns_ + cfg_.step_ns - 1) / cfg_.step_ns;
+	sim_ns_ = next;
+	if (cfg_.duration_ns >= 0 && sim_ns_ >= cfg_.duration_ns) {
+		begin_end(EndReason::Duration);
+		return false;
+	}
+	return true;
+}
+
+void Coordinator::on_idle()
+{
+	idle_timer_.consume();
+	if (running_ || ending_)
+		return;
+	if (advance_to(sim_ns_ + cfg_.step_ns))
+		schedule();
+}
+
+void Coordinator::wake(Controller &c, int64_t v, uint16_t reason)
+{
+	c.v = std::max(c.v, v);
+	c.state = CtlState::Ready;
+	c.recheck = false;
+	c.wake_pending = true;
+	c.wake_reason = reason;
+}
+
+void Coordinator::send_wake(Controller &c)
+{
+	struct tcs_msg m = tcs_msg_make(TCS_MSG_WAKE, c.wait_seq);
+	m.kind = c.wake_reason;
+	m.v = c.v;
+	// A full or closed channel means the controller is gone or hostile;
+	// its pidfd or its next message will tell.
+	(void)send(c.channel.get(), &m, sizeof m, MSG_DONTWAIT | MSG_NOSIGNAL);
+	c.wake_pending = false;
+}
+
+void Coordinator::resume(Controller &c, int64_t target)
+{
+	idle_timer_.disarm();
+	// c is held by SIGSTOP or waiting for its WAKE: its CPU clock is still.
+	c.publish_slice(c.cpu_now());
+	if (c.wake_pending)
+		send_wake(c);
+	if (c.stopped) {
+		kill(c.pid, SIGCONT);
+		c.stopped = false;
+	}
+	c.state = CtlState::Running;
+	running_ = &c;
+	if (cfg_.mode == TCS_MODE_CPU) {
+		double need = std::ceil((double)(target - c.v) / c.scale);
+		c.budget = std::max<int64_t>((int64_t)need, kMinBudget);
+		budget_timer_.arm(c.budget);
+	}
+	// Lockstep: computation is free, so no budget; it runs until it waits.
+}
+
+void Coordinator::on_budget()
+{
+	if (!budget_timer_.consume() || !running_)
+		return;
+	Controller &c = *running_;
+	int64_t used = c.slice_cpu(c.cpu_now());
+	if (used < c.budget) {
+		budget_timer_.arm(std::max(c.budget - used, kMinBudget));
+		return;
+	}
+	preempt(c);
+	schedule();
+}
+
+void Coordinator::preempt(Controller &c)
+{
+	running_ = nullptr;
+	kill(c.pid, SIGSTOP);
+	siginfo_t si = {};
+	int r;
+	do
+		r = waitid(P_PID, (id_t)c.pid, &si, WSTOPPED | WEXITED | WNOWAIT);
+	while (r < 0 && errno == EINTR);
+	if (r < 0 || si.si_code != CLD_STOPPED) {
+		on_pidfd(c); // it died before it could stop
+		return;
+	}
+	si = {};
+	waitid(P_PID, (id_t)c.pid, &si, WSTOPPED);
+	c.stopped = true;
+	c.state = CtlState::Ready;
+	c.stats.preemptions++;
+	c.account(c.cpu_now(), cfg_.mode);
+}
+
+void Coordinator::on_block(Controller &c, const ::tcs_msg &m)
+{
+	if (ending_) {
+		// The run is over: every wait ends at once so SIGTERM can act.
+		c.wait_seq = m.seq;
+		if (m.deadline != TCS_NEVER)
+			c.v = std::max(c.v, m.deadline);
+		c.wake_reason = TCS_WAKE_DEADLINE;
+		send_wake(c);
+		return;
+	}
+	if (c.state == CtlState::Blocked) {
+		drop(c, "it asked to wait while already waiting");
+		return;
+	}
+	if (c.state == CtlState::Running) {
+		budget_timer_.disarm();
+		running_ = nullptr;
+		// Charged up to the hook's entry, never past what the clock says.
+		c.account(std::min<int64_t>(m.cpu, c.cpu_now()), cfg_.mode);
+	}
+	// (Ready: the budget ran out just as it began to wait; SIGSTOP has
+	// already closed its slice.)
+	c.stats.waits++;
+	if (m.flags & TCS_BLOCK_ABSOLUTE)
+		c.stats.absolute_waits++;
+	c.wait_seq = m.seq;
+	c.deadline = m.deadline;
+	c.recheck = (m.flags & TCS_BLOCK_RECHECK) != 0;
+	c.rechecked_at = sim_ns_;
+	c.wake_pending = false;
+	c.state = CtlState::Blocked;
+	schedule();
+}
+
+void Coordinator::on_early(Controller &c, const ::tcs_msg &m)
+{
+	if (ending_ || c.state != CtlState::Blocked || m.seq != c.wait_seq)
+		return; // already answered: the WAKE crossed the EARLY
+	wake(c, std::max(c.v, sim_ns_), TCS_WAKE_EARLY);
+	schedule();
+}
+
+} // namespace tcs

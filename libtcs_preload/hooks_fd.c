@@ -1,0 +1,67 @@
+/* Descriptor hooks: keep the runtime's own fds (channel and clock page)
+ * alive in programs that close every descriptor or dup2 over them. To the
+ * program those fds look like they were never open (EBADF). */
+#include <fcntl.h>
+#include <limits.h>
+
+#include "preload.h"
+#include "raw_syscall.h"
+
+TCS_EXPORT int close(int fd)
+{
+	if (tcs_is_runtime_fd(fd))
+		return tcs_errno_result(-EBADF);
+	return tcs_errno_result(tcs_sys1(SYS_close, fd));
+}
+
+/* close_range over [first, last], stepping around the runtime's fds. */
+static long tcs_close_range(unsigned first, unsigned last, unsigned flags)
+{
+	int mine[2] = { tcs_rt.channel_fd, tcs_rt.page_fd };
+	if (mine[0] > mine[1]) {
+		int t = mine[0];
+		mine[0] = mine[1];
+		mine[1] = t;
+	}
+	for (int i = 0; i < 2 && first <= last; i++) {
+		if (mine[i] < 0 || (unsigned)mine[i] < first || (unsigned)mine[i] > last)
+			continue;
+		if ((unsigned)mine[i] > first) {
+			long r = tcs_sys3(SYS_close_range, first, (unsigned)mine[i] - 1, flags);
+			if (r < 0)
+				return r;
+		}
+		if ((unsigned)mine[i] == UINT_MAX)
+			return 0;
+		first = (unsigned)mine[i] + 1;
+	}
+	return first <= last ? tcs_sys3(SYS_close_range, first, last, flags) : 0;
+}
+
+TCS_EXPORT int close_range(unsigned first, unsigned last, int flags)
+{
+	if (first > last)
+		return tcs_errno_result(-EINVAL);
+	return tcs_errno_result(tcs_close_range(first, last, (unsigned)flags));
+}
+
+TCS_EXPORT void closefrom(int lowfd)
+{
+	tcs_close_range(lowfd < 0 ? 0 : (unsigned)lowfd, UINT_MAX, 0);
+}
+
+TCS_EXPORT int dup2(int oldfd, int newfd)
+{
+	if (tcs_is_runtime_fd(newfd) || tcs_is_runtime_fd(oldfd))
+		return tcs_errno_result(-EBADF);
+	if (oldfd == newfd) /* dup2 checks oldfd and returns it; dup3 would fail */
+		return tcs_errno_result(tcs_sys3(SYS_fcntl, oldfd, F_GETFD, 0) < 0 ? -EBADF : oldfd);
+	return tcs_errno_result(tcs_sys3(SYS_dup3, oldfd, newfd, 0));
+}
+
+TCS_EXPORT int dup3(int oldfd, int newfd, int flags)
+{
+	if (tcs_is_runtime_fd(newfd) || tcs_is_runtime_fd(oldfd))
+		return tcs_errno_result(-EBADF);
+	return tcs_errno_result(tcs_sys3(SYS_dup3, oldfd, newfd, flags));
+}

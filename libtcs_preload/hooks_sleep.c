@@ -1,0 +1,89 @@
+/* Sleep hooks: nanosleep, clock_nanosleep (relative and TIMER_ABSTIME),
+ * usleep, sleep, thrd_sleep. A sleep is a wait for a virtual deadline; a
+ * signal handler that interrupts it gets EINTR and the virtual time left,
+ * exactly as POSIX says, while the coordinator's own SIGSTOP/SIGCONT never
+ * shows (the channel read is restarted by the kernel, not interrupted). */
+#include <threads.h>
+
+#include "preload.h"
+#include "raw_syscall.h"
+
+/* The virtual half of clock_nanosleep; returns 0 or -errno. */
+static long tcs_virtual_sleep(clockid_t clock, int flags, const struct timespec *req, struct timespec *rem)
+{
+	if (!tcs_ts_valid(req))
+		return -EINVAL;
+	int64_t origin = tcs_sleep_clock_origin(clock);
+	if (origin < 0)
+		return origin;
+	int64_t deadline;
+	if (flags & TIMER_ABSTIME) {
+		deadline = tcs_ts_to_ns(req) - origin;
+		if (deadline < 0)
+			deadline = 0;
+	} else {
+		deadline = tcs_ns_add(tcs_vnow(), tcs_ts_to_ns(req));
+	}
+	int64_t v_end;
+	long r = tcs_wait(deadline, TCS_BLOCK_SLEEP, (flags & TIMER_ABSTIME) ? TCS_BLOCK_ABSOLUTE : 0, NULL, 0,
+			  NULL, &v_end);
+	if (r != -EINTR)
+		return 0;
+	if (rem && !(flags & TIMER_ABSTIME))
+		*rem = tcs_ns_to_ts(deadline > v_end ? deadline - v_end : 0);
+	return -EINTR;
+}
+
+/* Every sleep hook comes here; returns 0 or -errno. */
+static long tcs_sleep(clockid_t clock, int flags, const struct timespec *req, struct timespec *rem)
+{
+	if (!req)
+		return -EFAULT;
+	if (clock == CLOCK_PROCESS_CPUTIME_ID || clock == CLOCK_THREAD_CPUTIME_ID || clock < 0 ||
+	    !tcs_wait_enter()) {
+		if (tcs_active() && (clock == CLOCK_PROCESS_CPUTIME_ID || clock < 0)) {
+			static int once;
+			tcs_report_once(&once, "clock_nanosleep on a CPU-time clock runs in real time");
+		}
+		return tcs_sys4(SYS_clock_nanosleep, clock, flags, req, rem);
+	}
+	long r = tcs_virtual_sleep(clock, flags, req, rem);
+	tcs_wait_leave();
+	return r;
+}
+
+TCS_EXPORT int clock_nanosleep(clockid_t clock, int flags, const struct timespec *req, struct timespec *rem)
+{
+	return (int)-tcs_sleep(clock, flags, req, rem);
+}
+
+TCS_EXPORT int nanosleep(const struct timespec *req, struct timespec *rem)
+{
+	return tcs_errno_result(tcs_sleep(CLOCK_MONOTONIC, 0, req, rem));
+}
+
+TCS_EXPORT int __nanosleep(const struct timespec *req, struct timespec *rem)
+{
+	return nanosleep(req, rem);
+}
+
+TCS_EXPORT int usleep(useconds_t us)
+{
+	struct timespec req = tcs_ns_to_ts((int64_t)us * TCS_NS_PER_US);
+	return tcs_errno_result(tcs_sleep(CLOCK_MONOTONIC, 0, &req, NULL));
+}
+
+TCS_EXPORT unsigned int sleep(unsigned int seconds)
+{
+	struct timespec req = { .tv_sec = seconds, .tv_nsec = 0 }, rem = { 0, 0 };
+	if (tcs_sleep(CLOCK_MONOTONIC, 0, &req, &rem) == 0)
+		return 0;
+	/* As glibc: the unslept time, rounded to the nearest second. */
+	return (unsigned int)(rem.tv_sec + (rem.tv_nsec >= 500000000L));
+}
+
+TCS_EXPORT int thrd_sleep(const struct timespec *req, struct timespec *rem)
+{
+	long r = tcs_sleep(CLOCK_REALTIME, 0, req, rem);
+	return r == 0 ? 0 : r == -EINTR ? -1 : -2;
+}

@@ -1,0 +1,132 @@
+/* The clock page: one shared-memory page per controller through which the
+ * coordinator publishes that controller's virtual clock, so that clock reads
+ * in the controller need no round trip (and, in lockstep mode, no syscall).
+ *
+ * Writers: the coordinator writes the slice fields under a seqlock, and only
+ * while the controller is stopped or blocked in a hook; the controller writes
+ * only its own single-word fields (exit_cpu and the statistics), each with
+ * one atomic store. The coordinator never trusts what the controller wrote:
+ * see tcs_slice_cpu(). Uses GCC __atomic builtins so that the same header
+ * serves the C preload and the C++ coordinator. */
+#ifndef TCS_CLOCK_PAGE_H
+#define TCS_CLOCK_PAGE_H
+
+#include <stdint.h>
+
+#include "vtime.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define TCS_PAGE_MAGIC 0x70736374u /* "tcsp" */
+#define TCS_PAGE_VERSION 1u
+#define TCS_PAGE_SIZE 4096
+
+enum tcs_mode {
+	TCS_MODE_CPU = 0,      /* virtual time advances with the CPU consumed */
+	TCS_MODE_LOCKSTEP = 1, /* computation is free; only waits advance time */
+};
+
+/* The seqlock-protected part: where the current slice started. */
+struct tcs_slice {
+	int64_t v_base;       /* virtual ns at the start of the slice */
+	int64_t cpu_base;     /* the process's real CPU ns at that moment */
+	int64_t charged_base; /* virtual CPU ns charged before the slice */
+};
+
+struct tcs_clock_page {
+	/* Set once before the controller starts. */
+	uint32_t magic;
+	uint32_t version;
+	uint32_t mode;
+	uint32_t reserved0;
+	double cpu_scale;
+	int64_t mono_origin_ns; /* real CLOCK_MONOTONIC at V = 0 */
+	int64_t real_origin_ns; /* CLOCK_REALTIME at V = 0: the epoch */
+	int64_t tai_origin_ns;  /* CLOCK_TAI at V = 0 */
+	uint64_t reserved1[4];
+
+	/* Coordinator-written under the seqlock. */
+	uint32_t seq;
+	uint32_t reserved2;
+	struct tcs_slice slice;
+	uint64_t reserved3[4];
+
+	/* Controller-written, one atomic store each. */
+	int64_t exit_cpu;        /* process CPU when the last hook returned */
+	uint64_t past_deadlines; /* absolute sleeps whose deadline had passed */
+	uint64_t quick_returns;  /* waits that returned without a round trip */
+};
+
+#if defined(__cplusplus)
+static_assert(sizeof(struct tcs_clock_page) <= TCS_PAGE_SIZE, "page too large");
+static_assert(__builtin_offsetof(struct tcs_clock_page, seq) == 80, "layout changed: bump TCS_PAGE_VERSION");
+#else
+_Static_assert(sizeof(struct tcs_clock_page) <= TCS_PAGE_SIZE, "page too large");
+_Static_assert(__builtin_offsetof(struct tcs_clock_page, seq) == 80, "layout changed: bump TCS_PAGE_VERSION");
+#endif
+
+static inline void tcs_cpu_relax(void)
+{
+#if defined(__x86_64__) || defined(__i386__)
+	__builtin_ia32_pause();
+#elif defined(__aarch64__)
+	__asm__ __volatile__("yield" ::: "memory");
+#endif
+}
+
+/* Reader side: a consistent snapshot of the slice. Lock-free; retries only
+ * while the coordinator is writing, which it does for a few nanoseconds. */
+static inline struct tcs_slice tcs_page_read_slice(const struct tcs_clock_page *p)
+{
+	struct tcs_slice s;
+	uint32_t s1, s2;
+	for (;;) {
+		s1 = __atomic_load_n(&p->seq, __ATOMIC_ACQUIRE);
+		if (s1 & 1u) {
+			tcs_cpu_relax();
+			continue;
+		}
+		s.v_base = __atomic_load_n(&p->slice.v_base, __ATOMIC_RELAXED);
+		s.cpu_base = __atomic_load_n(&p->slice.cpu_base, __ATOMIC_RELAXED);
+		s.charged_base = __atomic_load_n(&p->slice.charged_base, __ATOMIC_RELAXED);
+		__atomic_thread_fence(__ATOMIC_ACQUIRE);
+		s2 = __atomic_load_n(&p->seq, __ATOMIC_RELAXED);
+		if (s1 == s2)
+			return s;
+	}
+}
+
+/* Writer side (the coordinator only). */
+static inline void tcs_page_write_slice(struct tcs_clock_page *p, struct tcs_slice s)
+{
+	uint32_t seq = __atomic_load_n(&p->seq, __ATOMIC_RELAXED);
+	__atomic_store_n(&p->seq, seq + 1, __ATOMIC_RELAXED);
+	__atomic_thread_fence(__ATOMIC_RELEASE);
+	__atomic_store_n(&p->slice.v_base, s.v_base, __ATOMIC_RELAXED);
+	__atomic_store_n(&p->slice.cpu_base, s.cpu_base, __ATOMIC_RELAXED);
+	__atomic_store_n(&p->slice.charged_base, s.charged_base, __ATOMIC_RELAXED);
+	__atomic_store_n(&p->seq, seq + 2, __ATOMIC_RELEASE);
+}
+
+/* Virtual time of a controller whose process CPU clock reads cpu_now. */
+static inline int64_t tcs_page_vnow(const struct tcs_clock_page *p, struct tcs_slice s, int64_t cpu_now)
+{
+	if (p->mode == TCS_MODE_LOCKSTEP)
+		return s.v_base;
+	int64_t exit_cpu = __atomic_load_n(&p->exit_cpu, __ATOMIC_RELAXED);
+	return tcs_ns_add(s.v_base, tcs_scale_cpu(tcs_slice_cpu(s.cpu_base, exit_cpu, cpu_now), p->cpu_scale));
+}
+
+/* Virtual CPU time charged to the controller when its CPU clock reads cpu_now. */
+static inline int64_t tcs_page_charged(const struct tcs_clock_page *p, struct tcs_slice s, int64_t cpu_now)
+{
+	int64_t exit_cpu = __atomic_load_n(&p->exit_cpu, __ATOMIC_RELAXED);
+	return tcs_ns_add(s.charged_base, tcs_scale_cpu(tcs_slice_cpu(s.cpu_base, exit_cpu, cpu_now), p->cpu_scale));
+}
+
+#ifdef __cplusplus
+}
+#endif
+#endif

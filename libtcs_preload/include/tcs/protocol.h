@@ -1,0 +1,134 @@
+/* The wire protocol between libtcs_preload (in each controller) and the
+ * coordinator: fixed-size messages on a private SOCK_SEQPACKET channel, one
+ * per controller. This is the only definition; both sides include it.
+ *
+ * A controller that is about to wait sends BLOCK (the virtual deadline and
+ * where it stands) and waits for the WAKE with the same sequence number.
+ * If it must stop waiting early (a real fd became ready, a signal handler
+ * ran), it sends EARLY and still waits for that WAKE: exactly one WAKE
+ * answers every BLOCK, so the two sides can never disagree about which wait
+ * is current. Everything a controller sends is untrusted: the coordinator
+ * passes each message through tcs_msg_check() before looking at it. */
+#ifndef TCS_PROTOCOL_H
+#define TCS_PROTOCOL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define TCS_PROTO_MAGIC 0x31736374u /* "tcs1" */
+#define TCS_PROTO_VERSION 1u
+
+/* Environment through which tcs-run hands the channel to the preload. */
+#define TCS_ENV_CHANNEL_FD "TCS_CHANNEL_FD"
+#define TCS_ENV_PAGE_FD "TCS_PAGE_FD"
+#define TCS_ENV_CONTROLLER_PID "TCS_CONTROLLER_PID"
+/* Where the preload moves its own descriptors, out of the program's way. */
+#define TCS_RUNTIME_FD_FLOOR 900
+
+enum tcs_msg_type {
+	TCS_MSG_HELLO = 1, /* controller → coordinator: preload attached (arg = pid) */
+	TCS_MSG_BLOCK = 2, /* controller → coordinator: wait until deadline */
+	TCS_MSG_EARLY = 3, /* controller → coordinator: end wait seq now (kind = reason) */
+	TCS_MSG_WAKE = 4,  /* coordinator → controller: wait seq is over (v = its time) */
+};
+
+enum tcs_block_kind {
+	TCS_BLOCK_SLEEP = 1, /* nanosleep and friends */
+	TCS_BLOCK_POLL = 2,  /* select/poll/epoll: real fds may end it early */
+};
+
+enum tcs_block_flags {
+	TCS_BLOCK_ABSOLUTE = 1u << 0, /* the program asked for an absolute deadline */
+	TCS_BLOCK_RECHECK = 1u << 1,  /* wake at every step so real fds get re-checked */
+	TCS_BLOCK_FLAGS_ALL = TCS_BLOCK_ABSOLUTE | TCS_BLOCK_RECHECK,
+};
+
+enum tcs_early_reason {
+	TCS_EARLY_FD = 1,     /* a real file descriptor became ready */
+	TCS_EARLY_SIGNAL = 2, /* a signal handler ran */
+};
+
+enum tcs_wake_reason {
+	TCS_WAKE_DEADLINE = 1, /* the deadline was reached */
+	TCS_WAKE_EARLY = 2,    /* answered an EARLY */
+	TCS_WAKE_RECHECK = 3,  /* a step passed: re-check real fds and block again */
+};
+
+struct tcs_msg {
+	uint32_t magic;
+	uint16_t version;
+	uint16_t type;   /* enum tcs_msg_type */
+	uint32_t seq;    /* BLOCK, EARLY, WAKE: which wait */
+	uint16_t kind;   /* BLOCK: tcs_block_kind; EARLY: tcs_early_reason; WAKE: tcs_wake_reason */
+	uint16_t flags;  /* BLOCK: tcs_block_flags */
+	int64_t deadline; /* BLOCK: virtual ns, or TCS_NEVER */
+	int64_t v;        /* BLOCK: virtual ns when the wait began; WAKE: when it ended */
+	int64_t cpu;      /* BLOCK: process CPU ns when the wait began */
+	int64_t arg;      /* HELLO: pid */
+};
+
+#if defined(__cplusplus)
+static_assert(sizeof(struct tcs_msg) == 48, "wire layout changed: bump TCS_PROTO_VERSION");
+static_assert(offsetof(struct tcs_msg, deadline) == 16, "wire layout changed");
+#else
+_Static_assert(sizeof(struct tcs_msg) == 48, "wire layout changed: bump TCS_PROTO_VERSION");
+_Static_assert(offsetof(struct tcs_msg, deadline) == 16, "wire layout changed");
+#endif
+
+static inline struct tcs_msg tcs_msg_make(uint16_t type, uint32_t seq)
+{
+	struct tcs_msg m;
+	__builtin_memset(&m, 0, sizeof m);
+	m.magic = TCS_PROTO_MAGIC;
+	m.version = TCS_PROTO_VERSION;
+	m.type = type;
+	m.seq = seq;
+	return m;
+}
+
+/* Validates len bytes received from a controller. Returns NULL and fills
+ * *out when they are a well-formed message a controller may send; otherwise
+ * a short reason, suitable for "controller N: bad message: <reason>". */
+static inline const char *tcs_msg_check(const void *buf, long len, struct tcs_msg *out)
+{
+	if (len < 0)
+		return "receive failed";
+	if ((size_t)len != sizeof(struct tcs_msg))
+		return "wrong size";
+	__builtin_memcpy(out, buf, sizeof *out);
+	if (out->magic != TCS_PROTO_MAGIC)
+		return "bad magic";
+	if (out->version != TCS_PROTO_VERSION)
+		return "protocol version mismatch (preload and coordinator from different builds)";
+	switch (out->type) {
+	case TCS_MSG_HELLO:
+		if (out->arg <= 0 || out->arg > INT32_MAX)
+			return "HELLO with an invalid pid";
+		return NULL;
+	case TCS_MSG_BLOCK:
+		if (out->kind != TCS_BLOCK_SLEEP && out->kind != TCS_BLOCK_POLL)
+			return "BLOCK of unknown kind";
+		if (out->flags & ~TCS_BLOCK_FLAGS_ALL)
+			return "BLOCK with unknown flags";
+		if (out->deadline < 0 || out->v < 0 || out->cpu < 0)
+			return "BLOCK with a negative time";
+		return NULL;
+	case TCS_MSG_EARLY:
+		if (out->kind != TCS_EARLY_FD && out->kind != TCS_EARLY_SIGNAL)
+			return "EARLY with unknown reason";
+		return NULL;
+	case TCS_MSG_WAKE:
+		return "WAKE is sent by the coordinator, not to it";
+	default:
+		return "unknown message type";
+	}
+}
+
+#ifdef __cplusplus
+}
+#endif
+#endif

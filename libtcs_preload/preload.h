@@ -1,0 +1,120 @@
+/* Internal interface of libtcs_preload: the runtime state every hook reads,
+ * and the two services hooks are built from (reading virtual time, waiting
+ * in virtual time).
+ *
+ * Rules for everything in this library (it runs inside someone else's
+ * program, often in the middle of their signal handler):
+ *   - no malloc, no stdio, no locks, no lazy symbol lookup inside a hook;
+ *   - talk to the kernel with tcs_sys*() (raw_syscall.h), never via errno;
+ *   - internals return -errno; only the exported hook sets errno;
+ *   - only hooks are exported (TCS_EXPORT); tests/unit/exports.txt lists them. */
+#ifndef TCS_PRELOAD_H
+#define TCS_PRELOAD_H
+
+#include <errno.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdint.h>
+#include <sys/time.h>
+#include <time.h>
+
+#include "tcs/clock_page.h"
+#include "tcs/protocol.h"
+
+#define TCS_EXPORT __attribute__((visibility("default")))
+#define TCS_HIDDEN __attribute__((visibility("hidden")))
+
+enum tcs_state {
+	TCS_OFF = 0,      /* not initialised yet, or not under tcs-run: real time */
+	TCS_ON = 1,       /* this process is a controller in virtual time */
+	TCS_DETACHED = 2, /* a descendant the coordinator does not schedule */
+};
+
+struct tcs_runtime {
+	int state;
+	long pid; /* the controller's pid */
+	int channel_fd;
+	int page_fd;
+	struct tcs_clock_page *page;
+	uint32_t next_seq;
+	int waiting; /* a thread is inside tcs_wait() (one at a time for now) */
+
+	/* The real libc entry points we still need, resolved once at load. */
+	int (*real_clock_gettime)(clockid_t, struct timespec *);
+	int (*real_gettimeofday)(struct timeval *, void *);
+};
+
+extern struct tcs_runtime tcs_rt TCS_HIDDEN;
+
+/* Non-zero while this thread is inside a blocking hook: a nested blocking
+ * call (from a signal handler) passes straight through. */
+extern __thread int tcs_in_wait TCS_HIDDEN __attribute__((tls_model("initial-exec")));
+
+static inline int tcs_active(void)
+{
+	return __atomic_load_n(&tcs_rt.state, __ATOMIC_RELAXED) == TCS_ON;
+}
+
+/* The process's real CPU time in ns (all threads). */
+int64_t tcs_process_cpu(void) TCS_HIDDEN;
+/* A clock read straight from the kernel, in ns; -errno on failure. */
+int64_t tcs_kernel_clock(clockid_t id) TCS_HIDDEN;
+/* The controller's virtual time now. */
+int64_t tcs_vnow(void) TCS_HIDDEN;
+/* The virtual CPU time charged to the controller so far. */
+int64_t tcs_charged_now(void) TCS_HIDDEN;
+
+/* Virtual origin of a clock usable for sleeping, or -EINVAL when id is not
+ * such a clock (CPU-time and unknown clocks). */
+int64_t tcs_sleep_clock_origin(clockid_t id) TCS_HIDDEN;
+
+enum tcs_wait_result {
+	TCS_WAIT_DEADLINE = 0, /* the deadline was reached */
+	TCS_WAIT_FD = 1,       /* one of the real fds became ready first */
+	TCS_WAIT_RECHECK = 2,  /* a step passed; re-check real fds and wait again */
+};
+
+/* Waits until the virtual deadline (TCS_NEVER: forever). With fds, the wait
+ * also ends when one of fds[1..nfds-1] becomes ready; fds[0] is reserved for
+ * the channel and mask (may be NULL) is the signal mask during the wait.
+ * Returns a tcs_wait_result or -EINTR when a signal handler ran, and the
+ * virtual time the wait ended at in *v_end. A deadline already past returns
+ * at once without a round trip. */
+int tcs_wait(int64_t deadline, unsigned kind, unsigned flags, struct pollfd *fds, unsigned nfds,
+	     const sigset_t *mask, int64_t *v_end) TCS_HIDDEN;
+
+/* Enter/leave a blocking hook. tcs_wait_enter() returns 0 when the caller
+ * must pass through to the real call (not a controller, a nested call from
+ * a signal handler, or another thread already waiting). */
+int tcs_wait_enter(void) TCS_HIDDEN;
+void tcs_wait_leave(void) TCS_HIDDEN;
+
+/* Writes "tcs: <msg>\n" to stderr the first time it is called with *once == 0. */
+void tcs_report_once(int *once, const char *msg) TCS_HIDDEN;
+
+/* Exported entry points that no public header declares. */
+struct tcs_timeb;
+TCS_EXPORT int __nanosleep(const struct timespec *req, struct timespec *rem);
+TCS_EXPORT int ftime(struct tcs_timeb *tb);
+TCS_EXPORT int __poll_chk(struct pollfd *fds, nfds_t n, int timeout_ms, size_t fdslen);
+TCS_EXPORT int __ppoll_chk(struct pollfd *fds, nfds_t n, const struct timespec *ts, const sigset_t *mask,
+			   size_t fdslen);
+
+/* Returns -1 with errno = -r when r < 0, else r. The one place hooks turn
+ * internal -errno results into the C convention. */
+static inline int tcs_errno_result(long r)
+{
+	if (r < 0) {
+		errno = (int)-r;
+		return -1;
+	}
+	return (int)r;
+}
+
+/* The fds the runtime owns: a program may not close or replace them. */
+static inline int tcs_is_runtime_fd(int fd)
+{
+	return fd >= 0 && (fd == tcs_rt.channel_fd || fd == tcs_rt.page_fd);
+}
+
+#endif

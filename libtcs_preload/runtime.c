@@ -1,0 +1,292 @@
+/* The preload's runtime: attaching to the coordinator when the library is
+ * loaded, reading virtual time from the clock page, and waiting in virtual
+ * time over the channel. Hooks (hooks_*.c) are thin wrappers around this.
+ *
+ * tcs_init() runs as a constructor, single-threaded, before main(); it may
+ * use libc freely. Everything else here runs inside hooks and follows the
+ * rules in preload.h. */
+#include <dlfcn.h>
+#include <fcntl.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <sys/socket.h>
+
+#include "preload.h"
+#include "raw_syscall.h"
+
+struct tcs_runtime tcs_rt = { .state = TCS_OFF, .channel_fd = -1, .page_fd = -1 };
+__thread int tcs_in_wait;
+
+static void tcs_write_stderr(const char *a, const char *b)
+{
+	char buf[256];
+	size_t n = 0;
+	for (const char *parts[] = { "tcs: ", a, b, "\n" }, **q = parts; q < parts + 4; q++)
+		for (const char *c = *q; c && *c && n < sizeof buf; c++)
+			buf[n++] = *c;
+	tcs_sys3(SYS_write, 2, buf, n);
+}
+
+void tcs_report_once(int *once, const char *msg)
+{
+	if (__atomic_exchange_n(once, 1, __ATOMIC_RELAXED) == 0)
+		tcs_write_stderr(msg, NULL);
+}
+
+/* The coordinator is gone or spoke nonsense: there is no virtual time left
+ * to give this program, and running on in real time would be a silent lie. */
+static __attribute__((noreturn)) void tcs_lost(const char *why)
+{
+	tcs_write_stderr("lost the coordinator: ", why);
+	tcs_sys2(SYS_kill, tcs_sys0(SYS_getpid), SIGKILL);
+	for (;;)
+		tcs_sys1(SYS_exit_group, 2);
+}
+
+int64_t tcs_kernel_clock(clockid_t id)
+{
+	struct timespec ts;
+	long r = tcs_sys2(SYS_clock_gettime, id, &ts);
+	return r < 0 ? r : tcs_ts_to_ns(&ts);
+}
+
+int64_t tcs_process_cpu(void)
+{
+	return tcs_kernel_clock(CLOCK_PROCESS_CPUTIME_ID);
+}
+
+int64_t tcs_vnow(void)
+{
+	const struct tcs_clock_page *p = tcs_rt.page;
+	/* Lockstep needs no CPU reading: the cheapest path of all. */
+	int64_t cpu = p->mode == TCS_MODE_LOCKSTEP ? 0 : tcs_process_cpu();
+	return tcs_page_vnow(p, tcs_page_read_slice(p), cpu);
+}
+
+int64_t tcs_charged_now(void)
+{
+	const struct tcs_clock_page *p = tcs_rt.page;
+	int64_t cpu = tcs_process_cpu();
+	return tcs_page_charged(p, tcs_page_read_slice(p), cpu);
+}
+
+int64_t tcs_sleep_clock_origin(clockid_t id)
+{
+	const struct tcs_clock_page *p = tcs_rt.page;
+	switch (id) {
+	case CLOCK_REALTIME:
+	case CLOCK_REALTIME_ALARM:
+		return p->real_origin_ns;
+	case CLOCK_MONOTONIC:
+	case CLOCK_BOOTTIME:
+	case CLOCK_BOOTTIME_ALARM:
+		return p->mono_origin_ns;
+	case CLOCK_TAI:
+		return p->tai_origin_ns;
+	default:
+		return -EINVAL;
+	}
+}
+
+int tcs_wait_enter(void)
+{
+	if (!tcs_active() || tcs_in_wait)
+		return 0;
+	if (__atomic_exchange_n(&tcs_rt.waiting, 1, __ATOMIC_ACQUIRE) != 0) {
+		static int once;
+		tcs_report_once(&once, "two threads waited at the same time; the second wait ran in real time "
+				       "(concurrent waits in threads are not virtualised yet)");
+		return 0;
+	}
+	tcs_in_wait = 1;
+	return 1;
+}
+
+void tcs_wait_leave(void)
+{
+	tcs_in_wait = 0;
+	__atomic_store_n(&tcs_rt.waiting, 0, __ATOMIC_RELEASE);
+}
+
+static void tcs_send(const struct tcs_msg *m)
+{
+	long r;
+	do
+		r = tcs_sys6(SYS_sendto, tcs_rt.channel_fd, (long)m, sizeof *m, MSG_NOSIGNAL, 0, 0);
+	while (r == -EINTR);
+	if (r != (long)sizeof *m)
+		tcs_lost("the channel is closed");
+}
+
+static void tcs_send_early(uint32_t seq, unsigned reason)
+{
+	struct tcs_msg m = tcs_msg_make(TCS_MSG_EARLY, seq);
+	m.kind = (uint16_t)reason;
+	tcs_send(&m);
+}
+
+int tcs_wait(int64_t deadline, unsigned kind, unsigned flags, struct pollfd *fds, unsigned nfds,
+	     const sigset_t *mask, int64_t *v_end)
+{
+	struct tcs_clock_page *p = tcs_rt.page;
+	int64_t cpu = tcs_process_cpu();
+	int64_t v = tcs_page_vnow(p, tcs_page_read_slice(p), cpu);
+	if (deadline <= v) {
+		__atomic_add_fetch(&p->quick_returns, 1, __ATOMIC_RELAXED);
+		if (flags & TCS_BLOCK_ABSOLUTE)
+			__atomic_add_fetch(&p->past_deadlines, 1, __ATOMIC_RELAXED);
+		*v_end = v;
+		return TCS_WAIT_DEADLINE;
+	}
+
+	uint32_t seq = __atomic_add_fetch(&tcs_rt.next_seq, 1, __ATOMIC_RELAXED);
+	struct tcs_msg m = tcs_msg_make(TCS_MSG_BLOCK, seq);
+	m.kind = (uint16_t)kind;
+	m.flags = (uint16_t)flags;
+	m.deadline = deadline;
+	m.v = v;
+	m.cpu = cpu;
+	tcs_send(&m);
+
+	unsigned early = 0;
+	struct tcs_msg w;
+	for (;;) {
+		if (fds && !early) {
+			fds[0].fd = tcs_rt.channel_fd;
+			fds[0].events = POLLIN;
+			fds[0].revents = 0;
+			long r = tcs_sys5(SYS_ppoll, fds, nfds, NULL, mask, TCS_KERNEL_SIGSET_SIZE);
+			if (r == -EINTR || (r >= 0 && fds[0].revents == 0)) {
+				early = r == -EINTR ? TCS_EARLY_SIGNAL : TCS_EARLY_FD;
+				tcs_send_early(seq, early);
+				continue;
+			}
+			if (r < 0)
+				tcs_lost("ppoll on the channel failed");
+		}
+		long r = tcs_sys6(SYS_recvfrom, tcs_rt.channel_fd, &w, sizeof w, 0, 0, 0);
+		if (r == -EINTR) {
+			if (!early) {
+				early = TCS_EARLY_SIGNAL;
+				tcs_send_early(seq, early);
+			}
+			continue;
+		}
+		if (r != (long)sizeof w || w.magic != TCS_PROTO_MAGIC || w.type != TCS_MSG_WAKE)
+			tcs_lost(r == 0 ? "the channel is closed" : "unexpected message");
+		if (w.seq == seq)
+			break;
+	}
+	*v_end = w.v;
+	/* From here on the hook's own cost is not charged to the program. */
+	__atomic_store_n(&p->exit_cpu, tcs_process_cpu(), __ATOMIC_RELAXED);
+	if (w.kind == TCS_WAKE_RECHECK)
+		return TCS_WAIT_RECHECK;
+	if (w.kind == TCS_WAKE_EARLY)
+		return early == TCS_EARLY_SIGNAL ? -EINTR : TCS_WAIT_FD;
+	return TCS_WAIT_DEADLINE;
+}
+
+/* ---- attaching, in the order it happens ---------------------------------- */
+
+static int tcs_env_int(const char *name, long *out)
+{
+	const char *s = getenv(name);
+	char *end;
+	if (!s || !*s)
+		return -ENOENT;
+	*out = strtol(s, &end, 10);
+	return *end == '\0' ? 0 : -EINVAL;
+}
+
+static void tcs_close_runtime_fds(void)
+{
+	if (tcs_rt.channel_fd >= 0)
+		tcs_sys1(SYS_close, tcs_rt.channel_fd);
+	if (tcs_rt.page_fd >= 0)
+		tcs_sys1(SYS_close, tcs_rt.page_fd);
+	tcs_rt.channel_fd = tcs_rt.page_fd = -1;
+}
+
+/* A descendant of the controller is not what the coordinator schedules. */
+static void tcs_detach(void)
+{
+	static int once;
+	tcs_rt.state = TCS_DETACHED;
+	tcs_close_runtime_fds();
+	tcs_report_once(&once, "a process started by the controller runs in real time "
+			       "(child processes are not virtualised yet)");
+}
+
+static void tcs_atfork_child(void)
+{
+	if (tcs_rt.state == TCS_ON)
+		tcs_detach();
+}
+
+static void tcs_resolve_real_symbols(void)
+{
+	tcs_rt.real_clock_gettime = (int (*)(clockid_t, struct timespec *))dlsym(RTLD_NEXT, "clock_gettime");
+	tcs_rt.real_gettimeofday = (int (*)(struct timeval *, void *))dlsym(RTLD_NEXT, "gettimeofday");
+}
+
+static int tcs_read_environment(long *channel, long *page, long *controller)
+{
+	if (tcs_env_int(TCS_ENV_CHANNEL_FD, channel) || tcs_env_int(TCS_ENV_PAGE_FD, page) ||
+	    tcs_env_int(TCS_ENV_CONTROLLER_PID, controller))
+		return -ENOENT;
+	return 0;
+}
+
+static int tcs_map_page(void)
+{
+	void *m = mmap(NULL, TCS_PAGE_SIZE, PROT_READ | PROT_WRITE, MAP_SHARED, tcs_rt.page_fd, 0);
+	if (m == MAP_FAILED)
+		return -errno;
+	tcs_rt.page = (struct tcs_clock_page *)m;
+	if (tcs_rt.page->magic != TCS_PAGE_MAGIC || tcs_rt.page->version != TCS_PAGE_VERSION)
+		return -EPROTO;
+	return 0;
+}
+
+static void tcs_say_hello(void)
+{
+	struct tcs_msg m = tcs_msg_make(TCS_MSG_HELLO, 0);
+	m.arg = tcs_sys0(SYS_getpid);
+	tcs_send(&m);
+}
+
+__attribute__((constructor)) static void tcs_init(void)
+{
+	long channel, page, controller;
+	int saved_errno = errno;
+
+	tcs_resolve_real_symbols();
+	if (tcs_read_environment(&channel, &page, &controller) < 0) {
+		tcs_write_stderr("libtcs_preload.so loaded outside tcs-run; this program runs in real time", NULL);
+		goto out;
+	}
+	tcs_rt.pid = controller;
+	tcs_rt.channel_fd = (int)channel;
+	tcs_rt.page_fd = (int)page;
+	if (controller != tcs_sys0(SYS_getpid)) {
+		/* Spawned by the controller without fork() (posix_spawn, vfork)
+		 * and then exec'd: same story as tcs_atfork_child(). */
+		tcs_detach();
+		goto out;
+	}
+	int r = tcs_map_page();
+	if (r < 0) {
+		tcs_write_stderr(r == -EPROTO ? "libtcs_preload.so does not match the coordinator (mixed installations?)"
+					      : "cannot map the clock page",
+				 "; refusing to run in real time");
+		tcs_sys1(SYS_exit_group, 2);
+	}
+	pthread_atfork(NULL, NULL, tcs_atfork_child);
+	tcs_say_hello();
+	__atomic_store_n(&tcs_rt.state, TCS_ON, __ATOMIC_RELEASE);
+out:
+	errno = saved_errno;
+}

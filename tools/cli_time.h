@@ -1,0 +1,21 @@
+// Parsing and printing the times users type and read: durations ("10s",
+// "250ms", "1.5min"), epochs (RFC 3339 or seconds since 1970).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "error.h"
+
+namespace tcs {
+
+// "10s", "250ms", "20us", "5ns", "1.5min", "2h", or a bare number of seconds.
+Result<int64_t> parse_duration(const std::string &text);
+// "2024-05-01T12:00:00Z", "2024-05-01T12:00:00.25+02:00", "1714564800", "1714564800.5".
+Result<int64_t> parse_epoch(const std::string &text);
+// A positive decimal number ("3", "0.5").
+Result<double> parse_positive(const std::string &text);
+// "12.345 s", "250.000 ms", "12.0 us": three significant decimals.
+std::string format_duration(int64_t ns);
+
+} // namespace tcs

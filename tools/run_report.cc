@@ -1,0 +1,105 @@
+// Formatting of progress, summary and exit status.
+#include "run_report.h"
+
+#include <signal.h>
+#include <string.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+
+#include "cli_time.h"
+
+namespace tcs {
+
+namespace {
+
+std::string fmt(const char *f, double a)
+{
+	char buf[64];
+	snprintf(buf, sizeof buf, f, a);
+	return buf;
+}
+
+std::string speed(int64_t virtual_ns, int64_t wall_ns)
+{
+	if (wall_ns <= 0)
+		return "";
+	return fmt("%.3gx real time", (double)virtual_ns / (double)wall_ns);
+}
+
+std::string how_it_ended(const ControllerReport &c)
+{
+	if (!c.dropped.empty())
+		return "dropped by tcs: " + c.dropped;
+	if (c.ended_by_tcs)
+		return "ended with the run";
+	int st = c.wait_status;
+	if (st < 0)
+		return "still running";
+	if (WIFEXITED(st))
+		return "exited " + std::to_string(WEXITSTATUS(st));
+	if (WIFSIGNALED(st))
+		return std::string("killed by SIG") + (sigabbrev_np(WTERMSIG(st)) ? sigabbrev_np(WTERMSIG(st)) : "?") +
+		       (WCOREDUMP(st) ? " (core dumped)" : "");
+	return "ended";
+}
+
+int status_code(int st)
+{
+	if (WIFEXITED(st))
+		return WEXITSTATUS(st);
+	if (WIFSIGNALED(st))
+		return 128 + WTERMSIG(st);
+	return 0;
+}
+
+} // namespace
+
+std::string progress_line(int64_t virtual_ns, int64_t wall_ns)
+{
+	return "tcs-run: " + format_duration(virtual_ns) + " virtual, " + format_duration(wall_ns) + " wall, " +
+	       speed(virtual_ns, wall_ns);
+}
+
+std::string summary(const RunReport &r, int mode)
+{
+	std::string s = "tcs-run: " + format_duration(r.virtual_ns) + " virtual in " + format_duration(r.wall_ns) +
+			" wall (" + speed(r.virtual_ns, r.wall_ns) + "), " +
+			(mode == TCS_MODE_LOCKSTEP ? "lockstep" : "cpu") + " mode, ";
+	s += r.realtime.fifo ? "SCHED_FIFO" : "normal scheduling";
+	if (r.realtime.cpu >= 0)
+		s += " on CPU " + std::to_string(r.realtime.cpu);
+	s += "\n";
+	for (const auto &c : r.controllers) {
+		s += "tcs-run:   " + c.name + " (pid " + std::to_string(c.pid) + "): " + how_it_ended(c);
+		uint64_t cycles = c.periodic_waits ? c.periodic_waits : c.waits;
+		double secs = (double)c.virtual_ns / 1e9;
+		s += "; " + std::to_string(cycles) + (c.periodic_waits ? " periodic" : "") + " waits";
+		if (secs > 0 && cycles > 0)
+			s += fmt(" (%.1f Hz)", (double)cycles / secs);
+		if (c.periodic_waits)
+			s += ", " + std::to_string(c.deadline_misses) + " deadline misses";
+		s += "; CPU " + format_duration(c.charged_ns);
+		if (c.virtual_ns > 0)
+			s += fmt(" (%.1f %%)", 100.0 * (double)c.charged_ns / (double)c.virtual_ns);
+		if (!c.attached && c.dropped.empty())
+			s += "; never loaded libtcs_preload";
+		s += "\n";
+	}
+	return s;
+}
+
+int exit_status(const RunReport &r)
+{
+	for (const auto &c : r.controllers)
+		if (!c.dropped.empty())
+			return 2;
+	if (r.reason == EndReason::Signal)
+		return 128 + r.signal;
+	for (const auto &c : r.controllers)
+		if (!c.ended_by_tcs && c.wait_status >= 0 && status_code(c.wait_status) != 0)
+			return status_code(c.wait_status);
+	return 0;
+}
+
+} // namespace tcs

@@ -1,0 +1,171 @@
+// tcs-run: run an unmodified controller binary under virtual time.
+// The one place where errors become messages and exit statuses.
+#include <getopt.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "cli_time.h"
+#include "coordinator.h"
+#include "preload_path.h"
+#include "program_check.h"
+#include "run_report.h"
+
+using namespace tcs;
+
+namespace {
+
+const char kUsage[] =
+	"Usage: tcs-run [OPTIONS] [--] PROGRAM [ARG...]\n"
+	"Run PROGRAM, unmodified, under virtual time beside a simulated world.\n"
+	"\n"
+	"  -w, --world FILE       scenario (default: the built-in world)\n"
+	"  -m, --mode cpu|lockstep\n"
+	"                         cpu (default): computation costs virtual time;\n"
+	"                         lockstep: computation is free (the status quo)\n"
+	"      --cpu-scale X      virtual seconds per CPU second (default 1.0;\n"
+	"                         3 models a target CPU three times slower)\n"
+	"  -d, --duration TIME    stop after TIME of virtual time (10s, 250ms, 2min)\n"
+	"  -t, --trace FILE       write a trace (MCAP)\n"
+	"      --epoch TIME       virtual wall-clock start: RFC 3339 or seconds since 1970\n"
+	"      --connect SOCKET   run under a running coordinatord\n"
+	"  -q, --quiet            no progress line, no summary\n"
+	"  -h, --help             show this help\n"
+	"  -V, --version          show the version\n"
+	"\n"
+	"Exit status: the program's (128+N if signal N ended it), 0 when --duration\n"
+	"ended the run, 2 for errors of tcs itself. See tcs-run(1).\n";
+
+int fail(const std::string &msg)
+{
+	fprintf(stderr, "tcs-run: %s\n", msg.c_str());
+	return 2;
+}
+
+int usage_error(const std::string &msg)
+{
+	fprintf(stderr, "tcs-run: %s\nTry 'tcs-run --help' for more information.\n", msg.c_str());
+	return 2;
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+	enum { OPT_CPU_SCALE = 256, OPT_EPOCH, OPT_CONNECT };
+	static const struct option longopts[] = {
+		{ "world", required_argument, nullptr, 'w' },
+		{ "mode", required_argument, nullptr, 'm' },
+		{ "cpu-scale", required_argument, nullptr, OPT_CPU_SCALE },
+		{ "duration", required_argument, nullptr, 'd' },
+		{ "trace", required_argument, nullptr, 't' },
+		{ "epoch", required_argument, nullptr, OPT_EPOCH },
+		{ "connect", required_argument, nullptr, OPT_CONNECT },
+		{ "quiet", no_argument, nullptr, 'q' },
+		{ "help", no_argument, nullptr, 'h' },
+		{ "version", no_argument, nullptr, 'V' },
+		{ nullptr, 0, nullptr, 0 },
+	};
+	CoordinatorConfig cfg;
+	double cpu_scale = 1.0;
+	bool quiet = false;
+	int opt;
+	opterr = 0;
+	while ((opt = getopt_long(argc, argv, "+:w:m:d:t:qhV", longopts, nullptr)) != -1) {
+		std::string arg = optarg ? optarg : "";
+		switch (opt) {
+		case 'w':
+			return fail("--world " + arg + ": scenario files arrive with simhost; this build runs the built-in "
+							  "world only");
+		case 'm':
+			if (arg == "cpu")
+				cfg.mode = TCS_MODE_CPU;
+			else if (arg == "lockstep")
+				cfg.mode = TCS_MODE_LOCKSTEP;
+			else
+				return usage_error("--mode: '" + arg + "' is not a mode (cpu or lockstep)");
+			break;
+		case OPT_CPU_SCALE: {
+			auto v = parse_positive(arg);
+			if (!v)
+				return usage_error("--cpu-scale: " + v.error().message);
+			cpu_scale = *v;
+			break;
+		}
+		case 'd': {
+			auto v = parse_duration(arg);
+			if (!v)
+				return usage_error("--duration: " + v.error().message);
+			if (*v <= 0)
+				return usage_error("--duration: must be longer than zero");
+			cfg.duration_ns = *v;
+			break;
+		}
+		case 't':
+			return fail("--trace " + arg + ": traces are not available in this build yet");
+		case OPT_EPOCH: {
+			auto v = parse_epoch(arg);
+			if (!v)
+				return usage_error("--epoch: " + v.error().message);
+			cfg.epoch_ns = *v;
+			break;
+		}
+		case OPT_CONNECT:
+			return fail("--connect " + arg + ": coordinatord is not available in this build yet");
+		case 'q':
+			quiet = true;
+			break;
+		case 'h':
+			fputs(kUsage, stdout);
+			return 0;
+		case 'V':
+			printf("tcs-run %s\n", TCS_VERSION);
+			return 0;
+		case ':':
+			return usage_error(std::string("option '") + argv[optind - 1] + "' needs a value");
+		default:
+			return usage_error(std::string("unknown option '") + argv[optind - 1] + "'");
+		}
+	}
+	if (optind >= argc)
+		return usage_error("no PROGRAM to run");
+
+	ControllerSpec spec;
+	for (int i = optind; i < argc; i++)
+		spec.argv.push_back(argv[i]);
+	spec.cpu_scale = cpu_scale;
+	auto path = resolve_program(spec.argv[0]);
+	if (!path)
+		return fail(path.error().message);
+	spec.path = *path;
+	if (auto ok = check_preloadable(spec.path); !ok)
+		return fail(ok.error().message);
+	auto preload = find_preload();
+	if (!preload)
+		return fail(preload.error().message);
+	cfg.preload = *preload;
+	cfg.want_fifo = getenv("TCS_NO_FIFO") == nullptr;
+
+	bool show_progress = !quiet && isatty(STDERR_FILENO);
+	if (show_progress)
+		cfg.on_progress = [](int64_t v, int64_t wall) {
+			fprintf(stderr, "\r\033[K%s", progress_line(v, wall).c_str());
+		};
+	cfg.on_warning = [](const std::string &w) { fprintf(stderr, "tcs-run: warning: %s\n", w.c_str()); };
+
+	auto co = Coordinator::create(cfg);
+	if (!co)
+		return fail(co.error().message);
+	if (auto s = (*co)->add_controller(spec); !s)
+		return fail("cannot start " + spec.argv[0] + ": " + s.error().message);
+	auto report = (*co)->run();
+	if (show_progress)
+		fputs("\r\033[K", stderr);
+	if (!report)
+		return fail(report.error().message);
+	if (!quiet)
+		fputs(summary(*report, cfg.mode).c_str(), stderr);
+	return exit_status(*report);
+}
