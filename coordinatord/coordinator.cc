@@ -66,7 +66,10 @@ Status Coordinator::init()
 
 	origins_.mono_ns = clock_ns(CLOCK_MONOTONIC);
 	origins_.real_ns = cfg_.epoch_ns ? *cfg_.epoch_ns : clock_ns(CLOCK_REALTIME);
-	origins_.tai_ns = origins_.real_ns + (clock_ns(CLOCK_TAI) - clock_ns(CLOCK_REALTIME));
+	// TAI - UTC is a whole number of seconds; two reads differ by a few ns.
+	int64_t tai_offset = clock_ns(CLOCK_TAI) - clock_ns(CLOCK_REALTIME);
+	tai_offset = (tai_offset + TCS_NS_PER_S / 2) / TCS_NS_PER_S * TCS_NS_PER_S;
+	origins_.tai_ns = origins_.real_ns + tai_offset;
 
 	Status st = Ok{};
 	auto watch = [&](int fd, EventLoop::Handler h) {

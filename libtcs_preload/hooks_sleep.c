@@ -16,21 +16,33 @@ static long tcs_virtual_sleep(clockid_t clock, int flags, const struct timespec 
 	int64_t origin = tcs_sleep_clock_origin(clock);
 	if (origin < 0)
 		return origin;
-	int64_t deadline;
+	int64_t deadline, v_start = 0;
 	if (flags & TIMER_ABSTIME) {
 		deadline = tcs_ts_to_ns(req) - origin;
 		if (deadline < 0)
 			deadline = 0;
 	} else {
-		deadline = tcs_ns_add(tcs_vnow(), tcs_ts_to_ns(req));
+		v_start = tcs_vnow();
+		deadline = tcs_ns_add(v_start, tcs_ts_to_ns(req));
 	}
 	int64_t v_end;
 	long r = tcs_wait(deadline, TCS_BLOCK_SLEEP, (flags & TIMER_ABSTIME) ? TCS_BLOCK_ABSOLUTE : 0, NULL, 0,
 			  NULL, &v_end);
 	if (r != -EINTR)
 		return 0;
-	if (rem && !(flags & TIMER_ABSTIME))
-		*rem = tcs_ns_to_ts(deadline > v_end ? deadline - v_end : 0);
+	if (rem && !(flags & TIMER_ABSTIME)) {
+		/* req - slept, in timespec arithmetic: exact even for requests
+		 * beyond what int64 nanoseconds can hold. */
+		struct timespec slept = tcs_ns_to_ts(v_end - v_start);
+		rem->tv_sec = req->tv_sec - slept.tv_sec;
+		rem->tv_nsec = req->tv_nsec - slept.tv_nsec;
+		if (rem->tv_nsec < 0) {
+			rem->tv_sec--;
+			rem->tv_nsec += TCS_NS_PER_S;
+		}
+		if (rem->tv_sec < 0)
+			rem->tv_sec = rem->tv_nsec = 0;
+	}
 	return -EINTR;
 }
 

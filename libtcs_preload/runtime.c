@@ -150,10 +150,19 @@ int tcs_wait(int64_t deadline, unsigned kind, unsigned flags, struct pollfd *fds
 	m.cpu = cpu;
 	tcs_send(&m);
 
+	/* Wait in ppoll, never in a blocking recv: ppoll is the one wait the
+	 * kernel never restarts after a signal handler, SA_RESTART or not (so a
+	 * handler is noticed, as a real sleep would be), and always restarts
+	 * transparently after the coordinator's SIGSTOP/SIGCONT. */
+	struct pollfd own;
+	if (!fds) {
+		fds = &own;
+		nfds = 1;
+	}
 	unsigned early = 0;
 	struct tcs_msg w;
 	for (;;) {
-		if (fds && !early) {
+		if (!early) {
 			fds[0].fd = tcs_rt.channel_fd;
 			fds[0].events = POLLIN;
 			fds[0].revents = 0;

@@ -1,0 +1,72 @@
+/* clocks: sleeps through a fixed schedule, printing every clock a program
+ * can read after each sleep (identical across lockstep runs with the same
+ * --epoch), then hammers the clocks checking that none ever goes back. */
+#include <stdio.h>
+#include <sys/resource.h>
+#include <sys/time.h>
+#include <sys/times.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "work.h"
+
+struct timeb_abi {
+	time_t time;
+	unsigned short millitm;
+	short timezone;
+	short dstflag;
+};
+int ftime(struct timeb_abi *tb);
+
+static long long ns(clockid_t c)
+{
+	struct timespec ts;
+	clock_gettime(c, &ts);
+	return ts.tv_sec * 1000000000LL + ts.tv_nsec;
+}
+
+int main(void)
+{
+	static const clockid_t mono[] = { CLOCK_MONOTONIC, CLOCK_MONOTONIC_RAW, CLOCK_MONOTONIC_COARSE, CLOCK_BOOTTIME };
+	static const clockid_t real[] = { CLOCK_REALTIME, CLOCK_REALTIME_COARSE, CLOCK_TAI };
+	long long mono0 = ns(CLOCK_MONOTONIC);
+	for (int i = 0; i < 4; i++) {
+		usleep(125000 * (i + 1));
+		printf("step %d:", i);
+		for (unsigned k = 0; k < sizeof mono / sizeof mono[0]; k++)
+			printf(" mono%u=%lld", k, ns(mono[k]) - mono0);
+		for (unsigned k = 0; k < sizeof real / sizeof real[0]; k++)
+			printf(" real%u=%lld", k, ns(real[k]));
+		struct timeval tv;
+		gettimeofday(&tv, NULL);
+		struct timespec tg;
+		timespec_get(&tg, TIME_UTC);
+		struct timeb_abi tb;
+		ftime(&tb);
+		printf(" gettimeofday=%lld.%06ld time=%lld timespec_get=%lld.%09ld ftime=%lld.%03u\n", (long long)tv.tv_sec,
+		       (long)tv.tv_usec, (long long)time(NULL), (long long)tg.tv_sec, tg.tv_nsec, (long long)tb.time,
+		       tb.millitm);
+	}
+	/* Never backwards, across computation, sleeps and preemption. */
+	long long last[3] = { 0, 0, 0 }, backwards = 0;
+	for (int i = 0; i < 200000; i++) {
+		long long v[3] = { ns(CLOCK_MONOTONIC), ns(CLOCK_REALTIME), ns(CLOCK_PROCESS_CPUTIME_ID) };
+		for (int k = 0; k < 3; k++) {
+			backwards += v[k] < last[k];
+			last[k] = v[k];
+		}
+		work(50);
+		if (i % 1000 == 0)
+			usleep(100);
+	}
+	struct rusage ru;
+	getrusage(RUSAGE_SELF, &ru);
+	struct tms t;
+	times(&t);
+	printf("backwards=%lld\n", backwards);
+	printf("cpu_clock_ns=%lld rusage_ns=%lld clock_us=%ld\n", ns(CLOCK_PROCESS_CPUTIME_ID),
+	       ru.ru_utime.tv_sec * 1000000000LL + ru.ru_utime.tv_usec * 1000LL + ru.ru_stime.tv_sec * 1000000000LL +
+		       ru.ru_stime.tv_usec * 1000LL,
+	       (long)clock());
+	return 0;
+}

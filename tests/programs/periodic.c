@@ -1,0 +1,46 @@
+/* periodic HZ SECONDS ROUNDS: a periodic control loop as found on robots.
+ * Every 1/HZ it does ROUNDS of work(), then sleeps with clock_nanosleep
+ * (TIMER_ABSTIME, CLOCK_MONOTONIC) until its next release; a release already
+ * past counts as a deadline miss (the loop then runs late, as on hardware).
+ * Stops after SECONDS of its own monotonic clock and prints what it saw.
+ * Any sleep that fails (EINTR included) is counted: there should be none. */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+
+#include "work.h"
+
+static long long now_ns(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return ts.tv_sec * 1000000000LL + ts.tv_nsec;
+}
+
+int main(int argc, char **argv)
+{
+	if (argc != 4) {
+		fprintf(stderr, "usage: periodic HZ SECONDS ROUNDS\n");
+		return 2;
+	}
+	long long period = (long long)(1e9 / atof(argv[1]));
+	long long duration = (long long)(atof(argv[2]) * 1e9);
+	unsigned long long rounds = strtoull(argv[3], NULL, 10);
+	long long start = now_ns(), next = start, loops = 0, misses = 0, failures = 0;
+	while (now_ns() - start < duration) {
+		work(rounds);
+		loops++;
+		next += period;
+		if (now_ns() > next)
+			misses++;
+		struct timespec ts = { next / 1000000000LL, next % 1000000000LL };
+		int r = clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL);
+		if (r != 0)
+			failures++;
+	}
+	double elapsed = (now_ns() - start) / 1e9;
+	printf("loops=%lld\nelapsed_s=%.9f\nrate_hz=%.3f\nmisses=%lld\nsleep_failures=%lld\n", loops, elapsed,
+	       loops / elapsed, misses, failures);
+	return 0;
+}
