@@ -25,8 +25,15 @@
 namespace tcs {
 
 namespace {
-// Below this a budget timer costs more than it measures.
-constexpr int64_t kMinBudget = 2 * TCS_NS_PER_US;
+// The shortest slice worth a timer. A timer cycle (interrupt, wake-up,
+// CPU-clock read, re-arm) costs a few microseconds of the same core, so a
+// shorter slice would leave the controller almost nothing of it: with
+// SCHED_FIFO it would never get to run at all. The overshoot this allows
+// is carried into the next budget like any other.
+constexpr int64_t kMinSlice = 20 * TCS_NS_PER_US;
+// A controller that made no progress since the last check is asleep in the
+// kernel on something real; check back ever less often, up to this.
+constexpr int64_t kMaxRecheck = 10 * TCS_NS_PER_MS;
 } // namespace
 
 void Coordinator::schedule()
@@ -147,8 +154,10 @@ void Coordinator::resume(Controller &c, int64_t target)
 	running_ = &c;
 	if (cfg_.mode == TCS_MODE_CPU) {
 		double need = std::ceil((double)(target - c.v) / c.scale);
-		c.budget = std::max<int64_t>((int64_t)need, kMinBudget);
-		budget_timer_.arm(c.budget);
+		c.budget = std::max<int64_t>((int64_t)need, 1);
+		c.checked_used = 0;
+		c.check_interval = std::max(c.budget, kMinSlice);
+		budget_timer_.arm(c.check_interval);
 	}
 	// Lockstep: computation is free, so no budget; it runs until it waits.
 }
@@ -160,7 +169,12 @@ void Coordinator::on_budget()
 	Controller &c = *running_;
 	int64_t used = c.slice_cpu(c.cpu_now());
 	if (used < c.budget) {
-		budget_timer_.arm(std::max(c.budget - used, kMinBudget));
+		// Short of its budget: it was asleep in the kernel, or the core
+		// was busy with something else. Give it the rest.
+		int64_t rest = std::max(c.budget - used, kMinSlice);
+		c.check_interval = used > c.checked_used ? rest : std::min(2 * c.check_interval, std::max(rest, kMaxRecheck));
+		c.checked_used = used;
+		budget_timer_.arm(c.check_interval);
 		return;
 	}
 	preempt(c);

@@ -115,7 +115,10 @@ Result<int64_t> parse_epoch(const std::string &text)
 	    !parse_fixed(s + 11, 2, &h) || s[13] != ':' || !parse_fixed(s + 14, 2, &mi) || s[16] != ':' ||
 	    !parse_fixed(s + 17, 2, &se))
 		return bad;
-	if (mo < 1 || mo > 12 || d < 1 || d > 31 || h > 23 || mi > 59 || se > 60 || y < 1970)
+	static const int month_days[] = { 31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31 };
+	bool leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
+	if (mo < 1 || mo > 12 || d < 1 || d > month_days[mo - 1] || (mo == 2 && d == 29 && !leap) || h > 23 ||
+	    mi > 59 || se > 60 || y < 1970 || y > 2262)
 		return bad;
 	const char *p = s + 19;
 	int64_t frac_ns = 0;
@@ -142,6 +145,8 @@ Result<int64_t> parse_epoch(const std::string &text)
 	if (*p != '\0')
 		return bad;
 	int64_t t = days_from_civil(y, (unsigned)mo, (unsigned)d) * 86400 + h * 3600 + mi * 60 + se - offset;
+	if (t < 0 || t > 9200000000LL) // beyond int64 nanoseconds (2262)
+		return bad;
 	return t * 1000000000LL + frac_ns;
 }
 
@@ -149,7 +154,8 @@ std::string format_duration(int64_t ns)
 {
 	char buf[64];
 	double v = (double)ns;
-	if (ns >= 1000000000LL || ns <= -1000000000LL)
+	// Choose the unit after rounding to three decimals: 999999999 ns is 1.000 s.
+	if (ns >= 999999500LL || ns <= -999999500LL)
 		snprintf(buf, sizeof buf, "%.3f s", v / 1e9);
 	else if (ns >= 1000000 || ns <= -1000000)
 		snprintf(buf, sizeof buf, "%.3f ms", v / 1e6);

@@ -351,7 +351,7 @@ static uint64_t conc_backwards;
 static uint64_t conc_changes;
 static struct tcs_slice conc_final;
 
-/* Publishes slices with v_base == cpu_base == charged_base, as fast as it can,
+/* Publishes slices with v_base == cpu_base == charged_base in a tight loop
  * until told to stop and the reader has read enough while it was writing. */
 static void *conc_writer(void *arg)
 {
@@ -362,6 +362,11 @@ static void *conc_writer(void *arg)
 			break;
 		n++;
 		tcs_page_write_slice(&conc_page, slice_make((int64_t)n, (int64_t)n, (int64_t)n));
+		/* Back-to-back writes half the time; otherwise a short, varying
+		 * gap so that the reader also completes reads between writes. */
+		if (n & 1)
+			for (unsigned k = (unsigned)(n >> 1) % 16; k > 0; k--)
+				tcs_cpu_relax();
 	}
 	conc_writes = n;
 	__atomic_store_n(&conc_writer_done, 1, __ATOMIC_RELEASE);

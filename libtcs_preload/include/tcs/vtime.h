@@ -31,7 +31,7 @@ static inline int tcs_ts_valid(const struct timespec *ts)
 /* Nanoseconds in ts, saturating at TCS_NEVER. ts must be valid. */
 static inline int64_t tcs_ts_to_ns(const struct timespec *ts)
 {
-	if (ts->tv_sec >= (TCS_NEVER - ts->tv_nsec) / TCS_NS_PER_S)
+	if (ts->tv_sec > (TCS_NEVER - ts->tv_nsec) / TCS_NS_PER_S)
 		return TCS_NEVER;
 	return (int64_t)ts->tv_sec * TCS_NS_PER_S + ts->tv_nsec;
 }
@@ -57,7 +57,7 @@ static inline struct timeval tcs_ns_to_tv(int64_t ns)
 	return tv;
 }
 
-/* a + b for b >= 0, saturating at TCS_NEVER. */
+/* a + b for a, b >= 0, saturating at TCS_NEVER. */
 static inline int64_t tcs_ns_add(int64_t a, int64_t b)
 {
 	if (b >= TCS_NEVER - a)
