@@ -76,7 +76,8 @@ public:
 	int64_t v = 0;          // virtual time (exact whenever not Running)
 	int64_t charged = 0;    // virtual CPU charged
 	int64_t budget = 0;     // real CPU this slice may use (cpu mode)
-	int64_t checked_used = 0;   // slice CPU at the last budget check
+	int64_t checked_used = -1;  // slice CPU at the last budget check (-1: none yet)
+	int64_t lag_ns = 0;         // learnt wall-versus-CPU lag of a slice
 	int64_t check_interval = 0; // wall time until the next check
 	uint32_t wait_seq = 0;  // the BLOCK being served
 	int64_t deadline = 0;   // when Blocked

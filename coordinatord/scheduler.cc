@@ -34,6 +34,8 @@ constexpr int64_t kMinSlice = 20 * TCS_NS_PER_US;
 // A controller that made no progress since the last check is asleep in the
 // kernel on something real; check back ever less often, up to this.
 constexpr int64_t kMaxRecheck = 10 * TCS_NS_PER_MS;
+// Bound on the learnt wall-versus-CPU lag of a slice.
+constexpr int64_t kMaxLag = 200 * TCS_NS_PER_US;
 } // namespace
 
 void Coordinator::schedule()
@@ -155,8 +157,11 @@ void Coordinator::resume(Controller &c, int64_t target)
 	if (cfg_.mode == TCS_MODE_CPU) {
 		double need = std::ceil((double)(target - c.v) / c.scale);
 		c.budget = std::max<int64_t>((int64_t)need, 1);
-		c.checked_used = 0;
-		c.check_interval = std::max(c.budget, kMinSlice);
+		c.checked_used = -1;
+		// Wall time runs ahead of the CPU the controller gets (our own
+		// work on its core); arm that much later, as learnt so far, so one
+		// timer usually ends the slice (the TCS paper's ε correction).
+		c.check_interval = std::max(c.budget + c.lag_ns, kMinSlice);
 		budget_timer_.arm(c.check_interval);
 	}
 	// Lockstep: computation is free, so no budget; it runs until it waits.
@@ -168,11 +173,18 @@ void Coordinator::on_budget()
 		return;
 	Controller &c = *running_;
 	int64_t used = c.slice_cpu(c.cpu_now());
+	if (c.checked_used < 0) {
+		// First check of the slice: learn the lag (an integrating
+		// controller on what was missing or too much; bounded).
+		c.lag_ns = std::clamp<int64_t>(c.lag_ns + (c.budget - used) / 4, 0, kMaxLag);
+	}
 	if (used < c.budget) {
 		// Short of its budget: it was asleep in the kernel, or the core
 		// was busy with something else. Give it the rest.
 		int64_t rest = std::max(c.budget - used, kMinSlice);
-		c.check_interval = used > c.checked_used ? rest : std::min(2 * c.check_interval, std::max(rest, kMaxRecheck));
+		c.check_interval = used > std::max<int64_t>(c.checked_used, 0)
+					   ? rest
+					   : std::min(2 * c.check_interval, std::max(rest, kMaxRecheck));
 		c.checked_used = used;
 		budget_timer_.arm(c.check_interval);
 		return;

@@ -1,0 +1,132 @@
+"""Process-test harness: runs real programs under tcs-run with a timeout,
+in a session of their own, and fails a test that leaves any process behind
+(stopped or not). Each test file is a list of test_* functions; main() runs
+them and ends with the line 'N passed, N failed'."""
+
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+import traceback
+
+TCS_RUN = os.environ.get("TCS_RUN", "tcs-run")
+PROGRAMS = os.environ.get("TCS_PROGRAMS", ".")
+PYTHON = os.environ.get("TCS_PYTHON", sys.executable)
+
+
+def prog(name):
+    return os.path.join(PROGRAMS, name)
+
+
+class Result:
+    def __init__(self, args, returncode, stdout, stderr, wall):
+        self.args, self.returncode, self.stdout, self.stderr, self.wall = args, returncode, stdout, stderr, wall
+
+    def values(self):
+        """key=value pairs printed by the program (several per line allowed)."""
+        return dict(re.findall(r"([A-Za-z_][\w]*)=(\S+)", self.stdout))
+
+    def __repr__(self):
+        return "exit %s after %.2fs\n--- stdout\n%s--- stderr\n%s" % (
+            self.returncode, self.wall, self.stdout[-3000:], self.stderr[-3000:])
+
+
+def session_processes(sid):
+    """(pid, state, command) of every process in session sid."""
+    found = []
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open("/proc/%s/stat" % entry) as f:
+                stat = f.read()
+        except OSError:
+            continue
+        rest = stat[stat.rindex(")") + 2:].split()
+        if int(rest[3]) == sid:
+            found.append((int(entry), rest[0], stat[stat.index("(") + 1:stat.rindex(")")]))
+    return found
+
+
+def assert_nothing_left(sid, grace=2.0):
+    """Every process of the session must be gone (zombies of ours aside)."""
+    deadline = time.monotonic() + grace
+    while True:
+        left = [p for p in session_processes(sid) if p[1] != "Z"]
+        if not left:
+            return
+        if time.monotonic() > deadline:
+            for pid, _, _ in left:
+                try:
+                    os.kill(pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+            raise AssertionError("processes left behind (state T = stopped): %s" % left)
+        time.sleep(0.02)
+
+
+def start(args, env=None):
+    full_env = dict(os.environ)
+    full_env.update(env or {})
+    return subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, stdin=subprocess.DEVNULL,
+                            start_new_session=True, env=full_env, text=True)
+
+
+def finish(p, timeout, t0):
+    try:
+        out, err = p.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        os.killpg(p.pid, signal.SIGKILL)
+        out, err = p.communicate()
+        assert_nothing_left(p.pid)
+        raise AssertionError("timed out after %ss: %s\n%s%s" % (timeout, p.args, out[-2000:], err[-2000:]))
+    result = Result(p.args, p.returncode, out, err, time.monotonic() - t0)
+    assert_nothing_left(p.pid)
+    return result
+
+
+def run(args, timeout=60, env=None):
+    t0 = time.monotonic()
+    return finish(start([str(a) for a in args], env), timeout, t0)
+
+
+def tcs(*args, timeout=60, env=None):
+    """tcs-run ARGS...; quiet unless the test asks for the summary."""
+    return run([TCS_RUN] + list(args), timeout=timeout, env=env)
+
+
+def check(cond, what, result=None):
+    if not cond:
+        raise AssertionError(what + ("\n" + repr(result) if result is not None else ""))
+
+
+def close_to(value, expected, rel, what, result=None):
+    check(abs(value - expected) <= rel * abs(expected),
+          "%s: %.6g is not within %.1f%% of %.6g" % (what, value, rel * 100, expected), result)
+
+
+def calibrate():
+    """Rounds of work() per millisecond of CPU, measured natively."""
+    return int(run([prog("calibrate")]).stdout.strip())
+
+
+def main(namespace):
+    tests = [(n, f) for n, f in namespace.items() if n.startswith("test_") and callable(f)]
+    only = sys.argv[1:]
+    passed = failed = 0
+    for name, fn in tests:
+        if only and name not in only:
+            continue
+        t0 = time.monotonic()
+        try:
+            fn()
+            passed += 1
+            print("ok     %-48s %6.2fs" % (name, time.monotonic() - t0), flush=True)
+        except Exception:
+            failed += 1
+            print("FAILED %-48s %6.2fs" % (name, time.monotonic() - t0), flush=True)
+            traceback.print_exc(file=sys.stdout)
+    print("%d passed, %d failed" % (passed, failed))
+    sys.exit(1 if failed else 0)
