@@ -42,7 +42,7 @@ RealtimePlan setup_realtime(bool want_fifo)
 	} else {
 		plan.warning = std::string("SCHED_FIFO not permitted (") + std::strerror(errno) +
 			       "): preemption is less precise, CPU accounting stays exact. "
-			       "Run as root, grant CAP_SYS_NICE, or raise the rtprio limit to fix this.";
+			       "Grant CAP_SYS_NICE (root has it) or an rtprio limit of 3 or more (ulimit -r) to fix this.";
 	}
 	return plan;
 }

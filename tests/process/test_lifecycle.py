@@ -1,0 +1,106 @@
+"""How a run starts and ends: exit statuses pass through, signals end runs
+cleanly, no process is ever left behind (stopped or not), programs tcs
+cannot serve are refused, and bad command lines get one clear line."""
+
+import os
+import signal
+import time
+
+from harness import TCS_RUN, assert_nothing_left, check, main, prog, run, start, tcs
+
+
+def test_exit_status_passes_through():
+    r = tcs("-q", prog("exit_with"), "3")
+    check(r.returncode == 3, "exit 3 passes through", r)
+    r = tcs(prog("exit_with"), "segv")
+    check(r.returncode == 139, "death by SIGSEGV is 128+11", r)
+    check("killed by SIGSEGV" in r.stderr, "the summary says how it ended", r)
+    check(tcs("-q", "-m", "lockstep", prog("exit_with"), "abort").returncode == 134, "SIGABRT is 134")
+
+
+def test_duration_ends_the_run_with_0():
+    r = tcs("-d", "2s", "--", "sleep", "30", timeout=20)
+    check(r.returncode == 0, "--duration ending the run exits 0", r)
+    check("2.000 s virtual" in r.stderr and "ended with the run" in r.stderr, "the summary says so", r)
+    r = tcs("-q", "-m", "lockstep", "-d", "250ms", prog("periodic"), "1000", "100", "0", timeout=20)
+    check(r.returncode == 0, "a periodic loop stopped by --duration exits 0", r)
+
+
+def signal_run(sig, mode):
+    p = start([TCS_RUN, "-q", "-m", mode, prog("periodic"), "1000", "1000000", "20000"])
+    time.sleep(0.5)
+    check(p.poll() is None, "the run is still going before the signal")
+    os.kill(p.pid, sig)
+    try:
+        p.communicate(timeout=10)
+    except Exception:
+        os.killpg(p.pid, signal.SIGKILL)
+        raise
+    assert_nothing_left(p.pid)
+    return p.returncode
+
+
+def test_sigterm_and_sigint_end_the_run_cleanly():
+    for mode in ("cpu", "lockstep"):
+        check(signal_run(signal.SIGTERM, mode) == 143, "SIGTERM to tcs-run: exit 143, nothing left (%s)" % mode)
+        check(signal_run(signal.SIGINT, mode) == 130, "SIGINT to tcs-run: exit 130, nothing left (%s)" % mode)
+
+
+def test_controller_dies_with_a_killed_coordinator():
+    for mode in ("cpu", "lockstep"):
+        p = start([TCS_RUN, "-q", "-m", mode, prog("periodic"), "1000", "1000000", "20000"])
+        time.sleep(0.5)
+        os.kill(p.pid, signal.SIGKILL)
+        p.communicate(timeout=10)
+        # Within a second every controller is gone, stopped ones included.
+        assert_nothing_left(p.pid, grace=1.0)
+
+
+def test_static_binary_is_refused():
+    r = tcs(prog("static_hello"))
+    check(r.returncode == 2, "a static binary is refused with exit 2", r)
+    check("statically linked" in r.stderr and "hello" not in r.stdout, "and not run in real time", r)
+    check(len(r.stderr.strip().splitlines()) == 1, "with one line", r)
+
+
+def test_bad_command_lines():
+    cases = [
+        (["--", "no-such-program-tcs"], "command not found"),
+        (["--mode", "fast", "true"], "not a mode"),
+        (["-d", "ten", "true"], "not a duration"),
+        (["-d", "10parsecs", "true"], "unknown unit"),
+        (["--cpu-scale", "0", "true"], "not a positive number"),
+        (["--epoch", "2024-02-30T00:00:00Z", "true"], "not an epoch"),
+        (["--bogus", "true"], "unknown option"),
+        (["-d"], "needs a value"),
+        ([], "no PROGRAM"),
+        (["/etc/passwd"], "not executable"),
+        (["/tmp"], "is a directory"),
+    ]
+    for args, message in cases:
+        r = tcs(*args)
+        check(r.returncode == 2, "tcs-run %s exits 2" % " ".join(args), r)
+        check(message in r.stderr and r.stderr.startswith("tcs-run: "), "the error names the cause", r)
+        check(r.stderr.count("\n") <= 2, "one line (and a hint)", r)
+
+
+def test_help_and_version():
+    r = tcs("--help")
+    check(r.returncode == 0 and r.stdout.startswith("Usage: tcs-run") and "--cpu-scale" in r.stdout, "help", r)
+    r = tcs("--version")
+    check(r.returncode == 0 and r.stdout.startswith("tcs-run "), "version", r)
+
+
+def test_without_sched_fifo_it_warns_once_and_still_works():
+    # Root without CAP_SYS_NICE cannot use SCHED_FIFO, as an ordinary user.
+    nofifo = ["setpriv", "--bounding-set=-sys_nice", "--inh-caps=-sys_nice", "--", TCS_RUN]
+    r = run(nofifo + ["-m", "lockstep", "--", "sleep", "3"])
+    check(r.returncode == 0 and "3.000 s virtual" in r.stderr, "lockstep still exact", r)
+    check(r.stderr.count("SCHED_FIFO not permitted") == 1, "one clear warning", r)
+    check("normal scheduling" in r.stderr, "the summary says how it ran", r)
+    r = run(nofifo + ["-q", prog("periodic"), "1000", "1", "0"])
+    check(r.returncode == 0 and r.values()["loops"] == "1000", "cpu mode works without SCHED_FIFO", r)
+
+
+if __name__ == "__main__":
+    main(globals())
