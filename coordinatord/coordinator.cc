@@ -302,6 +302,8 @@ void Coordinator::begin_end(EndReason reason, int signo)
 			continue;
 		kill(c->pid, SIGTERM);
 		if (c->state == CtlState::Blocked) {
+			// It waited through to the end: that is where it stands now.
+			c->v = std::max(c->v, std::min(c->deadline, sim_ns_));
 			c->wake_pending = true;
 			c->wake_reason = TCS_WAKE_DEADLINE;
 		}

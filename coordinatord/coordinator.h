@@ -91,6 +91,9 @@ private:
 	// Scheduling (scheduler.cc).
 	void schedule();
 	bool advance_to(int64_t next);
+	int64_t next_run_at(const Controller &c) const;
+	int64_t run_until(const Controller &c, int64_t target) const;
+	int64_t world_horizon() const;
 	void on_idle();
 	void resume(Controller &c, int64_t target);
 	void on_budget();

@@ -50,18 +50,11 @@ void Coordinator::schedule()
 		bool any = false, recheck = false;
 		for (auto &cp : ctls_) {
 			Controller &c = *cp;
-			int64_t at; // the earliest virtual time c can run again
 			if (c.state == CtlState::Exited)
 				continue;
 			if (c.state == CtlState::Running)
 				return;
-			if (c.state == CtlState::Ready) {
-				at = c.v;
-			} else if (c.recheck && c.rechecked_at < sim_ns_) {
-				at = std::max(c.v, sim_ns_);
-			} else {
-				at = c.deadline == TCS_NEVER ? TCS_NEVER : std::max(c.v, c.deadline);
-			}
+			int64_t at = next_run_at(c);
 			any = true;
 			recheck |= c.state == CtlState::Blocked && c.recheck;
 			if (at < target && at < best_at) {
@@ -80,7 +73,7 @@ void Coordinator::schedule()
 				wake(*best, due ? std::max(best->v, best->deadline) : best_at,
 				     due ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK);
 			}
-			resume(*best, target);
+			resume(*best, run_until(*best, target));
 			return;
 		}
 
@@ -97,6 +90,38 @@ void Coordinator::schedule()
 		if (!advance_to(next))
 			return;
 	}
+}
+
+int64_t Coordinator::next_run_at(const Controller &c) const
+{
+	if (c.state == CtlState::Ready || c.state == CtlState::Running)
+		return c.v;
+	if (c.recheck && c.rechecked_at < sim_ns_)
+		return std::max(c.v, sim_ns_);
+	return c.deadline == TCS_NEVER ? TCS_NEVER : std::max(c.v, c.deadline);
+}
+
+// How far c may run before someone else needs the core: another
+// controller's next turn, the end of the run, or the world's next step that
+// matters. Never short of the step boundary `target`. Stopping a controller
+// costs it real CPU (the timer interrupt, the stop and the continue run on
+// its account), so it is not stopped at boundaries nobody needs.
+int64_t Coordinator::run_until(const Controller &c, int64_t target) const
+{
+	int64_t horizon = world_horizon();
+	for (const auto &o : ctls_)
+		if (o.get() != &c && o->state != CtlState::Exited)
+			horizon = std::min(horizon, next_run_at(*o));
+	if (cfg_.duration_ns >= 0)
+		horizon = std::min(horizon, cfg_.duration_ns);
+	return std::max(target, horizon);
+}
+
+// The next step boundary the world needs controllers to stop at. The
+// built-in empty world has nothing to compute, so none.
+int64_t Coordinator::world_horizon() const
+{
+	return TCS_NEVER;
 }
 
 bool Coordinator::advance_to(int64_t next)
@@ -154,7 +179,7 @@ void Coordinator::resume(Controller &c, int64_t target)
 	}
 	c.state = CtlState::Running;
 	running_ = &c;
-	if (cfg_.mode == TCS_MODE_CPU) {
+	if (cfg_.mode == TCS_MODE_CPU && target != TCS_NEVER) {
 		double need = std::ceil((double)(target - c.v) / c.scale);
 		c.budget = std::max<int64_t>((int64_t)need, 1);
 		c.checked_used = -1;
@@ -165,6 +190,7 @@ void Coordinator::resume(Controller &c, int64_t target)
 		budget_timer_.arm(c.check_interval);
 	}
 	// Lockstep: computation is free, so no budget; it runs until it waits.
+	// Nor is there one when nothing else will ever need the core.
 }
 
 void Coordinator::on_budget()

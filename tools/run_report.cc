@@ -24,7 +24,8 @@ std::string speed(int64_t virtual_ns, int64_t wall_ns)
 {
 	if (wall_ns <= 0)
 		return "";
-	return fmt("%.3gx real time", (double)virtual_ns / (double)wall_ns);
+	double x = (double)virtual_ns / (double)wall_ns;
+	return fmt(x >= 100 ? "%.0fx real time" : x >= 10 ? "%.1fx real time" : "%.3gx real time", x);
 }
 
 std::string how_it_ended(const ControllerReport &c)

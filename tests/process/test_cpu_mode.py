@@ -2,33 +2,27 @@
 as the CPU it burns (times --cpu-scale), so a loop too slow for its rate
 runs as slowly in virtual time as it does natively in real time."""
 
-import statistics
-
 from harness import calibrate, check, close_to, main, prog, run, tcs
-
-
-def median_of(n, fn):
-    return statistics.median(fn() for _ in range(n))
 
 
 def test_virtual_time_is_the_cpu_burned():
     rounds = calibrate() * 300  # about 300 ms of CPU
-    native_cpu = median_of(3, lambda: int(run([prog("burn"), rounds]).values()["cpu_ns"]))
     for scale in ("1", "2.5"):
-        results = [tcs("-q", "--cpu-scale", scale, prog("burn"), rounds) for _ in range(3)]
-        virtual = statistics.median(int(r.values()["monotonic_ns"]) for r in results)
-        print("  cpu-scale %s: native CPU %.1f ms, virtual elapsed %.1f ms (ratio %.4f)" %
-              (scale, native_cpu / 1e6, virtual / 1e6, virtual / native_cpu / float(scale)))
-        # At scale 1 the budget ends once per millisecond of CPU; at 2.5,
-        # 2.5 times as often, and each preemption's kernel work (timer
-        # interrupt, stop, continue) is CPU the controller really spends:
-        # about 1 % more at 2.5 on these machines, hence the wider margin.
-        close_to(virtual, native_cpu * float(scale), 0.02 if scale == "1" else 0.04,
-                 "virtual time vs CPU burned x %s" % scale, results[0])
-        for r in results:
+        # The CPU time of the same work varies by a few per cent from run
+        # to run on a shared machine, and disturbances only ever add to it:
+        # compare the least-disturbed of several interleaved runs.
+        native, virtual = [], []
+        for _ in range(7):
+            native.append(int(run([prog("burn"), rounds]).values()["cpu_ns"]))
+            r = tcs("-q", "--cpu-scale", scale, prog("burn"), rounds)
             v = r.values()
+            virtual.append(int(v["monotonic_ns"]))
             close_to(int(v["cpu_ns"]), int(v["monotonic_ns"]), 0.005,
                      "the virtual CPU clock agrees with virtual time for a pure computation", r)
+        ratio = min(virtual) / (min(native) * float(scale))
+        print("  cpu-scale %s: virtual time %.1f ms for %.1f ms of native CPU: ratio %.4f" %
+              (scale, min(virtual) / 1e6, min(native) / 1e6, ratio))
+        close_to(ratio, 1.0, 0.02, "virtual time vs CPU burned x %s" % scale)
 
 
 def test_periodic_loop_with_30_percent_work_keeps_its_rate():
@@ -43,8 +37,11 @@ def test_periodic_loop_with_30_percent_work_keeps_its_rate():
 
 def test_overloaded_loop_fails_as_on_hardware_but_not_in_lockstep():
     rounds = calibrate() * 3 // 2  # 150 % of a 1 ms period
-    native = median_of(3, lambda: float(run([prog("periodic"), 1000, 2, rounds]).values()["rate_hz"]))
-    cpu = tcs("-q", prog("periodic"), 1000, 2, rounds, timeout=120).values()
+    # Disturbances of this shared machine only ever slow a run down: compare
+    # the fastest of a few runs on each side.
+    native = max(float(run([prog("periodic"), 1000, 2, rounds]).values()["rate_hz"]) for _ in range(3))
+    cpu = max((tcs("-q", prog("periodic"), 1000, 2, rounds, timeout=120).values() for _ in range(3)),
+              key=lambda v: float(v["rate_hz"]))
     lockstep = tcs("-q", "-m", "lockstep", prog("periodic"), 1000, 2, rounds, timeout=120).values()
     print("  1 kHz loop, 150%% work: natively %.1f Hz in real time; tcs cpu mode %s Hz, lockstep %s Hz" %
           (native, cpu["rate_hz"], lockstep["rate_hz"]))
@@ -58,6 +55,32 @@ def test_overloaded_loop_fails_as_on_hardware_but_not_in_lockstep():
 def test_clocks_never_go_backwards_under_preemption():
     r = tcs("-q", prog("clocks"), timeout=60)
     check(r.values()["backwards"] == "0", "no clock went backwards", r)
+
+
+
+def test_each_controller_has_its_own_virtual_cpu():
+    n = calibrate()
+    a = "%s 1000 100 %d" % (prog("periodic"), n * 3 // 10)  # 1 kHz, 30 % work
+    light = "%s 200 100 %d" % (prog("periodic"), n * 2)     # 200 Hz, 40 % work
+    heavy = "%s 200 100 %d" % (prog("periodic"), n * 20)    # 200 Hz, 400 % work: overloaded
+
+    def figures(*controllers):
+        r = run([prog("multi_run"), "cpu", "2000"] + list(controllers), timeout=120)
+        check(r.returncode == 0, "multi_run succeeds", r)
+        return [dict(kv.split("=") for kv in line.split()) for line in r.stdout.splitlines()]
+
+    alone = figures(a)[0]
+    with_light = figures(a, light)
+    with_heavy = figures(a, heavy)
+    print("  1 kHz controller: alone %s cycles, beside a light one %s, beside an overloaded one %s;"
+          " the 200 Hz one: %s cycles light, %s overloaded" % (alone["periodic"], with_light[0]["periodic"],
+                                                             with_heavy[0]["periodic"], with_light[1]["periodic"],
+                                                             with_heavy[1]["periodic"]))
+    for f in (alone, with_light[0], with_heavy[0]):
+        close_to(int(f["periodic"]), 2000, 0.01, "the 1 kHz controller keeps its rate")
+        check(abs(int(f["periodic"]) - int(alone["periodic"])) <= 2, "and is unaffected by the other")
+    close_to(int(with_light[1]["periodic"]), 400, 0.01, "the light 200 Hz controller keeps its rate")
+    close_to(int(with_heavy[1]["periodic"]), 2000 / (4.0 * 5), 0.1, "the overloaded one runs at 1/(its work)")
 
 
 if __name__ == "__main__":

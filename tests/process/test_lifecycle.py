@@ -4,9 +4,10 @@ cannot serve are refused, and bad command lines get one clear line."""
 
 import os
 import signal
+import subprocess
 import time
 
-from harness import TCS_RUN, assert_nothing_left, check, main, prog, run, start, tcs
+from harness import TCS_RUN, assert_nothing_left, calibrate, check, main, prog, run, start, tcs
 
 
 def test_exit_status_passes_through():
@@ -100,6 +101,35 @@ def test_without_sched_fifo_it_warns_once_and_still_works():
     check("normal scheduling" in r.stderr, "the summary says how it ran", r)
     r = run(nofifo + ["-q", prog("periodic"), "1000", "1", "0"])
     check(r.returncode == 0 and r.values()["loops"] == "1000", "cpu mode works without SCHED_FIFO", r)
+
+
+
+def test_progress_line_on_a_terminal():
+    import pty
+    master, slave = pty.openpty()
+    # About a second of wall time: several progress ticks.
+    p = subprocess.Popen([TCS_RUN, "--", prog("periodic"), "1000", "2", str(calibrate() // 2)],
+                         stdout=subprocess.DEVNULL, stderr=slave, stdin=subprocess.DEVNULL, start_new_session=True)
+    os.close(slave)
+    out = b""
+    while True:
+        try:
+            chunk = os.read(master, 4096)
+        except OSError:
+            break
+        if not chunk:
+            break
+        out += chunk
+    p.wait(timeout=60)
+    os.close(master)
+    assert_nothing_left(p.pid)
+    text = out.decode(errors="replace")
+    check(p.returncode == 0, "the run succeeds: " + text)
+    check("\r\x1b[Ktcs-run: " in text and " virtual, " in text, "a progress line is drawn: " + text)
+    last = text.rstrip().splitlines()[-1]
+    check(last.startswith("tcs-run:   ") and "periodic waits" in last, "the summary comes last: " + last)
+    r = tcs("-m", "lockstep", "--", "sleep", "1")
+    check("\x1b[K" not in r.stderr, "no progress line when stderr is not a terminal", r)
 
 
 if __name__ == "__main__":
