@@ -19,27 +19,28 @@
 struct tcs_runtime tcs_rt = { .state = TCS_OFF, .channel_fd = -1, .page_fd = -1 };
 __thread int tcs_in_wait;
 
-static void tcs_write_stderr(const char *a, const char *b)
+/* Writes "tcs: " a b c "\n" to stderr in one write (any part may be NULL). */
+static void tcs_write_stderr(const char *a, const char *b, const char *c)
 {
 	char buf[256];
 	size_t n = 0;
-	for (const char *parts[] = { "tcs: ", a, b, "\n" }, **q = parts; q < parts + 4; q++)
-		for (const char *c = *q; c && *c && n < sizeof buf; c++)
-			buf[n++] = *c;
+	for (const char *parts[] = { "tcs: ", a, b, c, "\n" }, **q = parts; q < parts + 5; q++)
+		for (const char *ch = *q; ch && *ch && n < sizeof buf; ch++)
+			buf[n++] = *ch;
 	tcs_sys3(SYS_write, 2, buf, n);
 }
 
 void tcs_report_once(int *once, const char *msg)
 {
 	if (__atomic_exchange_n(once, 1, __ATOMIC_RELAXED) == 0)
-		tcs_write_stderr(msg, NULL);
+		tcs_write_stderr(msg, NULL, NULL);
 }
 
 /* The coordinator is gone or spoke nonsense: there is no virtual time left
  * to give this program, and running on in real time would be a silent lie. */
 static __attribute__((noreturn)) void tcs_lost(const char *why)
 {
-	tcs_write_stderr("lost the coordinator: ", why);
+	tcs_write_stderr("lost the coordinator: ", why, NULL);
 	tcs_sys2(SYS_kill, tcs_sys0(SYS_getpid), SIGKILL);
 	for (;;)
 		tcs_sys1(SYS_exit_group, 2);
@@ -210,29 +211,61 @@ static int tcs_env_int(const char *name, long *out)
 	return *end == '\0' ? 0 : -EINVAL;
 }
 
-static void tcs_close_runtime_fds(void)
+/* A descendant of the controller is not what the coordinator schedules: it
+ * runs in real time and says so once, with its pid. A fork followed by an
+ * exec is one process, so the clock page remembers who has been told: the
+ * forked child keeps the page fd open through exec for that, and nothing
+ * else of the runtime. */
+static void tcs_tell_detached(struct tcs_clock_page *page)
 {
-	if (tcs_rt.channel_fd >= 0)
-		tcs_sys1(SYS_close, tcs_rt.channel_fd);
-	if (tcs_rt.page_fd >= 0)
-		tcs_sys1(SYS_close, tcs_rt.page_fd);
-	tcs_rt.channel_fd = tcs_rt.page_fd = -1;
-}
-
-/* A descendant of the controller is not what the coordinator schedules. */
-static void tcs_detach(void)
-{
-	static int once;
-	tcs_rt.state = TCS_DETACHED;
-	tcs_close_runtime_fds();
-	tcs_report_once(&once, "a process started by the controller runs in real time "
-			       "(child processes are not virtualised yet)");
+	char pid[24], *p = pid + sizeof pid;
+	long n = tcs_sys0(SYS_getpid), self = n;
+	*--p = '\0';
+	do
+		*--p = (char)('0' + n % 10);
+	while ((n /= 10) > 0);
+	if (!page || __atomic_exchange_n(&page->detached_pid, self, __ATOMIC_RELAXED) != self)
+		tcs_write_stderr("process ", p,
+				 ", started by the controller, runs in real time (child processes are not virtualised yet)");
 }
 
 static void tcs_atfork_child(void)
 {
-	if (tcs_rt.state == TCS_ON)
-		tcs_detach();
+	if (tcs_rt.state != TCS_ON)
+		return;
+	tcs_rt.state = TCS_DETACHED;
+	tcs_tell_detached(tcs_rt.page);
+	tcs_sys1(SYS_close, tcs_rt.channel_fd);
+	tcs_rt.channel_fd = -1;
+}
+
+/* After exec in a descendant: the page fd, if it is still ours, tells
+ * whether this process was already told (as a forked child). */
+static void tcs_detach_descendant(int page_fd)
+{
+	char link[64] = { 0 };
+	char path[40] = "/proc/self/fd/";
+	struct tcs_clock_page *page = NULL;
+	char *d = path + 14, digits[12], *q = digits + sizeof digits;
+	int fd = page_fd;
+	*--q = '\0';
+	do
+		*--q = (char)('0' + fd % 10);
+	while ((fd /= 10) > 0);
+	while (*q)
+		*d++ = *q++;
+	*d = '\0';
+	if (page_fd >= 0 && readlink(path, link, sizeof link - 1) > 0 &&
+	    strncmp(link, "/memfd:tcs-clock-page", 21) == 0) {
+		void *m = mmap(NULL, TCS_PAGE_SIZE, PROT_READ | PROT_WRITE, MAP_SHARED, page_fd, 0);
+		if (m != MAP_FAILED)
+			page = (struct tcs_clock_page *)m;
+		close(page_fd);
+	}
+	tcs_rt.state = TCS_DETACHED;
+	tcs_tell_detached(page);
+	if (page)
+		munmap(page, TCS_PAGE_SIZE);
 }
 
 static void tcs_resolve_real_symbols(void)
@@ -274,23 +307,21 @@ __attribute__((constructor)) static void tcs_init(void)
 
 	tcs_resolve_real_symbols();
 	if (tcs_read_environment(&channel, &page, &controller) < 0) {
-		tcs_write_stderr("libtcs_preload.so loaded outside tcs-run; this program runs in real time", NULL);
+		tcs_write_stderr("libtcs_preload.so loaded outside tcs-run; this program runs in real time", NULL, NULL);
+		goto out;
+	}
+	if (controller != tcs_sys0(SYS_getpid)) {
+		tcs_detach_descendant((int)page);
 		goto out;
 	}
 	tcs_rt.pid = controller;
 	tcs_rt.channel_fd = (int)channel;
 	tcs_rt.page_fd = (int)page;
-	if (controller != tcs_sys0(SYS_getpid)) {
-		/* Spawned by the controller without fork() (posix_spawn, vfork)
-		 * and then exec'd: same story as tcs_atfork_child(). */
-		tcs_detach();
-		goto out;
-	}
 	int r = tcs_map_page();
 	if (r < 0) {
 		tcs_write_stderr(r == -EPROTO ? "libtcs_preload.so does not match the coordinator (mixed installations?)"
 					      : "cannot map the clock page",
-				 "; refusing to run in real time");
+				 "; refusing to run in real time", NULL);
 		tcs_sys1(SYS_exit_group, 2);
 	}
 	pthread_atfork(NULL, NULL, tcs_atfork_child);

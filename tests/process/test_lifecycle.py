@@ -132,5 +132,14 @@ def test_progress_line_on_a_terminal():
     check("\x1b[K" not in r.stderr, "no progress line when stderr is not a terminal", r)
 
 
+
+def test_child_processes_are_reported_once_each():
+    r = tcs("-q", "--", "sh", "-c", "sleep 0.1; sleep 0.1; echo done", timeout=30)
+    check(r.returncode == 0 and r.stdout.strip() == "done", "a shell controller with children runs", r)
+    notices = [line for line in r.stderr.splitlines() if "runs in real time" in line]
+    check(len(notices) == 2 and len(set(notices)) == 2, "each child process says once that it runs in real time",
+          r)
+
+
 if __name__ == "__main__":
     main(globals())

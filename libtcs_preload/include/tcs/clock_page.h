@@ -57,6 +57,7 @@ struct tcs_clock_page {
 	int64_t exit_cpu;        /* process CPU when the last hook returned */
 	uint64_t past_deadlines; /* absolute sleeps whose deadline had passed */
 	uint64_t quick_returns;  /* waits that returned without a round trip */
+	int64_t detached_pid;    /* last descendant told it runs in real time */
 };
 
 #if defined(__cplusplus)

@@ -1,0 +1,25 @@
+/* clock_cost [N]: nanoseconds per clock_gettime(CLOCK_MONOTONIC) call, as a
+ * controller calls it (natively: the vDSO; under tcs-run: the hook). */
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "bench_time.h"
+
+int main(int argc, char **argv)
+{
+	long n = argc > 1 ? atol(argv[1]) : 20000000;
+	struct timespec ts;
+	long long sink = 0;
+	for (long i = 0; i < n / 10; i++) { /* warm up */
+		clock_gettime(CLOCK_MONOTONIC, &ts);
+		sink += ts.tv_nsec;
+	}
+	double t0 = bench_wall_ns();
+	for (long i = 0; i < n; i++) {
+		clock_gettime(CLOCK_MONOTONIC, &ts);
+		sink += ts.tv_nsec;
+	}
+	double t1 = bench_wall_ns();
+	printf("clock_gettime_ns=%.2f (sink %lld)\n", (t1 - t0) / n, sink & 1);
+	return 0;
+}
