@@ -110,8 +110,8 @@ Status Coordinator::add_controller(const ControllerSpec &spec)
 Result<RunReport> Coordinator::run()
 {
 	wall_start_ = clock_ns(CLOCK_MONOTONIC);
-	if (cfg_.on_progress)
-		progress_timer_.arm(kProgressPeriod, kProgressPeriod);
+	// Ticks even without a progress line: the lockstep warning needs it.
+	progress_timer_.arm(kProgressPeriod, kProgressPeriod);
 	schedule();
 	while (alive() > 0 && fatal_) {
 		if (auto s = loop_.dispatch(); !s)

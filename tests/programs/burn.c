@@ -6,13 +6,6 @@
 
 #include "work.h"
 
-static long long ns(clockid_t c)
-{
-	struct timespec ts;
-	clock_gettime(c, &ts);
-	return ts.tv_sec * 1000000000LL + ts.tv_nsec;
-}
-
 int main(int argc, char **argv)
 {
 	if (argc != 2) {
@@ -20,9 +13,9 @@ int main(int argc, char **argv)
 		return 2;
 	}
 	unsigned long long rounds = strtoull(argv[1], NULL, 10);
-	long long m0 = ns(CLOCK_MONOTONIC), c0 = ns(CLOCK_PROCESS_CPUTIME_ID);
+	long long m0 = clock_ns(CLOCK_MONOTONIC), c0 = clock_ns(CLOCK_PROCESS_CPUTIME_ID);
 	work(rounds);
-	long long m1 = ns(CLOCK_MONOTONIC), c1 = ns(CLOCK_PROCESS_CPUTIME_ID);
+	long long m1 = clock_ns(CLOCK_MONOTONIC), c1 = clock_ns(CLOCK_PROCESS_CPUTIME_ID);
 	printf("monotonic_ns=%lld\ncpu_ns=%lld\n", m1 - m0, c1 - c0);
 	return 0;
 }

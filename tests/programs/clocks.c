@@ -18,25 +18,18 @@ struct timeb_abi {
 };
 int ftime(struct timeb_abi *tb);
 
-static long long ns(clockid_t c)
-{
-	struct timespec ts;
-	clock_gettime(c, &ts);
-	return ts.tv_sec * 1000000000LL + ts.tv_nsec;
-}
-
 int main(void)
 {
 	static const clockid_t mono[] = { CLOCK_MONOTONIC, CLOCK_MONOTONIC_RAW, CLOCK_MONOTONIC_COARSE, CLOCK_BOOTTIME };
 	static const clockid_t real[] = { CLOCK_REALTIME, CLOCK_REALTIME_COARSE, CLOCK_TAI };
-	long long mono0 = ns(CLOCK_MONOTONIC);
+	long long mono0 = clock_ns(CLOCK_MONOTONIC);
 	for (int i = 0; i < 4; i++) {
 		usleep(125000 * (i + 1));
 		printf("step %d:", i);
 		for (unsigned k = 0; k < sizeof mono / sizeof mono[0]; k++)
-			printf(" mono%u=%lld", k, ns(mono[k]) - mono0);
+			printf(" mono%u=%lld", k, clock_ns(mono[k]) - mono0);
 		for (unsigned k = 0; k < sizeof real / sizeof real[0]; k++)
-			printf(" real%u=%lld", k, ns(real[k]));
+			printf(" real%u=%lld", k, clock_ns(real[k]));
 		struct timeval tv;
 		gettimeofday(&tv, NULL);
 		struct timespec tg;
@@ -50,7 +43,7 @@ int main(void)
 	/* Never backwards, across computation, sleeps and preemption. */
 	long long last[3] = { 0, 0, 0 }, backwards = 0;
 	for (int i = 0; i < 200000; i++) {
-		long long v[3] = { ns(CLOCK_MONOTONIC), ns(CLOCK_REALTIME), ns(CLOCK_PROCESS_CPUTIME_ID) };
+		long long v[3] = { clock_ns(CLOCK_MONOTONIC), clock_ns(CLOCK_REALTIME), clock_ns(CLOCK_PROCESS_CPUTIME_ID) };
 		for (int k = 0; k < 3; k++) {
 			backwards += v[k] < last[k];
 			last[k] = v[k];
@@ -64,7 +57,7 @@ int main(void)
 	struct tms t;
 	times(&t);
 	printf("backwards=%lld\n", backwards);
-	printf("cpu_clock_ns=%lld rusage_ns=%lld clock_us=%ld\n", ns(CLOCK_PROCESS_CPUTIME_ID),
+	printf("cpu_clock_ns=%lld rusage_ns=%lld clock_us=%ld\n", clock_ns(CLOCK_PROCESS_CPUTIME_ID),
 	       ru.ru_utime.tv_sec * 1000000000LL + ru.ru_utime.tv_usec * 1000LL + ru.ru_stime.tv_sec * 1000000000LL +
 		       ru.ru_stime.tv_usec * 1000LL,
 	       (long)clock());

@@ -9,12 +9,7 @@
 #include <time.h>
 #include <unistd.h>
 
-static long long now(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return ts.tv_sec * 1000000000LL + ts.tv_nsec;
-}
+#include "work.h"
 
 int main(void)
 {
@@ -24,47 +19,47 @@ int main(void)
 	long long t;
 	struct pollfd pfd = { p[0], POLLIN, 0 };
 
-	t = now();
+	t = clock_ns(CLOCK_MONOTONIC);
 	int r = poll(&pfd, 1, 200);
-	printf("poll=%d elapsed_ns=%lld\n", r, now() - t);
+	printf("poll=%d elapsed_ns=%lld\n", r, clock_ns(CLOCK_MONOTONIC) - t);
 
 	struct timespec ts = { 0, 300000000 };
 	sigset_t mask;
 	sigemptyset(&mask);
-	t = now();
+	t = clock_ns(CLOCK_MONOTONIC);
 	r = ppoll(&pfd, 1, &ts, &mask);
-	printf("ppoll=%d elapsed_ns=%lld\n", r, now() - t);
+	printf("ppoll=%d elapsed_ns=%lld\n", r, clock_ns(CLOCK_MONOTONIC) - t);
 
 	fd_set rs;
 	FD_ZERO(&rs);
 	FD_SET(p[0], &rs);
 	struct timeval tv = { 0, 400000 };
-	t = now();
+	t = clock_ns(CLOCK_MONOTONIC);
 	r = select(p[0] + 1, &rs, NULL, NULL, &tv);
-	printf("select=%d elapsed_ns=%lld isset=%d tv_left_us=%ld\n", r, now() - t, FD_ISSET(p[0], &rs),
+	printf("select=%d elapsed_ns=%lld isset=%d tv_left_us=%ld\n", r, clock_ns(CLOCK_MONOTONIC) - t, FD_ISSET(p[0], &rs),
 	       (long)(tv.tv_sec * 1000000 + tv.tv_usec));
 
 	FD_SET(p[0], &rs);
 	ts.tv_nsec = 500000000;
-	t = now();
+	t = clock_ns(CLOCK_MONOTONIC);
 	r = pselect(p[0] + 1, &rs, NULL, NULL, &ts, &mask);
-	printf("pselect=%d elapsed_ns=%lld\n", r, now() - t);
+	printf("pselect=%d elapsed_ns=%lld\n", r, clock_ns(CLOCK_MONOTONIC) - t);
 
 	int ep = epoll_create1(0);
 	struct epoll_event ev = { .events = EPOLLIN, .data.fd = p[0] }, out;
 	epoll_ctl(ep, EPOLL_CTL_ADD, p[0], &ev);
-	t = now();
+	t = clock_ns(CLOCK_MONOTONIC);
 	r = epoll_wait(ep, &out, 1, 600);
-	printf("epoll_wait=%d elapsed_ns=%lld\n", r, now() - t);
-	t = now();
+	printf("epoll_wait=%d elapsed_ns=%lld\n", r, clock_ns(CLOCK_MONOTONIC) - t);
+	t = clock_ns(CLOCK_MONOTONIC);
 	r = epoll_pwait(ep, &out, 1, 700, &mask);
-	printf("epoll_pwait=%d elapsed_ns=%lld\n", r, now() - t);
+	printf("epoll_pwait=%d elapsed_ns=%lld\n", r, clock_ns(CLOCK_MONOTONIC) - t);
 
 	/* Ready before the call: reported at once, no time passes. */
 	(void)!write(p[1], "x", 1);
-	t = now();
+	t = clock_ns(CLOCK_MONOTONIC);
 	r = poll(&pfd, 1, 5000);
-	printf("ready_poll=%d revents_in=%d elapsed_ns=%lld\n", r, !!(pfd.revents & POLLIN), now() - t);
+	printf("ready_poll=%d revents_in=%d elapsed_ns=%lld\n", r, !!(pfd.revents & POLLIN), clock_ns(CLOCK_MONOTONIC) - t);
 	FD_ZERO(&rs);
 	FD_SET(p[0], &rs);
 	tv.tv_sec = 5;

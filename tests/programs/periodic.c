@@ -11,13 +11,6 @@
 
 #include "work.h"
 
-static long long now_ns(void)
-{
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return ts.tv_sec * 1000000000LL + ts.tv_nsec;
-}
-
 int main(int argc, char **argv)
 {
 	if (argc != 4) {
@@ -27,19 +20,19 @@ int main(int argc, char **argv)
 	long long period = (long long)(1e9 / atof(argv[1]));
 	long long duration = (long long)(atof(argv[2]) * 1e9);
 	unsigned long long rounds = strtoull(argv[3], NULL, 10);
-	long long start = now_ns(), next = start, loops = 0, misses = 0, failures = 0;
-	while (now_ns() - start < duration) {
+	long long start = clock_ns(CLOCK_MONOTONIC), next = start, loops = 0, misses = 0, failures = 0;
+	while (clock_ns(CLOCK_MONOTONIC) - start < duration) {
 		work(rounds);
 		loops++;
 		next += period;
-		if (now_ns() > next)
+		if (clock_ns(CLOCK_MONOTONIC) > next)
 			misses++;
 		struct timespec ts = { next / 1000000000LL, next % 1000000000LL };
 		int r = clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL);
 		if (r != 0)
 			failures++;
 	}
-	double elapsed = (now_ns() - start) / 1e9;
+	double elapsed = (clock_ns(CLOCK_MONOTONIC) - start) / 1e9;
 	printf("loops=%lld\nelapsed_s=%.9f\nrate_hz=%.3f\nmisses=%lld\nsleep_failures=%lld\n", loops, elapsed,
 	       loops / elapsed, misses, failures);
 	return 0;
