@@ -67,7 +67,8 @@ def test_each_controller_has_its_own_virtual_cpu():
     def figures(*controllers):
         r = run([prog("multi_run"), "cpu", "2000"] + list(controllers), timeout=120)
         check(r.returncode == 0, "multi_run succeeds", r)
-        return [dict(kv.split("=") for kv in line.split()) for line in r.stdout.splitlines()]
+        return [dict(kv.split("=") for kv in line.split()) for line in r.stdout.splitlines()
+                if line.startswith("controller=")]
 
     alone = figures(a)[0]
     with_light = figures(a, light)
