@@ -2,6 +2,8 @@
 as the CPU it burns (times --cpu-scale), so a loop too slow for its rate
 runs as slowly in virtual time as it does natively in real time."""
 
+import statistics
+
 from harness import calibrate, check, close_to, main, prog, run, tcs
 
 
@@ -37,15 +39,22 @@ def test_periodic_loop_with_30_percent_work_keeps_its_rate():
 
 def test_overloaded_loop_fails_as_on_hardware_but_not_in_lockstep():
     rounds = calibrate() * 3 // 2  # 150 % of a 1 ms period
-    # Disturbances of this shared machine only ever slow a run down: compare
-    # the fastest of a few runs on each side.
-    native = max(float(run([prog("periodic"), 1000, 2, rounds]).values()["rate_hz"]) for _ in range(3))
-    cpu = max((tcs("-q", prog("periodic"), 1000, 2, rounds, timeout=120).values() for _ in range(3)),
-              key=lambda v: float(v["rate_hz"]))
+    # This shared machine's speed drifts by several per cent over tens of
+    # seconds: compare each tcs run with a native run made just before it,
+    # and take the median of those ratios.
+    ratios, cpu_runs, native_runs = [], [], []
+    for _ in range(5):
+        native_runs.append(float(run([prog("periodic"), 1000, 1, rounds]).values()["rate_hz"]))
+        cpu_runs.append(tcs("-q", prog("periodic"), 1000, 1, rounds, timeout=120).values())
+        ratios.append(float(cpu_runs[-1]["rate_hz"]) / native_runs[-1])
+    ratio = statistics.median(ratios)
+    cpu = cpu_runs[ratios.index(ratio)]
+    native = native_runs[ratios.index(ratio)]
     lockstep = tcs("-q", "-m", "lockstep", prog("periodic"), 1000, 2, rounds, timeout=120).values()
     print("  1 kHz loop, 150%% work: natively %.1f Hz in real time; tcs cpu mode %s Hz, lockstep %s Hz" %
           (native, cpu["rate_hz"], lockstep["rate_hz"]))
-    close_to(float(cpu["rate_hz"]), native, 0.03, "cpu-mode rate vs native real-time rate")
+    print("  (tcs/native ratios: %s)" % " ".join("%.3f" % x for x in ratios))
+    close_to(ratio, 1.0, 0.03, "cpu-mode rate vs native real-time rate")
     check(int(cpu["misses"]) > 0.9 * int(cpu["loops"]), "cpu mode: nearly every deadline missed")
     close_to(float(lockstep["rate_hz"]), 1000, 0.01, "lockstep (wrongly) reports the full 1 kHz")
     check(lockstep["misses"] == "0", "lockstep (wrongly) reports no missed deadline")
