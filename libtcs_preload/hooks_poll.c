@@ -31,17 +31,18 @@ static long tcs_multiplex(int64_t timeout_ns, tcs_check_fn check, void *ctx, str
 	long r = check(ctx);
 	if (r != 0 || timeout_ns == 0)
 		return r;
-	int64_t deadline = timeout_ns < 0 ? TCS_NEVER : tcs_ns_add(tcs_vnow(), timeout_ns);
+	/* Relative on the first wait; absolute (the same deadline) on any
+	 * that follow a wake-up with nothing ready after all. */
+	struct tcs_wait_time t = { timeout_ns < 0 ? TCS_NEVER : timeout_ns, timeout_ns >= 0, 0, 0 };
 	unsigned flags = mirror ? 0 : TCS_BLOCK_RECHECK;
 	for (;;) {
-		int64_t v_end;
-		long w = tcs_wait(deadline, TCS_BLOCK_POLL, flags, mirror, nmirror, mask, &v_end);
+		long w = tcs_wait(&t, TCS_BLOCK_POLL, flags, mirror, nmirror, mask);
 		if (v_left)
-			*v_left = deadline == TCS_NEVER ? TCS_NEVER : deadline > v_end ? deadline - v_end : 0;
+			*v_left = t.deadline == TCS_NEVER ? TCS_NEVER : t.deadline > t.end ? t.deadline - t.end : 0;
 		if (w == -EINTR)
 			return -EINTR;
 		r = check(ctx);
-		if (r != 0 || (w == TCS_WAIT_DEADLINE && v_end >= deadline))
+		if (r != 0 || (w == TCS_WAIT_DEADLINE && t.end >= t.deadline))
 			return r;
 	}
 }

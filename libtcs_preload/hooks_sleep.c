@@ -16,24 +16,16 @@ static long tcs_virtual_sleep(clockid_t clock, int flags, const struct timespec 
 	int64_t origin = tcs_sleep_clock_origin(clock);
 	if (origin < 0)
 		return origin;
-	int64_t deadline, v_start = 0;
-	if (flags & TIMER_ABSTIME) {
-		deadline = tcs_ts_to_ns(req) - origin;
-		if (deadline < 0)
-			deadline = 0;
-	} else {
-		v_start = tcs_vnow();
-		deadline = tcs_ns_add(v_start, tcs_ts_to_ns(req));
-	}
-	int64_t v_end;
-	long r = tcs_wait(deadline, TCS_BLOCK_SLEEP, (flags & TIMER_ABSTIME) ? TCS_BLOCK_ABSOLUTE : 0, NULL, 0,
-			  NULL, &v_end);
+	struct tcs_wait_time t = { tcs_ts_to_ns(req), !(flags & TIMER_ABSTIME), 0, 0 };
+	if (flags & TIMER_ABSTIME)
+		t.deadline = t.deadline > origin ? t.deadline - origin : 0;
+	long r = tcs_wait(&t, TCS_BLOCK_SLEEP, (flags & TIMER_ABSTIME) ? TCS_BLOCK_ABSOLUTE : 0, NULL, 0, NULL);
 	if (r != -EINTR)
 		return 0;
 	if (rem && !(flags & TIMER_ABSTIME)) {
 		/* req - slept, in timespec arithmetic: exact even for requests
 		 * beyond what int64 nanoseconds can hold. */
-		struct timespec slept = tcs_ns_to_ts(v_end - v_start);
+		struct timespec slept = tcs_ns_to_ts(t.end - t.start);
 		rem->tv_sec = req->tv_sec - slept.tv_sec;
 		rem->tv_nsec = req->tv_nsec - slept.tv_nsec;
 		if (rem->tv_nsec < 0) {

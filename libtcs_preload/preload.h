@@ -74,14 +74,22 @@ enum tcs_wait_result {
 	TCS_WAIT_RECHECK = 2,  /* a step passed; re-check real fds and wait again */
 };
 
+/* When a wait is to end, and when it began and ended (virtual ns). */
+struct tcs_wait_time {
+	int64_t deadline; /* in: absolute, or the timeout if relative; out: absolute */
+	int relative;     /* in: deadline is a timeout from the start of the wait */
+	int64_t start;    /* out: when the wait began */
+	int64_t end;      /* out: when it ended */
+};
+
 /* Waits until the virtual deadline (TCS_NEVER: forever). With fds, the wait
  * also ends when one of fds[1..nfds-1] becomes ready; fds[0] is reserved for
  * the channel and mask (may be NULL) is the signal mask during the wait.
- * Returns a tcs_wait_result or -EINTR when a signal handler ran, and the
- * virtual time the wait ended at in *v_end. A deadline already past returns
- * at once without a round trip. */
-int tcs_wait(int64_t deadline, unsigned kind, unsigned flags, struct pollfd *fds, unsigned nfds,
-	     const sigset_t *mask, int64_t *v_end) TCS_HIDDEN;
+ * Returns a tcs_wait_result or -EINTR when a signal handler ran. A deadline
+ * already past returns at once without a round trip. The start of the wait
+ * is read once, for both the deadline and the BLOCK: one CPU-clock read. */
+int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct pollfd *fds, unsigned nfds,
+	     const sigset_t *mask) TCS_HIDDEN;
 
 /* Enter/leave a blocking hook. tcs_wait_enter() returns 0 when the caller
  * must pass through to the real call (not a controller, a nested call from

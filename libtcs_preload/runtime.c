@@ -128,17 +128,21 @@ static void tcs_send_early(uint32_t seq, unsigned reason)
 	tcs_send(&m);
 }
 
-int tcs_wait(int64_t deadline, unsigned kind, unsigned flags, struct pollfd *fds, unsigned nfds,
-	     const sigset_t *mask, int64_t *v_end)
+int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct pollfd *fds, unsigned nfds,
+	     const sigset_t *mask)
 {
 	struct tcs_clock_page *p = tcs_rt.page;
 	int64_t cpu = tcs_process_cpu();
 	int64_t v = tcs_page_vnow(p, tcs_page_read_slice(p), cpu);
+	int64_t deadline = t->relative ? tcs_ns_add(v, t->deadline) : t->deadline;
+	t->deadline = deadline;
+	t->relative = 0;
+	t->start = v;
 	if (deadline <= v) {
 		__atomic_add_fetch(&p->quick_returns, 1, __ATOMIC_RELAXED);
 		if (flags & TCS_BLOCK_ABSOLUTE)
 			__atomic_add_fetch(&p->past_deadlines, 1, __ATOMIC_RELAXED);
-		*v_end = v;
+		t->end = v;
 		return TCS_WAIT_DEADLINE;
 	}
 
@@ -189,7 +193,7 @@ int tcs_wait(int64_t deadline, unsigned kind, unsigned flags, struct pollfd *fds
 		if (w.seq == seq)
 			break;
 	}
-	*v_end = w.v;
+	t->end = w.v;
 	/* From here on the hook's own cost is not charged to the program. */
 	__atomic_store_n(&p->exit_cpu, tcs_process_cpu(), __ATOMIC_RELAXED);
 	if (w.kind == TCS_WAKE_RECHECK)
