@@ -215,12 +215,50 @@ static void test_wrong_version(void **state)
 
 static void test_unknown_type(void **state)
 {
-	static const uint16_t types[] = { 0, 5, 6, 100, 0xffff, 0x0101 };
+	static const uint16_t types[] = { 0, 7, 8, 100, 0xffff, 0x0101 };
 	for (size_t i = 0; i < sizeof types / sizeof types[0]; i++) {
 		struct tcs_msg m = valid_block();
 		m.type = types[i];
 		assert_rejected(m);
 	}
+}
+
+static void test_device_messages(void **state)
+{
+	struct tcs_msg out, m = tcs_msg_make(TCS_MSG_DEV_OPEN, 3);
+	m.arg = 2;
+	m.flags = TCS_DEV_READ | TCS_DEV_NONBLOCK;
+	assert_null(tcs_msg_check(&m, sizeof m, &out));
+	m.arg = TCS_MAX_DEVICES;
+	assert_non_null(tcs_msg_check(&m, sizeof m, &out)); /* no such device */
+	m.arg = -1;
+	assert_non_null(tcs_msg_check(&m, sizeof m, &out));
+	m.arg = 0;
+	m.flags = TCS_DEV_NONBLOCK; /* neither read nor write */
+	assert_non_null(tcs_msg_check(&m, sizeof m, &out));
+	m.flags = 0x80;
+	assert_non_null(tcs_msg_check(&m, sizeof m, &out));
+
+	m = tcs_msg_make(TCS_MSG_DEV_SYNC, 4);
+	m.kind = TCS_SYNC_WRITE;
+	m.arg = 1;
+	m.v = 5;
+	m.cpu = 7;
+	assert_null(tcs_msg_check(&m, sizeof m, &out));
+	assert_int_equal(out.kind, TCS_SYNC_WRITE);
+	m.kind = 0;
+	assert_non_null(tcs_msg_check(&m, sizeof m, &out));
+	m.kind = 4;
+	assert_non_null(tcs_msg_check(&m, sizeof m, &out));
+	m.kind = TCS_SYNC_READ;
+	m.arg = -3;
+	assert_non_null(tcs_msg_check(&m, sizeof m, &out));
+	m.arg = 1;
+	m.v = -1;
+	assert_non_null(tcs_msg_check(&m, sizeof m, &out));
+	m.v = 0;
+	m.flags = 0x40;
+	assert_non_null(tcs_msg_check(&m, sizeof m, &out));
 }
 
 static void test_wake_to_coordinator(void **state)
@@ -245,7 +283,7 @@ static void test_block_bad_kind(void **state)
 
 static void test_block_bad_flags(void **state)
 {
-	for (unsigned bit = 2; bit < 16; bit++) {
+	for (unsigned bit = 3; bit < 16; bit++) { /* bits 0-2 are the known flags */
 		struct tcs_msg m = valid_block();
 		m.flags = (uint16_t)(1u << bit);
 		assert_rejected(m);
@@ -315,6 +353,16 @@ static void assert_invariants(const struct tcs_msg *m, const void *raw)
 	case TCS_MSG_EARLY:
 		assert_true(m->kind == TCS_EARLY_FD || m->kind == TCS_EARLY_SIGNAL);
 		break;
+	case TCS_MSG_DEV_OPEN:
+		assert_true(m->arg >= 0 && m->arg < TCS_MAX_DEVICES);
+		assert_int_equal(m->flags & ~TCS_DEV_FLAGS_ALL, 0);
+		assert_true(m->flags & (TCS_DEV_READ | TCS_DEV_WRITE));
+		break;
+	case TCS_MSG_DEV_SYNC:
+		assert_true(m->kind >= TCS_SYNC_READ && m->kind <= TCS_SYNC_POLL);
+		assert_int_equal(m->flags & ~TCS_DEV_FLAGS_ALL, 0);
+		assert_true(m->arg >= 0 && m->arg <= INT32_MAX && m->v >= 0 && m->cpu >= 0);
+		break;
 	default:
 		print_error("accepted a message of type %u\n", m->type);
 		fail();
@@ -343,7 +391,7 @@ static void test_fuzz_random_buffers(void **state)
 			memcpy(buf + 4, &version, 2);
 		}
 		if (r & 4) {
-			uint16_t type = (uint16_t)(1 + (r >> 8) % 5);
+			uint16_t type = (uint16_t)(1 + (r >> 8) % 7);
 			memcpy(buf + 6, &type, 2);
 		}
 		if (r & 8) {
@@ -442,6 +490,7 @@ int main(void)
 		cmocka_unit_test(test_bad_magic),
 		cmocka_unit_test(test_wrong_version),
 		cmocka_unit_test(test_unknown_type),
+		cmocka_unit_test(test_device_messages),
 		cmocka_unit_test(test_wake_to_coordinator),
 		cmocka_unit_test(test_block_bad_kind),
 		cmocka_unit_test(test_block_bad_flags),

@@ -28,12 +28,33 @@ extern "C" {
 #define TCS_ENV_CONTROLLER_PID "TCS_CONTROLLER_PID"
 /* Where the preload moves its own descriptors, out of the program's way. */
 #define TCS_RUNTIME_FD_FLOOR 900
+/* Virtual devices a scenario may declare (see tcs_device_table). */
+#define TCS_MAX_DEVICES 64
 
 enum tcs_msg_type {
 	TCS_MSG_HELLO = 1, /* controller → coordinator: preload attached (arg = pid) */
 	TCS_MSG_BLOCK = 2, /* controller → coordinator: wait until deadline */
 	TCS_MSG_EARLY = 3, /* controller → coordinator: end wait seq now (kind = reason) */
-	TCS_MSG_WAKE = 4,  /* coordinator → controller: wait seq is over (v = its time) */
+	TCS_MSG_WAKE = 4,  /* coordinator → controller: request seq is done (v = its time, arg = result) */
+	TCS_MSG_DEV_OPEN = 5, /* controller → coordinator: open device arg (flags: TCS_DEV_*) */
+	TCS_MSG_DEV_SYNC = 6, /* controller → coordinator: bring device handle arg up to v (kind: TCS_SYNC_*) */
+};
+
+/* Answering DEV_OPEN, the WAKE carries the device's fd (SCM_RIGHTS) and
+ * arg = its handle, or arg = -errno and no fd. Answering DEV_SYNC, arg = 0
+ * or -errno (-EAGAIN: nothing due and TCS_DEV_NONBLOCK; -EINVAL: a malformed
+ * actuator record). Every request gets exactly one WAKE, as BLOCK does. */
+enum tcs_dev_flags {
+	TCS_DEV_READ = 1u << 0,     /* opened for reading */
+	TCS_DEV_WRITE = 1u << 1,    /* opened for writing */
+	TCS_DEV_NONBLOCK = 1u << 2, /* O_NONBLOCK: do not wait for a record */
+	TCS_DEV_FLAGS_ALL = TCS_DEV_READ | TCS_DEV_WRITE | TCS_DEV_NONBLOCK,
+};
+
+enum tcs_sync_kind {
+	TCS_SYNC_READ = 1,  /* about to read: put what is due into the fd (or wait for it) */
+	TCS_SYNC_WRITE = 2, /* just wrote: take the records from the fd, stamped v */
+	TCS_SYNC_POLL = 3,  /* about to check readiness: put what is due into the fd */
 };
 
 enum tcs_block_kind {
@@ -44,7 +65,8 @@ enum tcs_block_kind {
 enum tcs_block_flags {
 	TCS_BLOCK_ABSOLUTE = 1u << 0, /* the program asked for an absolute deadline */
 	TCS_BLOCK_RECHECK = 1u << 1,  /* wake at every step so real fds get re-checked */
-	TCS_BLOCK_FLAGS_ALL = TCS_BLOCK_ABSOLUTE | TCS_BLOCK_RECHECK,
+	TCS_BLOCK_DEVICES = 1u << 2,  /* also wake when a record is due on an open sensor */
+	TCS_BLOCK_FLAGS_ALL = TCS_BLOCK_ABSOLUTE | TCS_BLOCK_RECHECK | TCS_BLOCK_DEVICES,
 };
 
 enum tcs_early_reason {
@@ -120,6 +142,20 @@ static inline const char *tcs_msg_check(const void *buf, long len, struct tcs_ms
 	case TCS_MSG_EARLY:
 		if (out->kind != TCS_EARLY_FD && out->kind != TCS_EARLY_SIGNAL)
 			return "EARLY with unknown reason";
+		return NULL;
+	case TCS_MSG_DEV_OPEN:
+		if (out->arg < 0 || out->arg >= TCS_MAX_DEVICES)
+			return "DEV_OPEN of a device that does not exist";
+		if (out->flags & ~TCS_DEV_FLAGS_ALL || !(out->flags & (TCS_DEV_READ | TCS_DEV_WRITE)))
+			return "DEV_OPEN with bad flags";
+		return NULL;
+	case TCS_MSG_DEV_SYNC:
+		if (out->kind != TCS_SYNC_READ && out->kind != TCS_SYNC_WRITE && out->kind != TCS_SYNC_POLL)
+			return "DEV_SYNC of unknown kind";
+		if (out->flags & ~TCS_DEV_FLAGS_ALL)
+			return "DEV_SYNC with bad flags";
+		if (out->arg < 0 || out->arg > INT32_MAX || out->v < 0 || out->cpu < 0)
+			return "DEV_SYNC with a bad handle or time";
 		return NULL;
 	case TCS_MSG_WAKE:
 		return "WAKE is sent by the coordinator, not to it";
