@@ -91,6 +91,15 @@ struct tcs_wait_time {
 int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct pollfd *fds, unsigned nfds,
 	     const sigset_t *mask) TCS_HIDDEN;
 
+/* Sends m (its seq is assigned here) and waits for the WAKE answering it,
+ * in ppoll over the channel and fds[1..nfds-1] (fds may be NULL) with the
+ * signal mask `mask`. A real fd becoming ready or a signal handler running
+ * first sends EARLY (and the WAKE still comes). Returns the EARLY reason
+ * sent, or 0; the WAKE in *reply; an fd passed with it in *fd_out (or
+ * closed when fd_out is NULL). */
+unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, const sigset_t *mask,
+		       struct tcs_msg *reply, int *fd_out) TCS_HIDDEN;
+
 /* Enter/leave a blocking hook. tcs_wait_enter() returns 0 when the caller
  * must pass through to the real call (not a controller, a nested call from
  * a signal handler, or another thread already waiting). */

@@ -146,14 +146,30 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 		return TCS_WAIT_DEADLINE;
 	}
 
-	uint32_t seq = __atomic_add_fetch(&tcs_rt.next_seq, 1, __ATOMIC_RELAXED);
-	struct tcs_msg m = tcs_msg_make(TCS_MSG_BLOCK, seq);
+	struct tcs_msg m = tcs_msg_make(TCS_MSG_BLOCK, 0);
 	m.kind = (uint16_t)kind;
 	m.flags = (uint16_t)flags;
 	m.deadline = deadline;
 	m.v = v;
 	m.cpu = cpu;
-	tcs_send(&m);
+	struct tcs_msg w;
+	unsigned early = tcs_roundtrip(&m, fds, nfds, mask, &w, NULL);
+	t->end = w.v;
+	if (w.kind == TCS_WAKE_RECHECK)
+		return TCS_WAIT_RECHECK;
+	if (w.kind == TCS_WAKE_EARLY)
+		return early == TCS_EARLY_SIGNAL ? -EINTR : TCS_WAIT_FD;
+	return TCS_WAIT_DEADLINE;
+}
+
+unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, const sigset_t *mask,
+		       struct tcs_msg *reply, int *fd_out)
+{
+	uint32_t seq = __atomic_add_fetch(&tcs_rt.next_seq, 1, __ATOMIC_RELAXED);
+	m->seq = seq;
+	tcs_send(m);
+	if (fd_out)
+		*fd_out = -1;
 
 	/* Wait in ppoll, never in a blocking recv: ppoll is the one wait the
 	 * kernel never restarts after a signal handler, SA_RESTART or not (so a
@@ -165,7 +181,6 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 		nfds = 1;
 	}
 	unsigned early = 0;
-	struct tcs_msg w;
 	for (;;) {
 		if (!early) {
 			fds[0].fd = tcs_rt.channel_fd;
@@ -180,7 +195,18 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 			if (r < 0)
 				tcs_lost("ppoll on the channel failed");
 		}
-		long r = tcs_sys6(SYS_recvfrom, tcs_rt.channel_fd, &w, sizeof w, 0, 0, 0);
+		/* recvmsg: a reply to DEV_OPEN carries the device's fd. */
+		union {
+			struct cmsghdr align;
+			char buf[CMSG_SPACE(sizeof(int))];
+		} control;
+		struct iovec iov = { reply, sizeof *reply };
+		struct msghdr mh = { 0 };
+		mh.msg_iov = &iov;
+		mh.msg_iovlen = 1;
+		mh.msg_control = control.buf;
+		mh.msg_controllen = sizeof control.buf;
+		long r = tcs_sys3(SYS_recvmsg, tcs_rt.channel_fd, &mh, MSG_CMSG_CLOEXEC);
 		if (r == -EINTR) {
 			if (!early) {
 				early = TCS_EARLY_SIGNAL;
@@ -188,19 +214,26 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 			}
 			continue;
 		}
-		if (r != (long)sizeof w || w.magic != TCS_PROTO_MAGIC || w.type != TCS_MSG_WAKE)
+		if (r != (long)sizeof *reply || reply->magic != TCS_PROTO_MAGIC || reply->type != TCS_MSG_WAKE)
 			tcs_lost(r == 0 ? "the channel is closed" : "unexpected message");
-		if (w.seq == seq)
-			break;
+		struct cmsghdr *c = CMSG_FIRSTHDR(&mh);
+		int fd = -1;
+		if (c && c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_RIGHTS)
+			__builtin_memcpy(&fd, CMSG_DATA(c), sizeof fd);
+		if (reply->seq != seq) {
+			if (fd >= 0)
+				tcs_sys1(SYS_close, fd);
+			continue;
+		}
+		if (fd_out)
+			*fd_out = fd;
+		else if (fd >= 0)
+			tcs_sys1(SYS_close, fd);
+		break;
 	}
-	t->end = w.v;
 	/* From here on the hook's own cost is not charged to the program. */
-	__atomic_store_n(&p->exit_cpu, tcs_process_cpu(), __ATOMIC_RELAXED);
-	if (w.kind == TCS_WAKE_RECHECK)
-		return TCS_WAIT_RECHECK;
-	if (w.kind == TCS_WAKE_EARLY)
-		return early == TCS_EARLY_SIGNAL ? -EINTR : TCS_WAIT_FD;
-	return TCS_WAIT_DEADLINE;
+	__atomic_store_n(&tcs_rt.page->exit_cpu, tcs_process_cpu(), __ATOMIC_RELAXED);
+	return early;
 }
 
 /* ---- attaching, in the order it happens ---------------------------------- */
