@@ -3,18 +3,21 @@
  * program those fds look like they were never open (EBADF). */
 #include <fcntl.h>
 #include <limits.h>
+#include <linux/close_range.h>
 
-#include "preload.h"
+#include "devices.h"
 #include "raw_syscall.h"
 
 TCS_EXPORT int close(int fd)
 {
 	if (tcs_is_runtime_fd(fd))
 		return tcs_errno_result(-EBADF);
+	tcs_device_forget(fd);
 	return tcs_errno_result(tcs_sys1(SYS_close, fd));
 }
 
-/* close_range over [first, last], stepping around the runtime's fds. */
+/* close_range over [first, last], stepping around the runtime's fds (device
+ * fds it closes are forgotten as close() forgets them). */
 static long tcs_close_range(unsigned first, unsigned last, unsigned flags)
 {
 	int mine[2] = { tcs_rt.channel_fd, tcs_rt.page_fd };
@@ -38,15 +41,24 @@ static long tcs_close_range(unsigned first, unsigned last, unsigned flags)
 	return first <= last ? tcs_sys3(SYS_close_range, first, last, flags) : 0;
 }
 
+static void tcs_forget_range(unsigned first, unsigned last)
+{
+	for (unsigned fd = first; fd <= last && fd < TCS_DEVICE_FD_MAX; fd++)
+		tcs_device_forget((int)fd);
+}
+
 TCS_EXPORT int close_range(unsigned first, unsigned last, int flags)
 {
 	if (first > last)
 		return tcs_errno_result(-EINVAL);
+	if (!(flags & CLOSE_RANGE_CLOEXEC))
+		tcs_forget_range(first, last);
 	return tcs_errno_result(tcs_close_range(first, last, (unsigned)flags));
 }
 
 TCS_EXPORT void closefrom(int lowfd)
 {
+	tcs_forget_range(lowfd < 0 ? 0 : (unsigned)lowfd, UINT_MAX);
 	tcs_close_range(lowfd < 0 ? 0 : (unsigned)lowfd, UINT_MAX, 0);
 }
 
@@ -56,12 +68,25 @@ TCS_EXPORT int dup2(int oldfd, int newfd)
 		return tcs_errno_result(-EBADF);
 	if (oldfd == newfd) /* dup2 checks oldfd and returns it; dup3 would fail */
 		return tcs_errno_result(tcs_sys3(SYS_fcntl, oldfd, F_GETFD, 0) < 0 ? -EBADF : oldfd);
-	return tcs_errno_result(tcs_sys3(SYS_dup3, oldfd, newfd, 0));
+	return dup3(oldfd, newfd, 0);
+}
+
+TCS_EXPORT int dup(int oldfd)
+{
+	long r = tcs_sys1(SYS_dup, oldfd);
+	if (r >= 0)
+		tcs_device_copy(oldfd, (int)r);
+	return tcs_errno_result(r);
 }
 
 TCS_EXPORT int dup3(int oldfd, int newfd, int flags)
 {
 	if (tcs_is_runtime_fd(newfd) || tcs_is_runtime_fd(oldfd))
 		return tcs_errno_result(-EBADF);
-	return tcs_errno_result(tcs_sys3(SYS_dup3, oldfd, newfd, flags));
+	long r = tcs_sys3(SYS_dup3, oldfd, newfd, flags);
+	if (r >= 0) {
+		tcs_device_forget(newfd);
+		tcs_device_copy(oldfd, newfd);
+	}
+	return tcs_errno_result(r);
 }

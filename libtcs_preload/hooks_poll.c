@@ -9,7 +9,7 @@
 #include <sys/epoll.h>
 #include <sys/select.h>
 
-#include "preload.h"
+#include "devices.h"
 #include "raw_syscall.h"
 
 /* Real fds mirrored on the stack while waiting (slot 0 is the channel). */
@@ -28,13 +28,22 @@ typedef long (*tcs_check_fn)(void *ctx);
 static long tcs_multiplex(int64_t timeout_ns, tcs_check_fn check, void *ctx, struct pollfd *mirror,
 			  unsigned nmirror, const sigset_t *mask, int64_t *v_left)
 {
+	/* With devices open, what is due on them must be in their fds before
+	 * the kernel is asked what is ready, and the wait must end when the
+	 * next record is due. */
+	int devices = tcs_devices_open() > 0;
+	if (devices) {
+		long s = tcs_device_sync_held(0, -1, TCS_SYNC_POLL);
+		if (s < 0)
+			return s;
+	}
 	long r = check(ctx);
 	if (r != 0 || timeout_ns == 0)
 		return r;
 	/* Relative on the first wait; absolute (the same deadline) on any
 	 * that follow a wake-up with nothing ready after all. */
 	struct tcs_wait_time t = { timeout_ns < 0 ? TCS_NEVER : timeout_ns, timeout_ns >= 0, 0, 0 };
-	unsigned flags = mirror ? 0 : TCS_BLOCK_RECHECK;
+	unsigned flags = (mirror ? 0 : TCS_BLOCK_RECHECK) | (devices ? TCS_BLOCK_DEVICES : 0);
 	for (;;) {
 		long w = tcs_wait(&t, TCS_BLOCK_POLL, flags, mirror, nmirror, mask);
 		if (v_left)

@@ -18,7 +18,10 @@
 #include <sys/time.h>
 #include <time.h>
 
+struct termios;
+
 #include "tcs/clock_page.h"
+#include "tcs/device_table.h"
 #include "tcs/protocol.h"
 
 #define TCS_EXPORT __attribute__((visibility("default")))
@@ -36,12 +39,17 @@ struct tcs_runtime {
 	int channel_fd;
 	int page_fd;
 	struct tcs_clock_page *page;
+	const struct tcs_device_table *devices; /* beside the page, constant */
 	uint32_t next_seq;
 	int waiting; /* a thread is inside tcs_wait() (one at a time for now) */
 
 	/* The real libc entry points we still need, resolved once at load. */
 	int (*real_clock_gettime)(clockid_t, struct timespec *);
 	int (*real_gettimeofday)(struct timeval *, void *);
+	struct _IO_FILE *(*real_fopen)(const char *, const char *);
+	struct _IO_FILE *(*real_fopen64)(const char *, const char *);
+	int (*real_tcgetattr)(int, struct termios *);
+	int (*real_tcsetattr)(int, int, const struct termios *);
 };
 
 extern struct tcs_runtime tcs_rt TCS_HIDDEN;
@@ -116,6 +124,11 @@ TCS_EXPORT int ftime(struct tcs_timeb *tb);
 TCS_EXPORT int __poll_chk(struct pollfd *fds, nfds_t n, int timeout_ms, size_t fdslen);
 TCS_EXPORT int __ppoll_chk(struct pollfd *fds, nfds_t n, const struct timespec *ts, const sigset_t *mask,
 			   size_t fdslen);
+TCS_EXPORT int __open_2(const char *path, int flags);
+TCS_EXPORT int __open64_2(const char *path, int flags);
+TCS_EXPORT int __openat_2(int dirfd, const char *path, int flags);
+TCS_EXPORT int __openat64_2(int dirfd, const char *path, int flags);
+TCS_EXPORT long __read_chk(int fd, void *buf, size_t n, size_t buflen);
 
 /* Returns -1 with errno = -r when r < 0, else r. The one place hooks turn
  * internal -errno results into the C convention. */

@@ -309,6 +309,16 @@ static void tcs_resolve_real_symbols(void)
 {
 	tcs_rt.real_clock_gettime = (int (*)(clockid_t, struct timespec *))dlsym(RTLD_NEXT, "clock_gettime");
 	tcs_rt.real_gettimeofday = (int (*)(struct timeval *, void *))dlsym(RTLD_NEXT, "gettimeofday");
+	/* (fopen and termios are resolved on first use if a library's
+	 * constructor calls them before this runs; see hooks_device.c.) */
+	if (!tcs_rt.real_fopen)
+		tcs_rt.real_fopen = (struct _IO_FILE * (*)(const char *, const char *)) dlsym(RTLD_NEXT, "fopen");
+	if (!tcs_rt.real_fopen64)
+		tcs_rt.real_fopen64 = (struct _IO_FILE * (*)(const char *, const char *)) dlsym(RTLD_NEXT, "fopen64");
+	if (!tcs_rt.real_tcgetattr)
+		tcs_rt.real_tcgetattr = (int (*)(int, struct termios *))dlsym(RTLD_NEXT, "tcgetattr");
+	if (!tcs_rt.real_tcsetattr)
+		tcs_rt.real_tcsetattr = (int (*)(int, int, const struct termios *))dlsym(RTLD_NEXT, "tcsetattr");
 }
 
 static int tcs_read_environment(long *channel, long *page, long *controller)
@@ -321,10 +331,11 @@ static int tcs_read_environment(long *channel, long *page, long *controller)
 
 static int tcs_map_page(void)
 {
-	void *m = mmap(NULL, TCS_PAGE_SIZE, PROT_READ | PROT_WRITE, MAP_SHARED, tcs_rt.page_fd, 0);
+	void *m = mmap(NULL, TCS_SHARED_SIZE, PROT_READ | PROT_WRITE, MAP_SHARED, tcs_rt.page_fd, 0);
 	if (m == MAP_FAILED)
 		return -errno;
 	tcs_rt.page = (struct tcs_clock_page *)m;
+	tcs_rt.devices = tcs_device_table_of(m);
 	if (tcs_rt.page->magic != TCS_PAGE_MAGIC || tcs_rt.page->version != TCS_PAGE_VERSION)
 		return -EPROTO;
 	return 0;

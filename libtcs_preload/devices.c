@@ -1,0 +1,128 @@
+/* Virtual devices on the preload's side: which fds are devices, and the
+ * two requests that keep them in virtual time. A device fd is a real
+ * socket whose other end the coordinator holds; before a read or a
+ * readiness check the coordinator puts in what is due at the controller's
+ * virtual time (or holds the read until it is due), and after a write it
+ * takes the records out, stamped with the time they were written. */
+#include <fcntl.h>
+
+#include "devices.h"
+#include "raw_syscall.h"
+
+/* fd -> device handle + 1 (0: not a device). fds beyond the table are
+ * never devices: open() moves a device fd below it if it must. */
+static int32_t tcs_fd_handle[TCS_DEVICE_FD_MAX];
+static int tcs_open_devices;
+
+int tcs_device_lookup(const char *path)
+{
+	if (!tcs_active() || !path || path[0] != '/' || !tcs_rt.devices)
+		return -1;
+	const struct tcs_device_table *t = tcs_rt.devices;
+	for (uint32_t i = 0; i < t->count && i < TCS_MAX_DEVICES; i++) {
+		const char *a = t->dev[i].path, *b = path;
+		while (*a && *a == *b) {
+			a++;
+			b++;
+		}
+		if (*a == '\0' && *b == '\0')
+			return (int)i;
+	}
+	return -1;
+}
+
+int tcs_device_handle(int fd)
+{
+	if (fd < 0 || fd >= TCS_DEVICE_FD_MAX)
+		return -1;
+	return __atomic_load_n(&tcs_fd_handle[fd], __ATOMIC_RELAXED) - 1;
+}
+
+int tcs_devices_open(void)
+{
+	return __atomic_load_n(&tcs_open_devices, __ATOMIC_RELAXED);
+}
+
+void tcs_device_forget(int fd)
+{
+	if (tcs_device_handle(fd) >= 0) {
+		__atomic_store_n(&tcs_fd_handle[fd], 0, __ATOMIC_RELAXED);
+		__atomic_sub_fetch(&tcs_open_devices, 1, __ATOMIC_RELAXED);
+	}
+}
+
+void tcs_device_copy(int from, int to)
+{
+	int h = tcs_device_handle(from);
+	if (h < 0 || to < 0 || to >= TCS_DEVICE_FD_MAX)
+		return;
+	tcs_device_forget(to);
+	__atomic_store_n(&tcs_fd_handle[to], h + 1, __ATOMIC_RELAXED);
+	__atomic_add_fetch(&tcs_open_devices, 1, __ATOMIC_RELAXED);
+}
+
+long tcs_device_open(int dev, int oflags)
+{
+	const struct tcs_device_entry *e = &tcs_rt.devices->dev[dev];
+	int access = oflags & O_ACCMODE;
+	if ((e->kind == TCS_DEVICE_SENSOR && access != O_RDONLY) ||
+	    (e->kind == TCS_DEVICE_ACTUATOR && access != O_WRONLY))
+		return -EACCES;
+	if (!tcs_wait_enter())
+		return -EBUSY;
+	struct tcs_msg m = tcs_msg_make(TCS_MSG_DEV_OPEN, 0), w;
+	m.arg = dev;
+	m.flags = (uint16_t)((access == O_RDONLY ? TCS_DEV_READ : TCS_DEV_WRITE) |
+			     ((oflags & O_NONBLOCK) ? TCS_DEV_NONBLOCK : 0));
+	int fd;
+	tcs_roundtrip(&m, NULL, 0, NULL, &w, &fd);
+	tcs_wait_leave();
+	if (fd < 0)
+		return w.arg < 0 ? w.arg : -EIO;
+	if (fd >= TCS_DEVICE_FD_MAX) {
+		long low = tcs_sys3(SYS_fcntl, fd, F_DUPFD_CLOEXEC, 3);
+		tcs_sys1(SYS_close, fd);
+		if (low < 0 || low >= TCS_DEVICE_FD_MAX) {
+			if (low >= 0)
+				tcs_sys1(SYS_close, low);
+			return -EMFILE;
+		}
+		fd = (int)low;
+	}
+	if (oflags & O_NONBLOCK)
+		tcs_sys3(SYS_fcntl, fd, F_SETFL, O_NONBLOCK);
+	if (!(oflags & O_CLOEXEC))
+		tcs_sys3(SYS_fcntl, fd, F_SETFD, 0);
+	__atomic_store_n(&tcs_fd_handle[fd], (int32_t)w.arg + 1, __ATOMIC_RELAXED);
+	__atomic_add_fetch(&tcs_open_devices, 1, __ATOMIC_RELAXED);
+	return fd;
+}
+
+long tcs_device_sync_held(int handle, int fd, unsigned kind)
+{
+	long fl = fd >= 0 ? tcs_sys3(SYS_fcntl, fd, F_GETFL, 0) : 0;
+	struct tcs_clock_page *p = tcs_rt.page;
+	int64_t cpu = tcs_process_cpu();
+	struct tcs_msg m = tcs_msg_make(TCS_MSG_DEV_SYNC, 0), w;
+	m.kind = (uint16_t)kind;
+	m.flags = (uint16_t)((fl > 0 && (fl & O_NONBLOCK)) ? TCS_DEV_NONBLOCK : 0);
+	m.arg = handle;
+	m.cpu = cpu;
+	m.v = tcs_page_vnow(p, tcs_page_read_slice(p), cpu);
+	unsigned early = tcs_roundtrip(&m, NULL, 0, NULL, &w, NULL);
+	if (early == TCS_EARLY_SIGNAL && w.kind == TCS_WAKE_EARLY)
+		return -EINTR;
+	return w.arg < 0 ? w.arg : 0;
+}
+
+long tcs_device_sync(int handle, int fd, unsigned kind)
+{
+	if (!tcs_wait_enter()) {
+		static int once;
+		tcs_report_once(&once, "device I/O from a signal handler or a second thread is not kept in virtual time");
+		return 0;
+	}
+	long r = tcs_device_sync_held(handle, fd, kind);
+	tcs_wait_leave();
+	return r;
+}

@@ -1,0 +1,290 @@
+/* Device hooks: open/openat/fopen (with their 64 and fortified variants)
+ * of a scenario's device paths give a real fd the coordinator serves;
+ * read/readv/write/writev on it are kept in virtual time (devices.c);
+ * termios calls on it succeed as on a serial port. Everything else passes
+ * straight to the kernel. */
+/* Both open() and open64() are defined here: the headers must not rename
+ * one to the other (meson builds with _FILE_OFFSET_BITS=64). */
+#undef _FILE_OFFSET_BITS
+#include <dlfcn.h>
+#include <fcntl.h>
+#include <stdarg.h>
+#include <string.h>
+#include <stdio.h>
+#include <sys/ioctl.h>
+#include <sys/uio.h>
+#include <termios.h>
+
+#include "devices.h"
+#include "raw_syscall.h"
+
+/* ---- open ---------------------------------------------------------------- */
+
+static long tcs_openat(int dirfd, const char *path, int flags, mode_t mode)
+{
+	int dev = tcs_device_lookup(path);
+	if (dev >= 0)
+		return tcs_device_open(dev, flags);
+	return tcs_sys4(SYS_openat, dirfd, path, flags, mode);
+}
+
+#define TCS_MODE_ARG(flags, mode)                                  \
+	do {                                                       \
+		if ((flags) & (O_CREAT | __O_TMPFILE)) {           \
+			va_list ap;                                \
+			va_start(ap, flags);                       \
+			mode = (mode_t)va_arg(ap, unsigned int);   \
+			va_end(ap);                                \
+		}                                                  \
+	} while (0)
+
+TCS_EXPORT int open(const char *path, int flags, ...)
+{
+	mode_t mode = 0;
+	TCS_MODE_ARG(flags, mode);
+	return tcs_errno_result(tcs_openat(AT_FDCWD, path, flags, mode));
+}
+
+TCS_EXPORT int open64(const char *path, int flags, ...)
+{
+	mode_t mode = 0;
+	TCS_MODE_ARG(flags, mode);
+	return tcs_errno_result(tcs_openat(AT_FDCWD, path, flags | O_LARGEFILE, mode));
+}
+
+TCS_EXPORT int openat(int dirfd, const char *path, int flags, ...)
+{
+	mode_t mode = 0;
+	TCS_MODE_ARG(flags, mode);
+	return tcs_errno_result(tcs_openat(dirfd, path, flags, mode));
+}
+
+TCS_EXPORT int openat64(int dirfd, const char *path, int flags, ...)
+{
+	mode_t mode = 0;
+	TCS_MODE_ARG(flags, mode);
+	return tcs_errno_result(tcs_openat(dirfd, path, flags | O_LARGEFILE, mode));
+}
+
+/* _FORTIFY_SOURCE variants: no mode argument (O_CREAT is a compile error). */
+TCS_EXPORT int __open_2(const char *path, int flags)
+{
+	return tcs_errno_result(tcs_openat(AT_FDCWD, path, flags, 0));
+}
+
+TCS_EXPORT int __open64_2(const char *path, int flags)
+{
+	return tcs_errno_result(tcs_openat(AT_FDCWD, path, flags | O_LARGEFILE, 0));
+}
+
+TCS_EXPORT int __openat_2(int dirfd, const char *path, int flags)
+{
+	return tcs_errno_result(tcs_openat(dirfd, path, flags, 0));
+}
+
+TCS_EXPORT int __openat64_2(int dirfd, const char *path, int flags)
+{
+	return tcs_errno_result(tcs_openat(dirfd, path, flags | O_LARGEFILE, 0));
+}
+
+/* ---- read / write ---------------------------------------------------------- */
+
+/* Before reading a device: what is due goes into the fd (or the read
+ * waits for it, in virtual time). */
+static long tcs_before_read(int fd)
+{
+	int h = tcs_device_handle(fd);
+	return h < 0 || !tcs_active() ? 0 : tcs_device_sync(h, fd, TCS_SYNC_READ);
+}
+
+/* After writing a device: the coordinator takes the records, stamped with
+ * the virtual time of the write; a malformed one fails the write. */
+static long tcs_after_write(int fd, long written)
+{
+	int h = tcs_device_handle(fd);
+	if (h < 0 || written <= 0 || !tcs_active())
+		return written;
+	long r = tcs_device_sync(h, fd, TCS_SYNC_WRITE);
+	return r < 0 && r != -EINTR ? r : written;
+}
+
+TCS_EXPORT ssize_t read(int fd, void *buf, size_t n)
+{
+	long r = tcs_before_read(fd);
+	if (r < 0)
+		return tcs_errno_result(r);
+	return tcs_errno_result(tcs_sys3(SYS_read, fd, buf, n));
+}
+
+TCS_EXPORT long __read_chk(int fd, void *buf, size_t n, size_t buflen)
+{
+	(void)buflen;
+	return read(fd, buf, n);
+}
+
+TCS_EXPORT ssize_t readv(int fd, const struct iovec *iov, int n)
+{
+	long r = tcs_before_read(fd);
+	if (r < 0)
+		return tcs_errno_result(r);
+	return tcs_errno_result(tcs_sys3(SYS_readv, fd, iov, n));
+}
+
+TCS_EXPORT ssize_t write(int fd, const void *buf, size_t n)
+{
+	return tcs_errno_result(tcs_after_write(fd, tcs_sys3(SYS_write, fd, buf, n)));
+}
+
+TCS_EXPORT ssize_t writev(int fd, const struct iovec *iov, int n)
+{
+	return tcs_errno_result(tcs_after_write(fd, tcs_sys3(SYS_writev, fd, iov, n)));
+}
+
+/* ---- stdio ------------------------------------------------------------------ */
+
+/* glibc's stdio reads and writes through internal calls no preload sees,
+ * so a device opened with fopen() is a stream of our own over the fd. */
+static ssize_t tcs_cookie_read(void *c, char *buf, size_t n)
+{
+	return read((int)(intptr_t)c, buf, n);
+}
+
+static ssize_t tcs_cookie_write(void *c, const char *buf, size_t n)
+{
+	ssize_t r = write((int)(intptr_t)c, buf, n);
+	return r < 0 ? 0 : r; /* stdio reports a short write as an error */
+}
+
+static int tcs_cookie_close(void *c)
+{
+	return close((int)(intptr_t)c);
+}
+
+static FILE *tcs_fopen(const char *path, const char *mode)
+{
+	int dev = tcs_device_lookup(path);
+	if (dev < 0)
+		return NULL;
+	int flags = mode[0] == 'r' ? (mode[1] == '+' ? O_RDWR : O_RDONLY) : O_WRONLY;
+	for (const char *m = mode; *m; m++)
+		if (*m == 'e')
+			flags |= O_CLOEXEC;
+	long fd = tcs_device_open(dev, flags);
+	if (fd < 0) {
+		errno = (int)-fd;
+		return NULL;
+	}
+	cookie_io_functions_t io = { tcs_cookie_read, tcs_cookie_write, NULL, tcs_cookie_close };
+	FILE *f = fopencookie((void *)(intptr_t)fd, mode, io);
+	if (!f) {
+		close((int)fd);
+		return NULL;
+	}
+	/* Like a serial port (a tty): line-buffered, so each line goes out. */
+	if (tcs_rt.devices->dev[dev].format == TCS_FORMAT_TEXT)
+		setvbuf(f, NULL, _IOLBF, 0);
+	return f;
+}
+
+/* The real libc functions for everything that is not a device. Resolved
+ * by the runtime's constructor; a library constructor that runs before it
+ * (they may fopen a configuration file) resolves them itself, once. */
+#define TCS_REAL(field, name)                                                          \
+	(__atomic_load_n(&tcs_rt.field, __ATOMIC_ACQUIRE)                               \
+		 ? tcs_rt.field                                                         \
+		 : (__atomic_store_n(&tcs_rt.field, (__typeof__(tcs_rt.field))dlsym(RTLD_NEXT, name), \
+				     __ATOMIC_RELEASE),                                 \
+		    tcs_rt.field))
+
+TCS_EXPORT FILE *fopen(const char *path, const char *mode)
+{
+	if (tcs_device_lookup(path) >= 0)
+		return tcs_fopen(path, mode);
+	return TCS_REAL(real_fopen, "fopen")(path, mode);
+}
+
+TCS_EXPORT FILE *fopen64(const char *path, const char *mode)
+{
+	if (tcs_device_lookup(path) >= 0)
+		return tcs_fopen(path, mode);
+	return TCS_REAL(real_fopen64, "fopen64")(path, mode);
+}
+
+/* ---- a serial port's line settings -------------------------------------------- */
+
+/* A device answers like a serial port in raw mode, 8N1, 115200 baud, and
+ * accepts any new settings: programs written for /dev/ttyUSB0 configure
+ * the line before they use it. */
+TCS_EXPORT int tcgetattr(int fd, struct termios *t)
+{
+	if (tcs_device_handle(fd) < 0)
+		return TCS_REAL(real_tcgetattr, "tcgetattr")(fd, t);
+	memset(t, 0, sizeof *t);
+	t->c_cflag = CS8 | CREAD | CLOCAL | B115200;
+	t->c_ispeed = B115200;
+	t->c_ospeed = B115200;
+	return 0;
+}
+
+TCS_EXPORT int tcsetattr(int fd, int when, const struct termios *t)
+{
+	if (tcs_device_handle(fd) < 0)
+		return TCS_REAL(real_tcsetattr, "tcsetattr")(fd, when, t);
+	return 0;
+}
+
+TCS_EXPORT int tcflush(int fd, int queue)
+{
+	if (tcs_device_handle(fd) < 0)
+		return tcs_errno_result(tcs_sys3(SYS_ioctl, fd, TCFLSH, queue));
+	return 0;
+}
+
+TCS_EXPORT int tcdrain(int fd)
+{
+	if (tcs_device_handle(fd) < 0)
+		return tcs_errno_result(tcs_sys3(SYS_ioctl, fd, TCSBRK, 1));
+	return 0;
+}
+
+/* The kernel's struct termios, as TCGETS fills it (not glibc's). */
+struct tcs_kernel_termios {
+	unsigned int c_iflag, c_oflag, c_cflag, c_lflag;
+	unsigned char c_line;
+	unsigned char c_cc[19];
+};
+
+TCS_EXPORT int ioctl(int fd, unsigned long request, ...)
+{
+	va_list ap;
+	va_start(ap, request);
+	void *arg = va_arg(ap, void *);
+	va_end(ap);
+	if (tcs_device_handle(fd) < 0)
+		return tcs_errno_result(tcs_sys3(SYS_ioctl, fd, request, arg));
+	switch (request) {
+	case TCGETS: {
+		struct tcs_kernel_termios *t = (struct tcs_kernel_termios *)arg;
+		memset(t, 0, sizeof *t);
+		t->c_cflag = CS8 | CREAD | CLOCAL | B115200;
+		return 0;
+	}
+	case TIOCMGET:
+		*(int *)arg = TIOCM_DTR | TIOCM_RTS | TIOCM_CTS | TIOCM_DSR;
+		return 0;
+	case TCSETS:
+	case TCSETSW:
+	case TCSETSF:
+	case TCFLSH:
+	case TCSBRK:
+	case TCXONC:
+	case TIOCMSET:
+	case TIOCMBIS:
+	case TIOCMBIC:
+	case TIOCEXCL:
+	case TIOCNXCL:
+		return 0;
+	default: /* FIONREAD and the socket's own work as they are */
+		return tcs_errno_result(tcs_sys3(SYS_ioctl, fd, request, arg));
+	}
+}
