@@ -10,6 +10,7 @@
 #include <algorithm>
 
 #include "spawn.h"
+#include "tcs/device_table.h"
 
 namespace tcs {
 
@@ -31,9 +32,9 @@ Result<std::unique_ptr<Controller>> Controller::start(int id, const ControllerSp
 	UniqueFd page_fd(memfd_create("tcs-clock-page", MFD_CLOEXEC));
 	if (!page_fd)
 		return errno_error("memfd_create");
-	if (ftruncate(page_fd.get(), TCS_PAGE_SIZE) < 0)
+	if (ftruncate(page_fd.get(), TCS_SHARED_SIZE) < 0)
 		return errno_error("ftruncate");
-	void *m = mmap(nullptr, TCS_PAGE_SIZE, PROT_READ | PROT_WRITE, MAP_SHARED, page_fd.get(), 0);
+	void *m = mmap(nullptr, TCS_SHARED_SIZE, PROT_READ | PROT_WRITE, MAP_SHARED, page_fd.get(), 0);
 	if (m == MAP_FAILED)
 		return errno_error("mmap");
 	c->page_ = static_cast<tcs_clock_page *>(m);
@@ -71,7 +72,7 @@ Controller::~Controller()
 		waitid(P_PID, pid, &si, WEXITED);
 	}
 	if (page_)
-		munmap(page_, TCS_PAGE_SIZE);
+		munmap(page_, TCS_SHARED_SIZE);
 }
 
 int64_t Controller::cpu_now() const
