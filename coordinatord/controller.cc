@@ -8,6 +8,7 @@
 #include <time.h>
 
 #include <algorithm>
+#include <cstdio>
 
 #include "spawn.h"
 #include "tcs/device_table.h"
@@ -16,7 +17,7 @@ namespace tcs {
 
 Result<std::unique_ptr<Controller>> Controller::start(int id, const ControllerSpec &spec, int mode,
 						      const ClockOrigins &origins, const RealtimePlan &rt,
-						      const std::string &preload)
+						      const std::string &preload, const std::vector<BoundDevice> &devices)
 {
 	auto c = std::make_unique<Controller>();
 	c->id = id;
@@ -45,6 +46,15 @@ Result<std::unique_ptr<Controller>> Controller::start(int id, const ControllerSp
 	c->page_->mono_origin_ns = origins.mono_ns;
 	c->page_->real_origin_ns = origins.real_ns;
 	c->page_->tai_origin_ns = origins.tai_ns;
+	tcs_device_table *table = tcs_device_table_of(c->page_);
+	for (const auto &d : devices) {
+		if (table->count == TCS_MAX_DEVICES)
+			break;
+		tcs_device_entry &e = table->dev[table->count++];
+		snprintf(e.path, sizeof e.path, "%s", d.cfg.path.c_str());
+		e.kind = (uint32_t)d.cfg.kind;
+		e.format = (uint32_t)d.cfg.format;
+	}
 
 	SpawnRequest req;
 	req.path = spec.path;
@@ -66,6 +76,8 @@ Result<std::unique_ptr<Controller>> Controller::start(int id, const ControllerSp
 
 Controller::~Controller()
 {
+	if (wake_fd >= 0)
+		close(wake_fd);
 	if (state != CtlState::Exited && pid > 0) {
 		kill(pid, SIGKILL); // never leave one behind, stopped or not
 		siginfo_t si;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "error.h"
+#include "device.h"
 #include "realtime.h"
 #include "tcs/clock_page.h"
 #include "unique_fd.h"
@@ -47,7 +48,8 @@ class Controller {
 public:
 	static Result<std::unique_ptr<Controller>> start(int id, const ControllerSpec &spec, int mode,
 							 const ClockOrigins &origins, const RealtimePlan &rt,
-							 const std::string &preload);
+							 const std::string &preload,
+							 const std::vector<BoundDevice> &devices);
 	~Controller();
 
 	int id = 0;
@@ -85,6 +87,17 @@ public:
 	int64_t rechecked_at = -1;
 	bool wake_pending = false; // Ready after a wait: WAKE still to send
 	uint16_t wake_reason = 0;
+	// Devices: what this controller has open (handle = index), and a
+	// device request it is waiting on (for the world, or for a record).
+	std::vector<std::unique_ptr<OpenDevice>> devices;
+	bool wants_devices = false; // Blocked, and a record due on a sensor ends it
+	bool sync_pending = false;
+	uint16_t sync_kind = 0;
+	int64_t sync_handle = 0;
+	bool sync_nonblock = false;
+	int64_t wake_arg = 0;       // the result the next WAKE carries
+	int wake_fd = -1;           // an fd the next WAKE passes (owned until sent)
+
 	int exit_status = -1;   // wait status when Exited
 	bool ended_by_tcs = false; // exited after the run's end was called
 	std::string dropped;    // why tcs dropped it, if it did

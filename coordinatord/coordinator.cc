@@ -64,6 +64,15 @@ Status Coordinator::init()
 	if (!rt_.warning.empty())
 		warn_once(rt_.warning);
 
+	if (!cfg_.models.empty()) {
+		auto w = SimWorld::create(cfg_.models, cfg_.step_ns);
+		if (!w)
+			return w.error();
+		world_ = std::move(*w);
+	}
+	if (auto s = bind_devices(); !s)
+		return s;
+
 	origins_.mono_ns = clock_ns(CLOCK_MONOTONIC);
 	origins_.real_ns = cfg_.epoch_ns ? *cfg_.epoch_ns : clock_ns(CLOCK_REALTIME);
 	// TAI - UTC is a whole number of seconds; two reads differ by a few ns.
@@ -97,7 +106,7 @@ Coordinator::~Coordinator()
 
 Status Coordinator::add_controller(const ControllerSpec &spec)
 {
-	auto c = Controller::start((int)ctls_.size() + 1, spec, cfg_.mode, origins_, rt_, cfg_.preload);
+	auto c = Controller::start((int)ctls_.size() + 1, spec, cfg_.mode, origins_, rt_, cfg_.preload, devices_);
 	if (!c)
 		return c.error();
 	Controller *raw = c->get();
@@ -125,9 +134,21 @@ Result<RunReport> Coordinator::run()
 	RunReport r;
 	r.reason = end_reason_;
 	r.signal = end_signal_;
+	// Where the world is, or the furthest a controller got when they all
+	// exited without waiting for it.
 	r.virtual_ns = sim_ns_;
+	if (end_reason_ == EndReason::AllExited)
+		for (auto &c : ctls_)
+			r.virtual_ns = std::max(r.virtual_ns, c->v);
 	r.wall_ns = clock_ns(CLOCK_MONOTONIC) - wall_start_;
 	r.steps = steps_;
+	if (!step_walls_.empty()) {
+		std::vector<int64_t> w = step_walls_;
+		std::sort(w.begin(), w.end());
+		r.step_wall_min = w.front();
+		r.step_wall_median = w[w.size() / 2];
+		r.step_wall_max = w.back();
+	}
 	r.realtime = rt_;
 	for (auto &c : ctls_) {
 		ControllerReport cr;
@@ -194,6 +215,12 @@ void Coordinator::on_message(Controller &c, const ::tcs_msg &m)
 	case TCS_MSG_EARLY:
 		on_early(c, m);
 		return;
+	case TCS_MSG_DEV_OPEN:
+		on_dev_open(c, m);
+		return;
+	case TCS_MSG_DEV_SYNC:
+		on_dev_sync(c, m);
+		return;
 	}
 }
 
@@ -242,6 +269,8 @@ void Coordinator::drop(Controller &c, const std::string &why)
 	c.state = CtlState::Blocked;
 	c.deadline = TCS_NEVER;
 	c.recheck = false;
+	c.wants_devices = false;
+	c.sync_pending = false;
 	c.wake_pending = false;
 	schedule();
 }

@@ -7,6 +7,8 @@
 #include <sys/types.h>
 
 #include <cstdint>
+#include <deque>
+#include <tuple>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -14,6 +16,8 @@
 #include <vector>
 
 #include "controller.h"
+#include "device.h"
+#include "sim_world.h"
 #include "error.h"
 #include "event_loop.h"
 #include "realtime.h"
@@ -25,6 +29,8 @@ namespace tcs {
 struct CoordinatorConfig {
 	int mode = TCS_MODE_CPU;
 	int64_t step_ns = 1000000;          // the simulation step dt
+	std::vector<ModelInstance> models;  // the world (none: an empty world)
+	std::vector<DeviceConfig> devices;  // its virtual devices
 	int64_t duration_ns = -1;           // stop at this virtual time; < 0: when all exit
 	std::optional<int64_t> epoch_ns;    // CLOCK_REALTIME at V = 0; default: now
 	std::string preload;                // absolute path of libtcs_preload.so
@@ -59,6 +65,8 @@ struct RunReport {
 	int64_t virtual_ns = 0;
 	int64_t wall_ns = 0;
 	int64_t steps = 0;
+	// Wall-clock cost of the world's steps (ns; zero for an empty world).
+	int64_t step_wall_min = 0, step_wall_median = 0, step_wall_max = 0;
 	RealtimePlan realtime;
 	std::vector<ControllerReport> controllers;
 };
@@ -103,6 +111,21 @@ private:
 	void wake(Controller &c, int64_t v, uint16_t reason);
 	void send_wake(Controller &c);
 	void begin_end(EndReason reason, int signo = 0);
+
+	// Devices (device_io.cc).
+	Status bind_devices();
+	void on_dev_open(Controller &c, const ::tcs_msg &m);
+	void on_dev_sync(Controller &c, const ::tcs_msg &m);
+	bool complete_sync(Controller &c);
+	void deliver(Controller &c);
+	void fill_streams(int64_t until);
+	void make_records(OpenDevice &d, int64_t until);
+	void take_commands(Controller &c, OpenDevice &d);
+	void apply_commands(int64_t boundary);
+	int64_t next_record_due(const Controller &c) const;
+	void reply_now(Controller &c, int64_t arg);
+	void restart_slice(Controller &c, int64_t request_cpu);
+	Status step_world();
 	int64_t alive() const;
 
 	CoordinatorConfig cfg_;
@@ -115,6 +138,11 @@ private:
 	Timer idle_timer_;
 	UniqueFd signal_fd_;
 	std::vector<std::unique_ptr<Controller>> ctls_;
+	std::unique_ptr<SimWorld> world_;
+	std::vector<BoundDevice> devices_;
+	// Actuator commands not yet in force: (virtual time, device, values).
+	std::deque<std::tuple<int64_t, BoundDevice *, std::vector<double>>> commands_;
+	std::vector<int64_t> step_walls_;
 	std::vector<std::string> warned_;
 
 	int64_t sim_ns_ = 0;    // S: the simulation clock

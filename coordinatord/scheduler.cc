@@ -16,8 +16,11 @@
 #include <sys/socket.h>
 #include <sys/wait.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "coordinator.h"
 #include "tcs/protocol.h"
@@ -71,8 +74,10 @@ void Coordinator::schedule()
 				bool due = best->deadline < target;
 				best->rechecked_at = sim_ns_;
 				wake(*best, due ? std::max(best->v, best->deadline) : best_at,
-				     due ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK);
+				     due || best->wants_devices ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK);
 			}
+			if (best->sync_pending && !complete_sync(*best))
+				continue; // a read that must wait for its next record
 			resume(*best, run_until(*best, target));
 			return;
 		}
@@ -98,7 +103,10 @@ int64_t Coordinator::next_run_at(const Controller &c) const
 		return c.v;
 	if (c.recheck && c.rechecked_at < sim_ns_)
 		return std::max(c.v, sim_ns_);
-	return c.deadline == TCS_NEVER ? TCS_NEVER : std::max(c.v, c.deadline);
+	int64_t until = c.deadline;
+	if (c.wants_devices)
+		until = std::min(until, next_record_due(c));
+	return until == TCS_NEVER ? TCS_NEVER : std::max(c.v, until);
 }
 
 // How far c may run before someone else needs the core: another
@@ -128,8 +136,17 @@ bool Coordinator::advance_to(int64_t next)
 {
 	if (cfg_.duration_ns >= 0 && next >= cfg_.duration_ns)
 		next = std::max(cfg_.duration_ns, sim_ns_);
-	steps_ += (next - sim_ns_ + cfg_.step_ns - 1) / cfg_.step_ns;
-	sim_ns_ = next;
+	if (!world_) {
+		// An empty world: nothing to compute on the way.
+		steps_ += (next - sim_ns_ + cfg_.step_ns - 1) / cfg_.step_ns;
+		sim_ns_ = next;
+	}
+	while (sim_ns_ < next) {
+		if (auto s = step_world(); !s) {
+			fatal_ = s;
+			return false;
+		}
+	}
 	if (cfg_.duration_ns >= 0 && sim_ns_ >= cfg_.duration_ns) {
 		begin_end(EndReason::Duration);
 		return false;
@@ -151,6 +168,7 @@ void Coordinator::wake(Controller &c, int64_t v, uint16_t reason)
 	c.v = std::max(c.v, v);
 	c.state = CtlState::Ready;
 	c.recheck = false;
+	c.wants_devices = false;
 	c.wake_pending = true;
 	c.wake_reason = reason;
 }
@@ -160,9 +178,32 @@ void Coordinator::send_wake(Controller &c)
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_WAKE, c.wait_seq);
 	m.kind = c.wake_reason;
 	m.v = c.v;
+	m.arg = c.wake_arg;
+	struct iovec iov = { &m, sizeof m };
+	struct msghdr mh = {};
+	mh.msg_iov = &iov;
+	mh.msg_iovlen = 1;
+	union {
+		struct cmsghdr align;
+		char buf[CMSG_SPACE(sizeof(int))];
+	} control;
+	if (c.wake_fd >= 0) {
+		mh.msg_control = control.buf;
+		mh.msg_controllen = sizeof control.buf;
+		struct cmsghdr *cm = CMSG_FIRSTHDR(&mh);
+		cm->cmsg_level = SOL_SOCKET;
+		cm->cmsg_type = SCM_RIGHTS;
+		cm->cmsg_len = CMSG_LEN(sizeof(int));
+		memcpy(CMSG_DATA(cm), &c.wake_fd, sizeof(int));
+	}
 	// A full or closed channel means the controller is gone or hostile;
 	// its pidfd or its next message will tell.
-	(void)send(c.channel.get(), &m, sizeof m, MSG_DONTWAIT | MSG_NOSIGNAL);
+	(void)sendmsg(c.channel.get(), &mh, MSG_DONTWAIT | MSG_NOSIGNAL);
+	if (c.wake_fd >= 0) {
+		close(c.wake_fd);
+		c.wake_fd = -1;
+	}
+	c.wake_arg = 0;
 	c.wake_pending = false;
 }
 
@@ -171,6 +212,7 @@ void Coordinator::resume(Controller &c, int64_t target)
 	idle_timer_.disarm();
 	// c is held by SIGSTOP or waiting for its WAKE: its CPU clock is still.
 	c.publish_slice(c.cpu_now());
+	deliver(c); // what its sensors have due by now is in their fds
 	if (c.wake_pending)
 		send_wake(c);
 	if (c.stopped) {
@@ -269,6 +311,7 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m)
 	c.wait_seq = m.seq;
 	c.deadline = m.deadline;
 	c.recheck = (m.flags & TCS_BLOCK_RECHECK) != 0;
+	c.wants_devices = (m.flags & TCS_BLOCK_DEVICES) != 0;
 	c.rechecked_at = sim_ns_;
 	c.wake_pending = false;
 	c.state = CtlState::Blocked;

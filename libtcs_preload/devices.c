@@ -72,6 +72,8 @@ long tcs_device_open(int dev, int oflags)
 		return -EBUSY;
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_DEV_OPEN, 0), w;
 	m.arg = dev;
+	m.cpu = tcs_process_cpu();
+	m.v = tcs_page_vnow(tcs_rt.page, tcs_page_read_slice(tcs_rt.page), m.cpu);
 	m.flags = (uint16_t)((access == O_RDONLY ? TCS_DEV_READ : TCS_DEV_WRITE) |
 			     ((oflags & O_NONBLOCK) ? TCS_DEV_NONBLOCK : 0));
 	int fd;

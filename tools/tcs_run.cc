@@ -6,12 +6,15 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "cli_time.h"
 #include "coordinator.h"
 #include "preload_path.h"
 #include "program_check.h"
 #include "run_report.h"
+#include "scenario.h"
+#include "world_setup.h"
 
 using namespace tcs;
 
@@ -19,9 +22,11 @@ namespace {
 
 const char kUsage[] =
 	"Usage: tcs-run [OPTIONS] [--] PROGRAM [ARG...]\n"
+	"       tcs-run -w SCENARIO [OPTIONS]      (runs the scenario's controllers)\n"
 	"Run PROGRAM, unmodified, under virtual time beside a simulated world.\n"
 	"\n"
-	"  -w, --world FILE       scenario (default: the built-in world)\n"
+	"  -w, --world FILE       scenario (default: the built-in pendulum)\n"
+	"      --list-signals     print the scenario's signals and devices, and exit\n"
 	"  -m, --mode cpu|lockstep\n"
 	"                         cpu (default): computation costs virtual time;\n"
 	"                         lockstep: computation is free (the status quo)\n"
@@ -54,7 +59,7 @@ int usage_error(const std::string &msg)
 
 int main(int argc, char **argv)
 {
-	enum { OPT_CPU_SCALE = 256, OPT_EPOCH, OPT_CONNECT };
+	enum { OPT_CPU_SCALE = 256, OPT_EPOCH, OPT_CONNECT, OPT_LIST_SIGNALS };
 	static const struct option longopts[] = {
 		{ "world", required_argument, nullptr, 'w' },
 		{ "mode", required_argument, nullptr, 'm' },
@@ -63,6 +68,7 @@ int main(int argc, char **argv)
 		{ "trace", required_argument, nullptr, 't' },
 		{ "epoch", required_argument, nullptr, OPT_EPOCH },
 		{ "connect", required_argument, nullptr, OPT_CONNECT },
+		{ "list-signals", no_argument, nullptr, OPT_LIST_SIGNALS },
 		{ "quiet", no_argument, nullptr, 'q' },
 		{ "help", no_argument, nullptr, 'h' },
 		{ "version", no_argument, nullptr, 'V' },
@@ -70,15 +76,19 @@ int main(int argc, char **argv)
 	};
 	CoordinatorConfig cfg;
 	double cpu_scale = 1.0;
-	bool quiet = false;
+	bool quiet = false, list_signals = false, scale_given = false;
+	std::string world_file;
 	int opt;
 	opterr = 0;
 	while ((opt = getopt_long(argc, argv, "+:w:m:d:t:qhV", longopts, nullptr)) != -1) {
 		std::string arg = optarg ? optarg : "";
 		switch (opt) {
 		case 'w':
-			return fail("--world " + arg + ": scenario files arrive with simhost; this build runs the built-in "
-							  "world only");
+			world_file = arg;
+			break;
+		case OPT_LIST_SIGNALS:
+			list_signals = true;
+			break;
 		case 'm':
 			if (arg == "cpu")
 				cfg.mode = TCS_MODE_CPU;
@@ -92,6 +102,7 @@ int main(int argc, char **argv)
 			if (!v)
 				return usage_error("--cpu-scale: " + v.error().message);
 			cpu_scale = *v;
+			scale_given = true;
 			break;
 		}
 		case 'd': {
@@ -129,19 +140,64 @@ int main(int argc, char **argv)
 			return usage_error(std::string("unknown option '") + argv[optind - 1] + "'");
 		}
 	}
-	if (optind >= argc)
-		return usage_error("no PROGRAM to run");
+	auto scenario = world_file.empty() ? default_scenario() : parse_scenario_file(world_file);
+	if (!scenario)
+		return fail(scenario.error().message);
+	auto setup = world_setup(*scenario);
+	if (!setup)
+		return fail(setup.error().message);
+	if (list_signals) {
+		printf("%s: signals\n", world_file.empty() ? "built-in scenario" : world_file.c_str());
+		for (const auto &line : setup->signal_lines)
+			printf("  %s\n", line.c_str());
+		printf("devices\n");
+		for (const auto &d : setup->devices) {
+			std::string sigs;
+			for (const auto &sig : d.signals)
+				sigs += (sigs.empty() ? "" : " ") + sig;
+			printf("  %-28s %-8s %-6s %s%s\n", d.path.c_str(),
+			       d.kind == TCS_DEVICE_SENSOR ? "sensor" : "actuator",
+			       d.format == TCS_FORMAT_TEXT ? "text" : "binary",
+			       d.kind == TCS_DEVICE_ACTUATOR ? "" : d.latest ? "latest " : "stream ", sigs.c_str());
+		}
+		return 0;
+	}
+	cfg.models = setup->models;
+	cfg.devices = setup->devices;
+	cfg.step_ns = setup->step_ns;
 
-	ControllerSpec spec;
-	for (int i = optind; i < argc; i++)
-		spec.argv.push_back(argv[i]);
-	spec.cpu_scale = cpu_scale;
-	auto path = resolve_program(spec.argv[0]);
-	if (!path)
-		return fail(path.error().message);
-	spec.path = *path;
-	if (auto ok = check_preloadable(spec.path); !ok)
-		return fail(ok.error().message);
+	std::vector<ControllerSpec> specs;
+	if (optind < argc) {
+		ControllerSpec spec;
+		for (int i = optind; i < argc; i++)
+			spec.argv.push_back(argv[i]);
+		spec.cpu_scale = cpu_scale;
+		specs.push_back(spec);
+	} else {
+		for (const auto &entry : scenario->controllers) {
+			ControllerSpec spec;
+			spec.argv = entry.argv;
+			spec.cpu_scale = entry.cpu_scale && !scale_given ? *entry.cpu_scale : cpu_scale;
+			specs.push_back(spec);
+		}
+		if (specs.empty())
+			return usage_error("no PROGRAM to run" +
+					   std::string(world_file.empty() ? "" : " (and " + world_file + " names no [[controller]])"));
+	}
+	for (auto &spec : specs) {
+		auto path = resolve_program(spec.argv[0]);
+		if (!path && !world_file.empty() && spec.argv[0].find('/') != std::string::npos &&
+		    spec.argv[0][0] != '/') {
+			// A scenario's relative command: relative to the scenario's folder.
+			std::string dir = world_file.substr(0, world_file.find_last_of('/') + 1);
+			path = resolve_program(dir + spec.argv[0]);
+		}
+		if (!path)
+			return fail(path.error().message);
+		spec.path = *path;
+		if (auto ok = check_preloadable(spec.path); !ok)
+			return fail(ok.error().message);
+	}
 	auto preload = find_preload();
 	if (!preload)
 		return fail(preload.error().message);
@@ -158,8 +214,9 @@ int main(int argc, char **argv)
 	auto co = Coordinator::create(cfg);
 	if (!co)
 		return fail(co.error().message);
-	if (auto s = (*co)->add_controller(spec); !s)
-		return fail("cannot start " + spec.argv[0] + ": " + s.error().message);
+	for (const auto &spec : specs)
+		if (auto s = (*co)->add_controller(spec); !s)
+			return fail("cannot start " + spec.argv[0] + ": " + s.error().message);
 	auto report = (*co)->run();
 	if (show_progress)
 		fputs("\r\033[K", stderr);

@@ -1,0 +1,90 @@
+// SimWorld: the plug-in calls, and their errors made into Errors.
+#include "sim_world.h"
+
+#include <time.h>
+
+#include "tcs/vtime.h"
+
+namespace tcs {
+
+Result<std::unique_ptr<SimWorld>> SimWorld::create(const std::vector<ModelInstance> &models, int64_t step_ns,
+						   const tcs_simhost_plugin *plugin)
+{
+	std::unique_ptr<SimWorld> w(new SimWorld());
+	w->plugin_ = plugin ? plugin : tcs_simhost_ode_plugin();
+	w->step_ns_ = step_ns;
+	if (w->plugin_->abi_version != TCS_SIMHOST_ABI_VERSION)
+		return Error{ std::string("simulation plug-in '") + w->plugin_->name + "' speaks another ABI version" };
+	// The C ABI wants arrays of C strings and numbers.
+	std::vector<std::vector<const char *>> keys(models.size());
+	std::vector<std::vector<double>> values(models.size());
+	std::vector<tcs_sim_model> cm(models.size());
+	for (size_t i = 0; i < models.size(); i++) {
+		for (const auto &[k, v] : models[i].params) {
+			keys[i].push_back(k.c_str());
+			values[i].push_back(v);
+		}
+		cm[i].name = models[i].name.c_str();
+		cm[i].type = models[i].type.c_str();
+		cm[i].param_keys = keys[i].data();
+		cm[i].param_values = values[i].data();
+		cm[i].nparams = keys[i].size();
+	}
+	char err[512] = "";
+	w->sim_ = w->plugin_->create(cm.data(), cm.size(), step_ns, err, sizeof err);
+	if (!w->sim_)
+		return Error{ err[0] ? err : "the simulation could not be created" };
+	return w;
+}
+
+SimWorld::~SimWorld()
+{
+	if (sim_)
+		plugin_->destroy(sim_);
+}
+
+Status SimWorld::step()
+{
+	struct timespec a, b;
+	char err[512] = "";
+	clock_gettime(CLOCK_MONOTONIC, &a);
+	int r = plugin_->step(sim_, err, sizeof err);
+	clock_gettime(CLOCK_MONOTONIC, &b);
+	last_wall_ = tcs_ts_to_ns(&b) - tcs_ts_to_ns(&a);
+	steps_++;
+	if (r != 0)
+		return Error{ std::string("the simulation failed to step: ") + (err[0] ? err : "no reason given") };
+	return Ok{};
+}
+
+size_t SimWorld::signal_count() const
+{
+	return plugin_->signal_count(sim_);
+}
+
+const tcs_sim_signal_info &SimWorld::signal(size_t index) const
+{
+	return *plugin_->signal_info(sim_, index);
+}
+
+long SimWorld::find(const std::string &name) const
+{
+	for (size_t i = 0, n = signal_count(); i < n; i++)
+		if (name == signal(i).name)
+			return (long)i;
+	return -1;
+}
+
+void SimWorld::read(size_t index, std::vector<double> &out) const
+{
+	size_t at = out.size();
+	out.resize(at + signal(index).width);
+	plugin_->read(sim_, index, out.data() + at);
+}
+
+void SimWorld::write(size_t index, const double *values)
+{
+	plugin_->write(sim_, index, values);
+}
+
+} // namespace tcs

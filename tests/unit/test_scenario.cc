@@ -1,0 +1,631 @@
+// Unit tests for coordinatord/scenario and scenario_units: the built-in
+// world, the files in scenarios/, every rule a scenario must follow (with
+// the exact FILE:LINE of each complaint), units, and command splitting.
+#include <dirent.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <csetjmp>
+#include <cstdarg>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+extern "C" {
+#include <cmocka.h>
+}
+
+#include "scenario.h"
+#include "scenario_units.h"
+
+#ifndef TCS_SCENARIOS_DIR
+#error "TCS_SCENARIOS_DIR must name the source tree's scenarios/ folder"
+#endif
+
+namespace {
+
+using tcs::DeviceSpec;
+using tcs::Scenario;
+
+Scenario parse_ok(const std::string &text)
+{
+	auto r = tcs::parse_scenario_text(text, "t.toml");
+	if (!r.ok()) {
+		print_error("unexpected error: %s\n", r.error().message.c_str());
+		fail();
+	}
+	return std::move(*r);
+}
+
+// The message is exactly "t.toml:LINE: " followed by text containing `what`.
+void expect_error(const std::string &text, int line, const std::string &what)
+{
+	auto r = tcs::parse_scenario_text(text, "t.toml");
+	if (r.ok()) {
+		print_error("expected an error at line %d (%s), but it parsed:\n%s\n", line, what.c_str(), text.c_str());
+		fail();
+	}
+	const std::string &msg = r.error().message;
+	std::string prefix = "t.toml:" + std::to_string(line) + ": ";
+	if (msg.compare(0, prefix.size(), prefix) != 0 || msg.find(what, prefix.size()) == std::string::npos ||
+	    msg.find('\n') != std::string::npos) {
+		print_error("got     \"%s\"\nexpected \"%s...%s...\"\n", msg.c_str(), prefix.c_str(), what.c_str());
+		fail();
+	}
+}
+
+// A valid scenario with one pendulum, to which each test adds a few lines
+// (at line 3 and on).
+const std::string kHead = "[sim]\nmodel = \"pendulum\"\n";
+
+const std::string kSensor = "[[device]]\n"
+			    "path = \"/dev/s\"\n"
+			    "kind = \"sensor\"\n"
+			    "signals = [\"pendulum.hinge.position\"]\n"
+			    "rate = \"1kHz\"\n";
+
+// ---- the built-in default -------------------------------------------------------
+
+void test_default_scenario(void **)
+{
+	auto r = tcs::default_scenario();
+	if (!r.ok()) {
+		print_error("%s\n", r.error().message.c_str());
+		fail();
+	}
+	const Scenario &s = *r;
+	assert_int_equal(s.sim.step_ns, 1000000);
+	assert_int_equal(s.models.size(), 1);
+	assert_string_equal(s.models[0].name.c_str(), "pendulum");
+	assert_string_equal(s.models[0].type.c_str(), "pendulum");
+	const auto &p = s.models[0].params;
+	assert_int_equal(p.size(), 3);
+	assert_string_equal(p[0].key.c_str(), "length");
+	assert_true(p[0].value == 1.0);
+	assert_string_equal(p[1].key.c_str(), "mass");
+	assert_true(p[1].value == 1.0);
+	assert_string_equal(p[2].key.c_str(), "initial_angle");
+	assert_true(p[2].value == 0.0);
+
+	assert_int_equal(s.devices.size(), 2);
+	const DeviceSpec &st = s.devices[0];
+	assert_string_equal(st.path.c_str(), "/dev/tcs/pendulum/state");
+	assert_true(st.kind == DeviceSpec::Kind::Sensor);
+	assert_int_equal(st.signals.size(), 2);
+	assert_string_equal(st.signals[0].name.c_str(), "pendulum.hinge.position");
+	assert_string_equal(st.signals[1].name.c_str(), "pendulum.hinge.velocity");
+	assert_true(st.format == DeviceSpec::Format::Text);
+	assert_true(st.mode == DeviceSpec::Mode::Stream);
+	assert_true(st.rate_hz == 1000.0);
+	assert_int_equal(st.period_ns, 1000000);
+	assert_false(st.limit.has_value());
+
+	const DeviceSpec &tq = s.devices[1];
+	assert_string_equal(tq.path.c_str(), "/dev/tcs/pendulum/torque");
+	assert_true(tq.kind == DeviceSpec::Kind::Actuator);
+	assert_int_equal(tq.signals.size(), 1);
+	assert_string_equal(tq.signals[0].name.c_str(), "pendulum.hinge.effort");
+	assert_true(tq.format == DeviceSpec::Format::Text);
+	assert_true(tq.limit.has_value() && *tq.limit == 5.0);
+	assert_int_equal(tq.period_ns, 0);
+	assert_true(s.controllers.empty());
+	// Lines refer to the built-in text, and the file name says it is built in.
+	assert_true(s.file.find("built-in") != std::string::npos);
+	assert_int_equal(s.devices[0].line, 10);
+}
+
+// scenarios/pendulum.toml documents the default: they must not drift apart.
+void test_pendulum_file_is_the_default(void **)
+{
+	auto f = tcs::parse_scenario_file(TCS_SCENARIOS_DIR "/pendulum.toml");
+	auto d = tcs::default_scenario();
+	assert_true(f.ok() && d.ok());
+	assert_int_equal(f->sim.step_ns, d->sim.step_ns);
+	assert_int_equal(f->models.size(), 1);
+	assert_string_equal(f->models[0].type.c_str(), d->models[0].type.c_str());
+	assert_int_equal(f->models[0].params.size(), d->models[0].params.size());
+	for (size_t i = 0; i < f->models[0].params.size(); i++) {
+		assert_string_equal(f->models[0].params[i].key.c_str(), d->models[0].params[i].key.c_str());
+		assert_true(f->models[0].params[i].value == d->models[0].params[i].value);
+	}
+	assert_int_equal(f->devices.size(), d->devices.size());
+	for (size_t i = 0; i < f->devices.size(); i++) {
+		const DeviceSpec &a = f->devices[i], &b = d->devices[i];
+		assert_string_equal(a.path.c_str(), b.path.c_str());
+		assert_true(a.kind == b.kind && a.format == b.format && a.mode == b.mode);
+		assert_int_equal(a.period_ns, b.period_ns);
+		assert_true(a.limit == b.limit);
+		assert_int_equal(a.signals.size(), b.signals.size());
+		for (size_t j = 0; j < a.signals.size(); j++)
+			assert_string_equal(a.signals[j].name.c_str(), b.signals[j].name.c_str());
+	}
+}
+
+// ---- the files in scenarios/ -----------------------------------------------------
+
+void test_every_scenario_file_parses(void **)
+{
+	DIR *dir = opendir(TCS_SCENARIOS_DIR);
+	assert_non_null(dir);
+	std::vector<std::string> names;
+	while (struct dirent *e = readdir(dir)) {
+		std::string n = e->d_name;
+		if (n.size() > 5 && n.substr(n.size() - 5) == ".toml")
+			names.push_back(n);
+	}
+	closedir(dir);
+	std::sort(names.begin(), names.end());
+	for (const char *want : { "boxes.toml", "cartpole.toml", "double_pendulum.toml", "pendulum.toml",
+				  "two_pendulums.toml" })
+		assert_true(std::find(names.begin(), names.end(), want) != names.end());
+	for (const std::string &n : names) {
+		auto r = tcs::parse_scenario_file(TCS_SCENARIOS_DIR "/" + n);
+		if (!r.ok()) {
+			print_error("%s\n", r.error().message.c_str());
+			fail();
+		}
+		assert_false(r->models.empty());
+		assert_false(r->devices.empty());
+	}
+}
+
+void test_two_pendulums_file(void **)
+{
+	auto r = tcs::parse_scenario_file(TCS_SCENARIOS_DIR "/two_pendulums.toml");
+	assert_true(r.ok());
+	assert_int_equal(r->models.size(), 2);
+	assert_string_equal(r->models[0].name.c_str(), "left");
+	assert_string_equal(r->models[1].name.c_str(), "right");
+	assert_string_equal(r->models[1].type.c_str(), "pendulum");
+	assert_int_equal(r->devices.size(), 4);
+	assert_int_equal(r->devices[0].period_ns, 1000000);
+	assert_int_equal(r->devices[2].period_ns, 4000000);
+	assert_int_equal(r->controllers.size(), 2);
+	const auto &a = r->controllers[0].argv, &b = r->controllers[1].argv;
+	assert_true(a.size() >= 3 && a[0] == "examples/pendulum_pd" && a[1] == "--rate" && a[2] == "1000");
+	assert_true(b.size() >= 3 && b[0] == "examples/pendulum_pd" && b[1] == "--rate" && b[2] == "250");
+	assert_false(r->controllers[0].cpu_scale.has_value());
+	assert_true(r->controllers[1].cpu_scale == 2.0);
+}
+
+// ---- units ---------------------------------------------------------------------
+
+void expect_ns(const char *text, int64_t want)
+{
+	auto r = tcs::parse_duration_ns(text);
+	if (!r.ok() || *r != want) {
+		print_error("parse_duration_ns(\"%s\"): %s, expected %lld\n", text,
+			    r.ok() ? std::to_string(*r).c_str() : r.error().message.c_str(), (long long)want);
+		fail();
+	}
+}
+
+void expect_hz(const char *text, double hz, int64_t period)
+{
+	auto r = tcs::parse_rate_hz(text);
+	if (!r.ok() || *r != hz || tcs::rate_period_ns(*r) != period) {
+		print_error("parse_rate_hz(\"%s\"): %s, expected %g Hz\n", text,
+			    r.ok() ? std::to_string(*r).c_str() : r.error().message.c_str(), hz);
+		fail();
+	}
+}
+
+void test_durations(void **)
+{
+	expect_ns("1ms", 1000000);
+	expect_ns("250us", 250000);
+	expect_ns("250 us", 250000);
+	expect_ns("250\xc2\xb5s", 250000);
+	expect_ns("2.5s", 2500000000LL);
+	expect_ns("100ns", 100);
+	expect_ns("0.5ms", 500000);
+	expect_ns(".5ms", 500000);
+	expect_ns("1e-3s", 1000000);
+	expect_ns(" 1ms ", 1000000);
+	for (const char *bad : { "", "5", "1.5", "fast", "ms", "5 sec", "5S", "-1ms", "+1ms", "1e", "1..5ms",
+				 "1ms x", "99999999999s" }) {
+		auto r = tcs::parse_duration_ns(bad);
+		if (r.ok()) {
+			print_error("parse_duration_ns(\"%s\") = %lld, expected an error\n", bad, (long long)*r);
+			fail();
+		}
+		assert_true(r.error().message.find("'" + std::string(bad) + "'") != std::string::npos);
+	}
+}
+
+void test_rates(void **)
+{
+	expect_hz("1kHz", 1000, 1000000);
+	expect_hz("500Hz", 500, 2000000);
+	expect_hz("2.5 kHz", 2500, 400000);
+	expect_hz("1KHz", 1000, 1000000);
+	expect_hz("3kHz", 3000, 333333);
+	expect_hz("1MHz", 1e6, 1000);
+	expect_hz("0.5Hz", 0.5, 2000000000LL);
+	expect_hz("1e3Hz", 1000, 1000000);
+	for (const char *bad : { "", "fast", "1000", "0Hz", "0kHz", "2000MHz", "1 GHz", "1khz", "-5Hz", "Hz" }) {
+		auto r = tcs::parse_rate_hz(bad);
+		if (r.ok()) {
+			print_error("parse_rate_hz(\"%s\") = %g, expected an error\n", bad, *r);
+			fail();
+		}
+	}
+}
+
+void test_plain_numbers(void **)
+{
+	assert_true(*tcs::parse_plain_number("2") == 2.0);
+	assert_true(*tcs::parse_plain_number("2.5") == 2.5);
+	assert_true(*tcs::parse_plain_number(" 0.25 ") == 0.25);
+	assert_true(*tcs::parse_plain_number("1e3") == 1000.0);
+	assert_true(*tcs::parse_plain_number("2.5E-1") == 0.25);
+	for (const char *bad : { "", ".", "-1", "1x", "1 2", "e3", "1e999999" })
+		assert_false(tcs::parse_plain_number(bad).ok());
+}
+
+// ---- syntax, unknown keys, types ---------------------------------------------------
+
+void test_syntax_errors(void **)
+{
+	expect_error("[sim]\nstep = \n", 2, "");
+	expect_error("[sim]\nstep = \"1ms\"\nstep = \"2ms\"\n", 3, "step");
+	expect_error("[sim]\nmodel = \"pendulum\"\n\n[sim\n", 4, "");
+	expect_error("[sim]\nmodel = \"pendulum\n", 2, "");
+}
+
+void test_unknown_keys(void **)
+{
+	expect_error("step = \"1ms\"\n" + kHead, 1,
+		     "unknown key 'step' at the top level (known: sim, model, device, controller)");
+	expect_error("[sim]\nmodel = \"pendulum\"\nstpe = \"1ms\"\n", 3, "unknown key 'stpe' in [sim] (known: step, model)");
+	expect_error(kHead + kSensor + "colour = \"red\"\n", 8,
+		     "unknown key 'colour' in [[device]] (known: path, kind, signals, format, mode, rate, limit)");
+	expect_error(kHead + "[[controller]]\ncommand = \"x\"\nrate = \"1kHz\"\n", 5,
+		     "unknown key 'rate' in [[controller]] (known: command, cpu_scale)");
+	// A sub-table is a key of its parent too.
+	expect_error("[sim]\nmodel = \"pendulum\"\n[sim.extra]\nx = 1\n", 3, "unknown key 'extra' in [sim]");
+	// With several unknown keys the first in the file is named (toml++ sorts them).
+	expect_error("[sim]\nmodel = \"pendulum\"\nzz = 1\naa = 2\n", 3, "'zz'");
+}
+
+void test_wrong_types(void **)
+{
+	expect_error("[sim]\nmodel = \"pendulum\"\nstep = 5\n", 3, "step must be a string such as \"1ms\", not an integer");
+	expect_error("[sim]\nmodel = \"pendulum\"\nstep = \"fast\"\n", 3, "step: 'fast' is not a duration");
+	expect_error("[sim]\nmodel = \"pendulum\"\nstep = \"5\"\n", 3, "'5' needs a unit");
+	expect_error("[sim]\nmodel = 3\n", 2, "model must be a string");
+	expect_error("sim = 3\n[model]\n", 1, "'sim' must be a table");
+	expect_error(kHead + "[[device]]\npath = \"/dev/s\"\nkind = \"sensor\"\nsignals = [\"pendulum.hinge.position\"]\n"
+			     "rate = \"fast\"\n",
+		     7, "rate: 'fast' is not a rate");
+	expect_error(kHead + "[[device]]\npath = \"/dev/s\"\nkind = \"sensor\"\nsignals = [\"pendulum.hinge.position\"]\n"
+			     "rate = 1000\n",
+		     7, "rate must be a string such as \"1kHz\", not an integer");
+	expect_error(kHead + "[[device]]\npath = \"/dev/s\"\nkind = \"sensor\"\nsignals = \"pendulum.hinge.position\"\n"
+			     "rate = \"1kHz\"\n",
+		     6, "signals must be an array of strings");
+	expect_error(kHead + "[[device]]\npath = \"/dev/s\"\nkind = \"sensor\"\nsignals = [\n\"pendulum.hinge.position\",\n"
+			     "3]\nrate = \"1kHz\"\n",
+		     8, "signals must be strings, not an integer");
+	const std::string sig = "signals = [\"pendulum.hinge.position\"]\n";
+	expect_error(kHead + "[[device]]\npath = 7\nkind = \"sensor\"\n" + sig, 4, "path must be a string");
+	expect_error(kHead + "[[device]]\npath = \"/dev/s\"\nkind = \"motor\"\n" + sig, 5,
+		     "kind must be \"sensor\" or \"actuator\", not \"motor\"");
+	expect_error(kHead + kSensor + "format = \"csv\"\n", 8, "format must be \"text\" or \"binary\"");
+	expect_error(kHead + kSensor + "mode = \"polled\"\n", 8, "mode must be \"stream\" or \"latest\"");
+	expect_error(kHead + "[[device]]\npath = \"/dev/a\"\nkind = \"actuator\"\nsignals = [\"pendulum.hinge.effort\"]\n"
+			     "limit = \"5\"\n",
+		     7, "limit must be a number, not a string");
+	expect_error(kHead + "[model]\nlength = \"long\"\n", 4, "model parameter 'length' must be a number, not a string");
+	expect_error(kHead + "[model]\nlength = nan\n", 4, "must be a finite number");
+	expect_error(kHead + "[device]\npath = \"/dev/s\"\n", 3, "'device' must be written [[device]]");
+	expect_error("controller = \"x\"\n" + kHead, 1, "'controller' must be written [[controller]]");
+}
+
+// ---- [sim] -------------------------------------------------------------------------
+
+void test_step(void **)
+{
+	assert_int_equal(parse_ok(kHead).sim.step_ns, 1000000); // the default
+	assert_int_equal(parse_ok("[sim]\nstep = \"10us\"\nmodel = \"pendulum\"\n").sim.step_ns, 10000);
+	Scenario s = parse_ok("# a comment\n[sim]\nstep = \"1s\"\nmodel = \"pendulum\"\n");
+	assert_int_equal(s.sim.step_ns, 1000000000);
+	assert_int_equal(s.sim.line, 3);
+	assert_int_equal(parse_ok("[sim]\nstep = \"2.5 ms\"\nmodel = \"pendulum\"\n").sim.step_ns, 2500000);
+	expect_error("[sim]\nmodel = \"pendulum\"\nstep = \"5us\"\n", 3, "step '5us' is out of range (10us to 1s)");
+	expect_error("[sim]\nmodel = \"pendulum\"\nstep = \"1.5s\"\n", 3, "out of range");
+	expect_error("[sim]\nmodel = \"pendulum\"\nstep = \"9999ns\"\n", 3, "out of range");
+}
+
+// ---- models ------------------------------------------------------------------------
+
+void test_single_model_form(void **)
+{
+	Scenario s = parse_ok(kHead + "[model]\nmass = 2\nlength = 0.5\n");
+	assert_int_equal(s.models.size(), 1);
+	assert_string_equal(s.models[0].name.c_str(), "pendulum");
+	assert_int_equal(s.models[0].line, 2);
+	// File order, integers as doubles, each with its line.
+	assert_string_equal(s.models[0].params[0].key.c_str(), "mass");
+	assert_true(s.models[0].params[0].value == 2.0);
+	assert_int_equal(s.models[0].params[0].line, 4);
+	assert_string_equal(s.models[0].params[1].key.c_str(), "length");
+	assert_int_equal(s.models[0].params[1].line, 5);
+
+	expect_error("[model]\nlength = 1.0\n", 1, "[model] holds the parameters of [sim] model, which is missing");
+	expect_error("[sim]\nstep = \"1ms\"\n", 2, "no model");
+	expect_error("", 1, "no model");
+	expect_error("[sim]\nmodel = \"\"\n", 2, "model is empty");
+	expect_error(kHead + "[model]\ntype = \"cartpole\"\n", 4, "'type' does not belong in [model]");
+	expect_error(kHead + "[model]\nflag = true\n", 4, "model parameter 'flag' must be a number, not a boolean");
+	expect_error("model = \"pendulum\"\n", 1, "'model' must be a [model] table of parameters or [[model]] tables");
+	expect_error("[sim]\nmodel = \"my-robot\"\n", 2, "cannot name a model 'my-robot'");
+}
+
+void test_model_array_form(void **)
+{
+	Scenario s = parse_ok("[sim]\nstep = \"2ms\"\n"
+			      "[[model]]\nname = \"left\"\ntype = \"pendulum\"\nlength = 2\n"
+			      "[[model]]\nname = \"right_2\"\ntype = \"cartpole\"\n"
+			      "[[device]]\npath = \"/dev/tcs/x\"\nkind = \"actuator\"\n"
+			      "signals = [\"left.hinge.effort\", \"right_2.slider.effort\"]\n");
+	assert_int_equal(s.models.size(), 2);
+	assert_string_equal(s.models[0].name.c_str(), "left");
+	assert_string_equal(s.models[0].type.c_str(), "pendulum");
+	assert_int_equal(s.models[0].line, 3);
+	assert_int_equal(s.models[0].params.size(), 1);
+	assert_string_equal(s.models[0].params[0].key.c_str(), "length");
+	assert_int_equal(s.models[0].params[0].line, 6);
+	assert_string_equal(s.models[1].name.c_str(), "right_2");
+	assert_string_equal(s.models[1].type.c_str(), "cartpole");
+	assert_int_equal(s.models[1].line, 7);
+	assert_int_equal(s.devices[0].signals[1].line, 13);
+	assert_false(s.devices[0].limit.has_value());
+
+	const std::string a = "[[model]]\nname = \"a\"\ntype = \"pendulum\"\n"; // lines 1-3
+	expect_error("[sim]\nmodel = \"pendulum\"\n" + a, 2, "[sim] model cannot be combined with [[model]] tables");
+	expect_error(a + "[[model]]\nname = \"a\"\ntype = \"pendulum\"\n", 5, "model name 'a' is already used at line 2");
+	expect_error(a + "[[model]]\ntype = \"pendulum\"\n", 4, "[[model]] needs a name");
+	expect_error(a + "[[model]]\nname = \"b\"\n", 4, "[[model]] needs a type");
+	expect_error("[[model]]\nname = \"2nd\"\ntype = \"pendulum\"\n", 2, "model name '2nd' is not an identifier");
+	expect_error("[[model]]\nname = \"a.b\"\ntype = \"pendulum\"\n", 2, "is not an identifier");
+	expect_error("[[model]]\nname = 1\ntype = \"pendulum\"\n", 2, "name must be a string");
+	expect_error(a + "mass = \"heavy\"\n", 4, "model parameter 'mass' must be a number");
+	expect_error("model = []\n", 1, "no model");
+	// A signal must name a model of this scenario (here: not the type).
+	expect_error(a + kSensor, 7, "signal 'pendulum.hinge.position': the scenario has no model 'pendulum' (models: a)");
+}
+
+void test_model_paths(void **)
+{
+	char dir[] = "/tmp/tcs_scenario_XXXXXX";
+	assert_non_null(mkdtemp(dir));
+	std::string file = std::string(dir) + "/arm.toml";
+	FILE *f = fopen(file.c_str(), "w");
+	assert_non_null(f);
+	fputs("[sim]\nmodel = \"robots/arm.urdf\"\n[[device]]\npath = \"/dev/arm\"\nkind = \"sensor\"\n"
+	      "signals = [\"arm.wrist-1.position\"]\nmode = \"latest\"\n",
+	      f);
+	fclose(f);
+	auto r = tcs::parse_scenario_file(file);
+	unlink(file.c_str());
+	rmdir(dir);
+	if (!r.ok()) {
+		print_error("%s\n", r.error().message.c_str());
+		fail();
+	}
+	// Named after the file's stem; the path resolved against the scenario's folder.
+	assert_string_equal(r->models[0].name.c_str(), "arm");
+	assert_string_equal(r->models[0].type.c_str(), (std::string(dir) + "/robots/arm.urdf").c_str());
+	assert_true(r->devices[0].mode == DeviceSpec::Mode::Latest);
+	assert_int_equal(r->devices[0].period_ns, 0);
+	// Absolute paths, and text with no folder, keep the path as written.
+	assert_string_equal(parse_ok("[sim]\nmodel = \"/r/b.sdf\"\n").models[0].type.c_str(), "/r/b.sdf");
+	assert_string_equal(parse_ok("[sim]\nmodel = \"b.sdf\"\n").models[0].type.c_str(), "b.sdf");
+}
+
+void test_file_errors(void **)
+{
+	auto r = tcs::parse_scenario_file("/nonexistent/w.toml");
+	assert_false(r.ok());
+	assert_string_equal(r.error().message.c_str(), "/nonexistent/w.toml: No such file or directory");
+	auto d = tcs::parse_scenario_file("/");
+	assert_false(d.ok());
+	assert_true(d.error().message.rfind("/: ", 0) == 0);
+}
+
+// ---- devices -----------------------------------------------------------------------
+
+void test_device_required_keys(void **)
+{
+	expect_error(kHead + "\n[[device]]\nkind = \"sensor\"\nsignals = [\"pendulum.hinge.position\"]\n", 4,
+		     "[[device]] needs 'path'");
+	expect_error(kHead + "\n[[device]]\npath = \"/dev/s\"\nsignals = [\"pendulum.hinge.position\"]\n", 4,
+		     "[[device]] needs 'kind'");
+	expect_error(kHead + "\n[[device]]\npath = \"/dev/s\"\nkind = \"sensor\"\n", 4, "[[device]] needs 'signals'");
+	expect_error(kHead + "[[device]]\npath = \"/dev/s\"\nkind = \"sensor\"\nsignals = []\n", 6, "signals is empty");
+	expect_error(kHead + "[[device]]\npath = \"/dev/s\"\nkind = \"sensor\"\nsignals = [\"pendulum.hinge.position\"]\n",
+		     3, "a stream sensor needs a rate, such as rate = \"1kHz\"");
+}
+
+void test_device_kind_rules(void **)
+{
+	expect_error(kHead + kSensor + "limit = 5.0\n", 8, "'limit' applies to actuators only");
+	const std::string act = "[[device]]\npath = \"/dev/a\"\nkind = \"actuator\"\nsignals = [\"pendulum.hinge.effort\"]\n";
+	expect_error(kHead + act + "mode = \"stream\"\n", 7, "'mode' applies to sensors only");
+	expect_error(kHead + act + "rate = \"1kHz\"\n", 7, "'rate' applies to sensors only");
+	expect_error(kHead + act + "limit = 0\n", 7, "limit must be positive");
+	expect_error(kHead + act + "limit = -1.5\n", 7, "limit must be positive");
+	expect_error(kHead + act + "limit = inf\n", 7, "limit must be a finite number");
+	expect_error(kHead + "[[device]]\npath = \"/dev/a\"\nkind = \"actuator\"\n"
+			     "signals = [\"pendulum.hinge.effort\",\n \"pendulum.hinge.velocity\"]\n",
+		     7, "actuator signal 'pendulum.hinge.velocity' is not an effort");
+	expect_error(kHead + "[[device]]\npath = \"/dev/s\"\nkind = \"sensor\"\nsignals = [\"pendulum.hinge.position\"]\n"
+			     "mode = \"latest\"\nrate = \"1kHz\"\n",
+		     8, "'rate' applies only to mode = \"stream\"");
+	// What the kinds do allow, with their defaults.
+	Scenario s = parse_ok(kHead + act + "limit = 3\n" + kSensor + "format = \"binary\"\n");
+	assert_true(s.devices[0].kind == DeviceSpec::Kind::Actuator);
+	assert_true(s.devices[0].limit == 3.0);
+	assert_true(s.devices[0].format == DeviceSpec::Format::Text);
+	assert_int_equal(s.devices[0].line, 3);
+	assert_true(s.devices[1].format == DeviceSpec::Format::Binary);
+	assert_true(s.devices[1].mode == DeviceSpec::Mode::Stream);
+	assert_int_equal(s.devices[1].line, 8);
+	assert_int_equal(s.devices[1].signals[0].line, 11);
+}
+
+void test_device_paths(void **)
+{
+	std::string two = kHead + kSensor + kSensor; // the second at line 8, its path at 9
+	expect_error(two, 9, "device path '/dev/s' is already used at line 3");
+	for (const char *bad : { "dev/s", "", "/", "/dev//s", "/dev/s/", "/dev/./s", "/dev/../s", "./s" }) {
+		std::string text = kHead + "[[device]]\npath = \"" + bad + "\"\nkind = \"sensor\"\n" +
+				   "signals = [\"pendulum.hinge.position\"]\n";
+		expect_error(text, 4, "must be absolute and normal");
+	}
+	// Any absolute path may be shadowed, /dev/ttyUSB0 included.
+	assert_string_equal(parse_ok(kHead + "[[device]]\npath = \"/dev/ttyUSB0\"\nkind = \"sensor\"\n"
+					     "signals = [\"pendulum.hinge.position\"]\nmode = \"latest\"\n")
+				    .devices[0]
+				    .path.c_str(),
+			    "/dev/ttyUSB0");
+}
+
+void test_signal_names(void **)
+{
+	for (const char *bad : { "pendulum.hinge", "pendulum", "pendulum.hinge.angle", "pendulum..position",
+				 ".hinge.position", "pendulum.hinge.", "pendulum.hin ge.position", "1x.hinge.position",
+				 "pendulum.a..b.pose", "pendulum.hinge.Position" }) {
+		std::string text = kHead + "[[device]]\npath = \"/dev/s\"\nkind = \"sensor\"\nsignals = [\"" + bad +
+				   "\"]\nmode = \"latest\"\n";
+		expect_error(text, 6, "is not <model>.<part>.<field> with field one of position, velocity, effort, "
+				      "pose, twist");
+	}
+	auto p = tcs::split_signal_name("arm.link.3.pose");
+	assert_true(p.has_value());
+	assert_true(p->model == "arm" && p->part == "link.3" && p->field == "pose");
+	assert_true(tcs::split_signal_name("pendulum.rod.twist").has_value());
+	assert_true(tcs::split_signal_name("pendulum.hinge.effort").has_value());
+
+	expect_error(kHead + "[[device]]\npath = \"/dev/s\"\nkind = \"sensor\"\nmode = \"latest\"\n"
+			     "signals = [\"pendulum.hinge.position\",\n\"cart.slider.position\"]\n",
+		     8, "signal 'cart.slider.position': the scenario has no model 'cart' (models: pendulum)");
+	expect_error(kHead + "[[device]]\npath = \"/dev/s\"\nkind = \"sensor\"\nmode = \"latest\"\n"
+			     "signals = [\"pendulum.hinge.position\",\n\"pendulum.hinge.position\"]\n",
+		     8, "signal 'pendulum.hinge.position' is listed twice");
+	const std::string act = "[[device]]\npath = \"/dev/a\"\nkind = \"actuator\"\nsignals = [\"pendulum.hinge.effort\"]\n";
+	std::string twice = kHead + act + "[[device]]\npath = \"/dev/b\"\nkind = \"actuator\"\n"
+					  "signals = [\"pendulum.hinge.effort\"]\n";
+	expect_error(twice, 10, "signal 'pendulum.hinge.effort' is already driven by /dev/a (line 6)");
+	// A sensor may read back an effort that an actuator drives.
+	parse_ok(kHead + act + "[[device]]\npath = \"/dev/b\"\nkind = \"sensor\"\nmode = \"latest\"\n"
+			       "signals = [\"pendulum.hinge.effort\"]\n");
+}
+
+void test_check_signals(void **)
+{
+	auto r = tcs::default_scenario();
+	assert_true(r.ok());
+	std::vector<std::string> world = { "pendulum.hinge.position", "pendulum.hinge.velocity",
+					   "pendulum.hinge.effort", "pendulum.rod.pose" };
+	assert_true(tcs::check_signals(*r, world).ok());
+	Scenario s = parse_ok(kHead + "[[device]]\npath = \"/dev/s\"\nkind = \"sensor\"\nmode = \"latest\"\n"
+				      "signals = [\"pendulum.hinge.position\",\n\"pendulum.elbow.position\"]\n");
+	auto st = tcs::check_signals(s, world);
+	assert_false(st.ok());
+	assert_string_equal(st.error().message.c_str(),
+			    "t.toml:8: unknown signal 'pendulum.elbow.position' (model 'pendulum' has: "
+			    "pendulum.hinge.position, pendulum.hinge.velocity, pendulum.hinge.effort, pendulum.rod.pose)");
+	auto none = tcs::check_signals(s, { "other.hinge.position" });
+	assert_false(none.ok());
+	assert_string_equal(none.error().message.c_str(),
+			    "t.toml:7: unknown signal 'pendulum.hinge.position' (model 'pendulum' has no signals)");
+	assert_string_equal(tcs::scenario_error(s, 12, "bad").message.c_str(), "t.toml:12: bad");
+}
+
+// ---- controllers ---------------------------------------------------------------------
+
+void expect_words(const char *command, std::vector<std::string> want)
+{
+	auto r = tcs::split_command(command);
+	if (!r.ok() || *r != want) {
+		print_error("split_command(%s) gave %s\n", command,
+			    r.ok() ? std::to_string(r->size()).c_str() : r.error().message.c_str());
+		if (r.ok())
+			for (const auto &w : *r)
+				print_error("  [%s]\n", w.c_str());
+		fail();
+	}
+}
+
+void test_split_command(void **)
+{
+	expect_words("examples/pendulum_pd --rate 1000", { "examples/pendulum_pd", "--rate", "1000" });
+	expect_words("  a \t b  ", { "a", "b" });
+	expect_words("", {});
+	expect_words("   ", {});
+	expect_words("prog \"two words\" x", { "prog", "two words", "x" });
+	expect_words("prog --name=\"a b\"c", { "prog", "--name=a bc" });
+	expect_words("prog \"\" x", { "prog", "", "x" });
+	expect_words("prog \"say \\\"hi\\\"\" \"back\\\\slash\" \"\\n\"", { "prog", "say \"hi\"", "back\\slash", "\\n" });
+	expect_words("prog 'it \"is\" \\ raw'", { "prog", "it \"is\" \\ raw" });
+	expect_words("prog a\\b", { "prog", "a\\b" });
+	assert_false(tcs::split_command("prog \"open").ok());
+	assert_false(tcs::split_command("prog 'open").ok());
+	assert_false(tcs::split_command("prog \"ends in \\\"").ok());
+}
+
+void test_controllers(void **)
+{
+	Scenario s = parse_ok(kHead + "[[controller]]\ncommand = 'ctl --gain \"1 2\"'\n"
+				      "[[controller]]\ncommand = \"ctl2\"\ncpu_scale = 3\n");
+	assert_int_equal(s.controllers.size(), 2);
+	assert_string_equal(s.controllers[0].command.c_str(), "ctl --gain \"1 2\"");
+	assert_int_equal(s.controllers[0].argv.size(), 3);
+	assert_string_equal(s.controllers[0].argv[2].c_str(), "1 2");
+	assert_int_equal(s.controllers[0].line, 3);
+	assert_false(s.controllers[0].cpu_scale.has_value());
+	assert_true(s.controllers[1].cpu_scale == 3.0);
+	assert_int_equal(s.controllers[1].line, 5);
+
+	expect_error(kHead + "[[controller]]\ncpu_scale = 2\n", 3, "[[controller]] needs a command");
+	expect_error(kHead + "[[controller]]\ncommand = \"  \"\n", 4, "command is empty");
+	expect_error(kHead + "[[controller]]\ncommand = 'ctl \"x'\n", 4, "command: unterminated double quote");
+	expect_error(kHead + "[[controller]]\ncommand = [\"ctl\"]\n", 4, "command must be a string");
+	expect_error(kHead + "[[controller]]\ncommand = \"ctl\"\ncpu_scale = 0\n", 5, "cpu_scale must be positive");
+	expect_error(kHead + "[[controller]]\ncommand = \"ctl\"\ncpu_scale = \"2\"\n", 5, "cpu_scale must be a number");
+}
+
+} // namespace
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_default_scenario),
+		cmocka_unit_test(test_pendulum_file_is_the_default),
+		cmocka_unit_test(test_every_scenario_file_parses),
+		cmocka_unit_test(test_two_pendulums_file),
+		cmocka_unit_test(test_durations),
+		cmocka_unit_test(test_rates),
+		cmocka_unit_test(test_plain_numbers),
+		cmocka_unit_test(test_syntax_errors),
+		cmocka_unit_test(test_unknown_keys),
+		cmocka_unit_test(test_wrong_types),
+		cmocka_unit_test(test_step),
+		cmocka_unit_test(test_single_model_form),
+		cmocka_unit_test(test_model_array_form),
+		cmocka_unit_test(test_model_paths),
+		cmocka_unit_test(test_file_errors),
+		cmocka_unit_test(test_device_required_keys),
+		cmocka_unit_test(test_device_kind_rules),
+		cmocka_unit_test(test_device_paths),
+		cmocka_unit_test(test_signal_names),
+		cmocka_unit_test(test_check_signals),
+		cmocka_unit_test(test_split_command),
+		cmocka_unit_test(test_controllers),
+	};
+	return cmocka_run_group_tests(tests, nullptr, nullptr);
+}

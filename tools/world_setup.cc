@@ -1,0 +1,64 @@
+// world_setup(): build the world once to validate it, and describe it.
+#include "world_setup.h"
+
+#include <cstdio>
+
+namespace tcs {
+
+Result<WorldSetup> world_setup(const Scenario &sc)
+{
+	WorldSetup out;
+	out.step_ns = sc.sim.step_ns;
+	for (const auto &m : sc.models) {
+		ModelInstance mi{ m.name, m.type, {} };
+		for (const auto &p : m.params)
+			mi.params.emplace_back(p.key, p.value);
+		out.models.push_back(std::move(mi));
+	}
+	auto world = SimWorld::create(out.models, out.step_ns);
+	if (!world) {
+		// Point at the model the plug-in complained about.
+		int line = sc.models.empty() ? 0 : sc.models.front().line;
+		for (const auto &m : sc.models)
+			if (world.error().message.find(m.name) != std::string::npos ||
+			    world.error().message.find(m.type) != std::string::npos) {
+				line = m.line;
+				break;
+			}
+		return scenario_error(sc, line, world.error().message);
+	}
+	std::vector<std::string> known;
+	for (size_t i = 0; i < (*world)->signal_count(); i++) {
+		const tcs_sim_signal_info &s = (*world)->signal(i);
+		known.push_back(s.name);
+		char line[256];
+		snprintf(line, sizeof line, "%-36s %u value%s  %-10s %s", s.name, s.width, s.width == 1 ? " " : "s",
+			 s.unit ? s.unit : "", (s.flags & TCS_SIM_SIGNAL_WRITABLE) ? "writable" : "");
+		out.signal_lines.push_back(line);
+	}
+	if (auto st = check_signals(sc, known); !st)
+		return st.error();
+	for (const auto &d : sc.devices) {
+		DeviceConfig dc;
+		dc.path = d.path;
+		dc.kind = d.kind == DeviceSpec::Kind::Sensor ? TCS_DEVICE_SENSOR : TCS_DEVICE_ACTUATOR;
+		dc.format = d.format == DeviceSpec::Format::Text ? TCS_FORMAT_TEXT : TCS_FORMAT_BINARY;
+		dc.latest = d.mode == DeviceSpec::Mode::Latest;
+		dc.period_ns = d.period_ns;
+		dc.limit = d.limit;
+		for (const auto &s : d.signals) {
+			long i = (*world)->find(s.name);
+			if (d.kind == DeviceSpec::Kind::Actuator && i >= 0 &&
+			    !((*world)->signal((size_t)i).flags & TCS_SIM_SIGNAL_WRITABLE))
+				return scenario_error(sc, s.line, "signal '" + s.name + "' cannot be commanded");
+			dc.signals.push_back(s.name);
+		}
+		out.devices.push_back(std::move(dc));
+	}
+	if (out.devices.size() > TCS_MAX_DEVICES)
+		return scenario_error(sc, sc.devices[TCS_MAX_DEVICES].line,
+				      "too many devices (at most " + std::to_string(TCS_MAX_DEVICES) + ")");
+	return out;
+}
+
+} // namespace tcs
