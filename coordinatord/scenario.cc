@@ -125,33 +125,43 @@ std::optional<Entry> lookup(const toml::table &t, std::string_view key)
 	return Entry{ line ? line : line_of(it->second), std::string(key), &it->second };
 }
 
-// toml++ 3.3 aborts on an assertion (or, with NDEBUG, reads on
-// unchecked) when a table header's name starts with a character no key can
-// start with: "[=x]", "[[[x]]]", "[é]" (fixed upstream after 3.3, PR 301).
-// This finds the first such header, so that it becomes an error like any
-// other: its offset and line, or npos. It follows strings, comments and
-// brackets exactly while the text is valid TOML; the caller has toml++
-// check the text before the header, so that an earlier syntax error (after
-// which this scan may be confused) is the one reported.
-size_t unparseable_header(std::string_view t, int *header_line)
+// toml++ 3.3 aborts on an assertion (or, with NDEBUG, reads on unchecked)
+// on some malformed input: a table header whose name starts with no key
+// character ("[=x]", "[[[x]]]": fixed upstream after 3.3, PR 301), and a
+// '}' or a Unicode line break where an array expects a value ("[1, }").
+// This scan finds those first, so that they are errors like any other. It
+// follows strings, comments and brackets exactly while the text is valid
+// TOML, and is stricter than toml++ only where TOML is too: outside strings
+// and comments everything is ASCII, and brackets pair up.
+struct SyntaxTrap {
+	size_t statement = std::string_view::npos; // where the statement holding it starts
+	int line = 0;
+	const char *what = nullptr;
+};
+
+SyntaxTrap find_syntax_trap(std::string_view t)
 {
 	auto key_start = [](char c) {
 		return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
 		       c == '-' || c == '"' || c == '\'' || c == ']';
 	};
 	auto blank = [&t](size_t i) { return i < t.size() && (t[i] == ' ' || t[i] == '\t'); };
-	int line = 1, depth = 0;
-	bool statement = true; // at the start of a line, outside any value
-	for (size_t i = 0; i < t.size(); i++) {
+	int line = 1;
+	std::string open; // the brackets of the value being read
+	bool bol = true;  // at the start of a line, outside any value
+	size_t statement = 0;
+	for (size_t i = t.compare(0, 3, "\xef\xbb\xbf") == 0 ? 3 : 0; i < t.size(); i++) {
 		char c = t[i];
 		if (c == '\n') {
 			line++;
-			statement = depth == 0;
+			bol = open.empty();
 			continue;
 		}
-		if (statement && (c == ' ' || c == '\t' || c == '\r'))
+		if (bol && (c == ' ' || c == '\t' || c == '\r'))
 			continue;
-		if (statement && c == '[') {
+		if (bol)
+			statement = i;
+		if (bol && c == '[') {
 			size_t j = i + 1;
 			bool spaced = blank(j);
 			while (blank(j))
@@ -159,17 +169,16 @@ size_t unparseable_header(std::string_view t, int *header_line)
 			if (j < t.size() && t[j] == '[' && !spaced)
 				for (j++; blank(j);)
 					j++;
-			if (j < t.size() && !key_start(t[j])) {
-				*header_line = line;
-				return i;
-			}
+			// "[ [x]]" is refused by toml++ itself.
+			if (j < t.size() && !key_start(t[j]) && !(spaced && t[j] == '['))
+				return { statement, line, "a table header must start with a key: [name] or [[name]]" };
 			// A header is one line: quoted keys cannot span lines.
 			while (i + 1 < t.size() && t[i + 1] != '\n')
 				i++;
-			statement = false;
+			bol = false;
 			continue;
 		}
-		statement = false;
+		bol = false;
 		if (c == '#') {
 			while (i + 1 < t.size() && t[i + 1] != '\n')
 				i++;
@@ -183,19 +192,26 @@ size_t unparseable_header(std::string_view t, int *header_line)
 					line++;
 			}
 			if (j >= t.size())
-				return std::string_view::npos; // unterminated: toml++ stops here
+				return {}; // unterminated: toml++ stops there
 			j += delim.size() - 1;
 			// """a"""" is a": up to two quotes may precede the closing three.
 			for (int extra = 0; delim.size() == 3 && extra < 2 && j + 1 < t.size() && t[j + 1] == c; extra++)
 				j++;
 			i = j;
 		} else if (c == '[' || c == '{') {
-			depth++;
-		} else if ((c == ']' || c == '}') && --depth < 0) {
-			return std::string_view::npos;
+			open += c;
+		} else if (c == ']' || c == '}') {
+			if (open.empty())
+				return {}; // toml++ reports a stray one
+			if (open.back() != (c == ']' ? '[' : '{'))
+				return { statement, line, c == '}' ? "'}' where the array needs a value or ']'"
+								 : "']' where the inline table needs a key or '}'" };
+			open.pop_back();
+		} else if ((unsigned char)c >= 0x80) {
+			return { statement, line, "a character that is not ASCII, outside a string or comment" };
 		}
 	}
-	return std::string_view::npos;
+	return {};
 }
 
 class Parser {
@@ -204,11 +220,12 @@ public:
 
 	Result<Scenario> run(std::string_view text)
 	{
-		int line = 0;
-		size_t bad = unparseable_header(text, &line);
-		toml::parse_result r = toml::parse(text.substr(0, bad), sc_.file);
-		if (r && bad != std::string_view::npos)
-			return err(line, "a table header must start with a key: [name] or [[name]]");
+		// The text before the trap's statement goes to toml++ alone, so
+		// that an earlier error is the one reported.
+		SyntaxTrap trap = find_syntax_trap(text);
+		toml::parse_result r = toml::parse(text.substr(0, trap.statement), sc_.file);
+		if (r && trap.what)
+			return err(trap.line, trap.what);
 		if (!r)
 			return err((int)r.error().source().begin.line, std::string(r.error().description()));
 		const toml::table &root = r.table();

@@ -71,6 +71,10 @@ std::string summary(const RunReport &r, int mode)
 	if (r.realtime.cpu >= 0)
 		s += " on CPU " + std::to_string(r.realtime.cpu);
 	s += "\n";
+	if (r.step_wall_max > 0)
+		s += "tcs-run:   world: " + std::to_string(r.steps) + " steps; wall cost per step min " +
+		     format_duration(r.step_wall_min) + ", median " + format_duration(r.step_wall_median) + ", max " +
+		     format_duration(r.step_wall_max) + "\n";
 	for (const auto &c : r.controllers) {
 		s += "tcs-run:   " + c.name + " (pid " + std::to_string(c.pid) + "): " + how_it_ended(c);
 		uint64_t cycles = c.periodic_waits ? c.periodic_waits : c.waits;

@@ -19,12 +19,16 @@ Result<WorldSetup> world_setup(const Scenario &sc)
 	if (!world) {
 		// Point at the model the plug-in complained about.
 		int line = sc.models.empty() ? 0 : sc.models.front().line;
-		for (const auto &m : sc.models)
-			if (world.error().message.find(m.name) != std::string::npos ||
-			    world.error().message.find(m.type) != std::string::npos) {
-				line = m.line;
-				break;
-			}
+		const std::string &msg = world.error().message;
+		for (const auto &m : sc.models) {
+			if (msg.find(m.name) == std::string::npos && msg.find(m.type) == std::string::npos)
+				continue;
+			line = m.line;
+			for (const auto &p : m.params) // or at the parameter it names
+				if (msg.find("'" + p.key + "'") != std::string::npos)
+					line = p.line;
+			break;
+		}
 		return scenario_error(sc, line, world.error().message);
 	}
 	std::vector<std::string> known;

@@ -1,0 +1,142 @@
+/* device_probe CHECK ARGS...: exercises a virtual device the way a driver
+ * would, printing key=value lines (times in ns since the probe started, in
+ * its own clock) for the process tests to check.
+ *   stream PATH N        N blocking reads of a text stream: when each came
+ *   nonblock PATH        O_NONBLOCK reads: a record, then EAGAIN, then after 1 ms a record
+ *   poll PATH            poll() with a 500 ms timeout on a drained stream
+ *   latest PATH          two reads at one instant, one after 5 ms
+ *   binary PATH          one record of two little-endian f64
+ *   write TORQUE STATE   a valid command, malformed ones (EINVAL), saturation; its effect
+ *   termios PATH         tcgetattr/tcsetattr on a device as on a serial port */
+#include <errno.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include "work.h"
+
+static long long t0;
+
+static long long since(void)
+{
+	return clock_ns(CLOCK_MONOTONIC) - t0;
+}
+
+static int must_open(const char *path, int flags)
+{
+	int fd = open(path, flags);
+	if (fd < 0) {
+		printf("open_errno=%s\n", strerrorname_np(errno));
+		exit(1);
+	}
+	return fd;
+}
+
+/* Reads one text record (up to the newline) from a blocking fd. */
+static int read_line(int fd, char *buf, size_t len)
+{
+	size_t n = 0;
+	while (n + 1 < len) {
+		ssize_t r = read(fd, buf + n, 1);
+		if (r <= 0)
+			return -1;
+		if (buf[n++] == '\n')
+			break;
+	}
+	buf[n] = '\0';
+	return (int)n;
+}
+
+static void sleep_ms(int ms)
+{
+	struct timespec ts = { 0, ms * 1000000L };
+	nanosleep(&ts, NULL);
+}
+
+int main(int argc, char **argv)
+{
+	t0 = clock_ns(CLOCK_MONOTONIC);
+	if (argc < 3)
+		return 2;
+	const char *check = argv[1], *path = argv[2];
+	char line[256];
+	if (!strcmp(check, "stream")) {
+		int fd = must_open(path, O_RDONLY), n = argc > 3 ? atoi(argv[3]) : 5;
+		for (int i = 0; i < n; i++) {
+			if (read_line(fd, line, sizeof line) < 0)
+				return 1;
+			printf("record%d_at=%lld\n", i, since());
+		}
+	} else if (!strcmp(check, "nonblock")) {
+		int fd = must_open(path, O_RDONLY | O_NONBLOCK);
+		ssize_t a = read(fd, line, sizeof line);
+		ssize_t b = read(fd, line, sizeof line);
+		int eb = errno;
+		sleep_ms(1);
+		ssize_t c = read(fd, line, sizeof line);
+		printf("first=%d second=%d second_errno=%s third=%d at=%lld\n", a > 0, (int)b, strerrorname_np(eb), c > 0,
+		       since());
+	} else if (!strcmp(check, "poll")) {
+		int fd = must_open(path, O_RDONLY | O_NONBLOCK);
+		sleep_ms(3);
+		while (read(fd, line, sizeof line) > 0) /* drain what is due */
+			;
+		long long before = since();
+		struct pollfd p = { fd, POLLIN, 0 };
+		int r = poll(&p, 1, 500);
+		printf("poll=%d revents_in=%d waited=%lld\n", r, !!(p.revents & POLLIN), since() - before);
+	} else if (!strcmp(check, "latest")) {
+		int fd = must_open(path, O_RDONLY);
+		char a[128] = "", b[128] = "", c[128] = "";
+		ssize_t ra = read(fd, a, sizeof a - 1), rb = read(fd, b, sizeof b - 1);
+		sleep_ms(5);
+		ssize_t rc = read(fd, c, sizeof c - 1);
+		printf("reads=%d same_instant_equal=%d later_differs=%d at=%lld\n", ra > 0 && rb > 0 && rc > 0,
+		       !strcmp(a, b), strcmp(a, c) != 0, since());
+	} else if (!strcmp(check, "binary")) {
+		int fd = must_open(path, O_RDONLY);
+		double v[2];
+		ssize_t r = read(fd, v, sizeof v);
+		printf("bytes=%d position=%.6f velocity=%.6f\n", (int)r, v[0], v[1]);
+	} else if (!strcmp(check, "write") && argc > 3) {
+		int fd = must_open(path, O_WRONLY), st = must_open(argv[3], O_RDONLY);
+		ssize_t ok = write(fd, "2.0\n", 4);
+		errno = 0;
+		ssize_t bad1 = write(fd, "abc\n", 4);
+		int e1 = errno;
+		ssize_t bad2 = write(fd, "1 2\n", 4);
+		int e2 = errno;
+		sleep_ms(10);
+		if (read(st, line, sizeof line) <= 0)
+			return 1;
+		double pos, vel;
+		sscanf(line, "%lf %lf", &pos, &vel);
+		ssize_t big = write(fd, "100\n", 4);
+		sleep_ms(10);
+		double vel2 = vel;
+		if (read(st, line, sizeof line) > 0)
+			sscanf(line, "%lf %lf", &pos, &vel2);
+		printf("ok=%d bad1=%d bad1_errno=%s bad2=%d bad2_errno=%s velocity_after_10ms=%.6f big=%d "
+		       "velocity_gain_next_10ms=%.6f\n",
+		       (int)ok, (int)bad1, strerrorname_np(e1), (int)bad2, strerrorname_np(e2), vel, (int)big, vel2 - vel);
+		int wrong = open(path, O_RDONLY);
+		printf("read_open_of_actuator_errno=%s\n", wrong < 0 ? strerrorname_np(errno) : "none");
+	} else if (!strcmp(check, "termios")) {
+		int fd = must_open(path, O_RDONLY | O_NOCTTY);
+		struct termios t;
+		int g = tcgetattr(fd, &t);
+		cfmakeraw(&t);
+		cfsetspeed(&t, B115200);
+		int s = tcsetattr(fd, TCSANOW, &t);
+		int fl = tcflush(fd, TCIFLUSH);
+		printf("tcgetattr=%d tcsetattr=%d tcflush=%d speed_ok=%d record=%d\n", g, s, fl,
+		       cfgetospeed(&t) == B115200, read_line(fd, line, sizeof line) > 0);
+	} else {
+		return 2;
+	}
+	return 0;
+}
