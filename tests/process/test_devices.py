@@ -91,6 +91,8 @@ def test_nonblocking_reads_and_poll_readiness():
               "O_NONBLOCK: a due record, then EAGAIN, then the next one a ms later", r)
         r = probe(world, "poll", "/dev/tcs/pendulum/state")
         check("poll=1 revents_in=1 waited=1000000" in r.stdout, "poll wakes when the next record is due", r)
+        check("select=1 isset=1 waited=1000000" in r.stdout, "so does select", r)
+        check("epoll_wait=1 fd_ok=1 waited=1000000" in r.stdout, "and epoll_wait", r)
     finally:
         os.unlink(world)
 

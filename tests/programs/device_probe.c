@@ -3,7 +3,7 @@
  * its own clock) for the process tests to check.
  *   stream PATH N        N blocking reads of a text stream: when each came
  *   nonblock PATH        O_NONBLOCK reads: a record, then EAGAIN, then after 1 ms a record
- *   poll PATH            poll() with a 500 ms timeout on a drained stream
+ *   poll PATH            poll(), select() and epoll_wait() with 500 ms timeouts on a drained stream
  *   latest PATH          two reads at one instant, one after 5 ms
  *   binary PATH          one record of two little-endian f64
  *   write TORQUE STATE   a valid command, malformed ones (EINVAL), saturation; its effect
@@ -14,6 +14,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/epoll.h>
+#include <sys/select.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -89,6 +91,23 @@ int main(int argc, char **argv)
 		struct pollfd p = { fd, POLLIN, 0 };
 		int r = poll(&p, 1, 500);
 		printf("poll=%d revents_in=%d waited=%lld\n", r, !!(p.revents & POLLIN), since() - before);
+		while (read(fd, line, sizeof line) > 0)
+			;
+		fd_set rs;
+		FD_ZERO(&rs);
+		FD_SET(fd, &rs);
+		struct timeval tv = { 0, 500000 };
+		before = since();
+		r = select(fd + 1, &rs, NULL, NULL, &tv);
+		printf("select=%d isset=%d waited=%lld\n", r, FD_ISSET(fd, &rs), since() - before);
+		while (read(fd, line, sizeof line) > 0)
+			;
+		int ep = epoll_create1(0);
+		struct epoll_event ev = { .events = EPOLLIN, .data.fd = fd }, out;
+		epoll_ctl(ep, EPOLL_CTL_ADD, fd, &ev);
+		before = since();
+		r = epoll_wait(ep, &out, 1, 500);
+		printf("epoll_wait=%d fd_ok=%d waited=%lld\n", r, out.data.fd == fd, since() - before);
 	} else if (!strcmp(check, "latest")) {
 		int fd = must_open(path, O_RDONLY);
 		char a[128] = "", b[128] = "", c[128] = "";
