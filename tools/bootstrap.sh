@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The README's two commands. On a fresh Debian 12 machine (as root) this
 # installs the Debian packages tcs needs, builds it, and then either runs
-# the demo (an example controller under tcs-run in the built-in world) or
+# the demo (the pendulum experiment under tcs-run in the built-in world) or
 # the whole test suite.
 #
 #   tools/bootstrap.sh demo
@@ -17,7 +17,8 @@ if [[ $what != demo && $what != test ]]; then
 	exit 2
 fi
 
-packages=(gcc g++ libc6-dev binutils pkg-config meson ninja-build python3 libcmocka-dev util-linux)
+packages=(gcc g++ libc6-dev binutils pkg-config meson ninja-build python3 libcmocka-dev util-linux
+	libode-dev libccd-dev libeigen3-dev libtomlplusplus-dev)
 missing=()
 for p in "${packages[@]}"; do
 	dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -43,17 +44,18 @@ if [[ $what == demo ]]; then
 		echo "\$ tcs-run $*"
 		"$build/tools/tcs-run" "$@"
 	}
-	ctl=$build/examples/periodic_controller
-	echo "A 1 kHz control loop whose control law costs about a quarter of its period on this CPU."
-	run -d 5s -- "$ctl"
+	pd=$build/examples/pendulum_pd
+	echo "The TCS paper's experiment in the built-in world: a pendulum and a 1 kHz controller that"
+	echo "swings it up and balances it (examples/pendulum_pd.c, a plain C program)."
+	run -- "$pd" --seconds 10 --work-us 50
 	echo
-	echo "The same binary on a target CPU 8 times slower: the law no longer fits in the period,"
-	echo "and the loop falls to a fraction of its rate, as it would on that robot."
-	run -d 5s --cpu-scale 8 -- "$ctl"
+	echo "The same binary with a heavier control law (300 us of this CPU per cycle) on a target"
+	echo "CPU 6 times slower: the loop falls far below 1 kHz and the pendulum falls, as on the robot."
+	run --cpu-scale 6 -- "$pd" --seconds 10 --work-us 300
 	echo
 	echo "Lockstep, as today's simulators run controllers: computation is free, so the same"
 	echo "overloaded controller looks perfect."
-	run -d 5s --cpu-scale 8 -m lockstep -- "$ctl"
+	run --cpu-scale 6 -m lockstep -- "$pd" --seconds 10 --work-us 300
 	exit 0
 fi
 
