@@ -336,6 +336,8 @@ void Coordinator::begin_end(EndReason reason, int signo)
 			c->wake_pending = true;
 			c->wake_reason = TCS_WAKE_DEADLINE;
 		}
+		if (c->sync_pending)
+			complete_sync(*c); // the world has stopped: a read gets its last state
 		if (c->wake_pending)
 			send_wake(*c);
 		if (c->stopped) {

@@ -280,7 +280,9 @@ bool Coordinator::complete_sync(Controller &c)
 		c.wake_pending = true;
 		return true;
 	}
-	if (d.dev->cfg.latest && world_) {
+	// A 'latest' sensor answers with the world now; so does a stream once
+	// the run is ending (the world has stopped; its last state stands).
+	if ((d.dev->cfg.latest || (ending_ && d.queue.empty())) && world_) {
 		std::vector<double> values;
 		for (size_t i : d.dev->signals)
 			world_->read(i, values);
@@ -289,7 +291,7 @@ bool Coordinator::complete_sync(Controller &c)
 		c.wake_pending = true;
 		return true;
 	}
-	if (c.sync_nonblock || ending_ || next_record_due(c) == TCS_NEVER) {
+	if (c.sync_nonblock || next_record_due(c) == TCS_NEVER) {
 		c.wake_arg = c.sync_nonblock ? -EAGAIN : 0;
 		c.wake_pending = true;
 		return true;

@@ -180,6 +180,9 @@ static FILE *tcs_fopen(const char *path, const char *mode)
 		close((int)fd);
 		return NULL;
 	}
+	/* fileno() must give the device fd: libstdc++'s fstreams read and
+	 * write through it (our read/write hooks), not through the FILE. */
+	f->_fileno = (int)fd;
 	/* Like a serial port (a tty): line-buffered, so each line goes out. */
 	if (tcs_rt.devices->dev[dev].format == TCS_FORMAT_TEXT)
 		setvbuf(f, NULL, _IOLBF, 0);

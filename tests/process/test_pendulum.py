@@ -6,7 +6,7 @@ controllers today) reports success for the same binary and the same work."""
 
 import os
 
-from harness import check, main, tcs
+from harness import PYTHON, check, main, tcs
 
 PD = os.path.join(os.environ.get("TCS_EXAMPLES", "."), "pendulum_pd")
 
@@ -36,6 +36,23 @@ def test_overloaded_controller_falls_but_lockstep_says_fine():
     r, lock, text = outcome(["-m", "lockstep", "--cpu-scale", "6"], ["--work-us", "300"])
     print("  lockstep, the same binary and work:          " + text)
     check(lock["balanced"] == "1" and abs(float(lock["rate_hz"]) - 1000) < 1, "lockstep reports success", r)
+
+
+def test_python_and_cpp_versions_balance_too():
+    for name, cmd in (("C++ (std::chrono, fstreams)", [PD + "_cpp"]),
+                      ("Python 3", [PYTHON, os.path.join(os.environ.get("TCS_EXAMPLES_SRC", "."), "pendulum_pd.py")])):
+        for mode in ("cpu", "lockstep"):
+            r = tcs("-q", "-m", mode, "--", *cmd, "--seconds", "10", timeout=180)
+            v = r.values()
+            print("  %s, %s mode: %s at %s Hz" % (name, mode, "BALANCED" if v.get("balanced") == "1" else "FELL",
+                                                  v.get("rate_hz")))
+            check(r.returncode == 0 and v.get("balanced") == "1", "%s balances in %s mode" % (name, mode), r)
+
+
+def test_duration_end_lets_the_controller_report():
+    r = tcs("-q", "-d", "3s", "--", PD, timeout=60)
+    check(r.returncode == 0 and "cycles=" in r.stdout, "SIGTERM at the end: it finishes its cycle and reports", r)
+    check(r.wall < 2.0, "without waiting for the SIGKILL grace period", r)
 
 
 if __name__ == "__main__":
