@@ -4,7 +4,7 @@ runs as slowly in virtual time as it does natively in real time."""
 
 import statistics
 
-from harness import calibrate, check, close_to, main, prog, run, tcs
+from harness import calibrate, check, close_to, main, native, prog, run, tcs
 
 
 def test_virtual_time_is_the_cpu_burned():
@@ -13,17 +13,17 @@ def test_virtual_time_is_the_cpu_burned():
         # The CPU time of the same work varies by a few per cent from run
         # to run on a shared machine, and disturbances only ever add to it:
         # compare the least-disturbed of several interleaved runs.
-        native, virtual = [], []
+        native_cpu, virtual = [], []
         for _ in range(7):
-            native.append(int(run([prog("burn"), rounds]).values()["cpu_ns"]))
+            native_cpu.append(int(native([prog("burn"), rounds]).values()["cpu_ns"]))
             r = tcs("-q", "--cpu-scale", scale, prog("burn"), rounds)
             v = r.values()
             virtual.append(int(v["monotonic_ns"]))
             close_to(int(v["cpu_ns"]), int(v["monotonic_ns"]), 0.005,
                      "the virtual CPU clock agrees with virtual time for a pure computation", r)
-        ratio = min(virtual) / (min(native) * float(scale))
+        ratio = min(virtual) / (min(native_cpu) * float(scale))
         print("  cpu-scale %s: virtual time %.1f ms for %.1f ms of native CPU: ratio %.4f" %
-              (scale, min(virtual) / 1e6, min(native) / 1e6, ratio))
+              (scale, min(virtual) / 1e6, min(native_cpu) / 1e6, ratio))
         close_to(ratio, 1.0, 0.02, "virtual time vs CPU burned x %s" % scale)
 
 
@@ -44,15 +44,15 @@ def test_overloaded_loop_fails_as_on_hardware_but_not_in_lockstep():
     # and take the median of those ratios.
     ratios, cpu_runs, native_runs = [], [], []
     for _ in range(5):
-        native_runs.append(float(run([prog("periodic"), 1000, 1, rounds]).values()["rate_hz"]))
+        native_runs.append(float(native([prog("periodic"), 1000, 1, rounds]).values()["rate_hz"]))
         cpu_runs.append(tcs("-q", prog("periodic"), 1000, 1, rounds, timeout=120).values())
         ratios.append(float(cpu_runs[-1]["rate_hz"]) / native_runs[-1])
     ratio = statistics.median(ratios)
     cpu = cpu_runs[ratios.index(ratio)]
-    native = native_runs[ratios.index(ratio)]
+    native_rate = native_runs[ratios.index(ratio)]
     lockstep = tcs("-q", "-m", "lockstep", prog("periodic"), 1000, 2, rounds, timeout=120).values()
     print("  1 kHz loop, 150%% work: natively %.1f Hz in real time; tcs cpu mode %s Hz, lockstep %s Hz" %
-          (native, cpu["rate_hz"], lockstep["rate_hz"]))
+          (native_rate, cpu["rate_hz"], lockstep["rate_hz"]))
     print("  (tcs/native ratios: %s)" % " ".join("%.3f" % x for x in ratios))
     close_to(ratio, 1.0, 0.03, "cpu-mode rate vs native real-time rate")
     check(int(cpu["misses"]) > 0.9 * int(cpu["loops"]), "cpu mode: nearly every deadline missed")

@@ -28,6 +28,12 @@ def test_installed_tcs_run_finds_its_preload():
               "with the installed preload library", r)
         check(glob.glob(os.path.join(root, "**", "man1", "tcs-run.1"), recursive=True), "the man page")
         check(glob.glob(os.path.join(root, "**", "include", "tcs", "protocol.h"), recursive=True), "headers")
+        check(glob.glob(os.path.join(root, "**", "include", "tcs", "simhost.h"), recursive=True),
+              "the simulation plug-in ABI")
+        pc = glob.glob(os.path.join(root, "**", "pkgconfig", "tcs-simhost.pc"), recursive=True)
+        check(len(pc) == 1, "and its pkg-config file")
+        with open(pc[0]) as f:
+            check("Cflags: -I${includedir}" in f.read(), "which points at the headers")
     finally:
         shutil.rmtree(root, ignore_errors=True)
 
