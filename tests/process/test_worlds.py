@@ -124,5 +124,18 @@ def test_box_world_costs_wall_time_not_virtual_time():
     check(os.path.exists(boxes), "scenarios/boxes.toml ships")
 
 
+def test_shipped_scenarios_are_valid_and_two_pendulums_runs():
+    folder = os.environ.get("TCS_SCENARIOS", "scenarios")
+    files = sorted(f for f in os.listdir(folder) if f.endswith(".toml"))
+    check({"pendulum.toml", "cartpole.toml", "double_pendulum.toml", "boxes.toml"} <= set(files),
+          "a scenario per built-in model: %s" % files)
+    for f in files:
+        r = tcs("-w", os.path.join(folder, f), "--list-signals")
+        check(r.returncode == 0 and "devices" in r.stdout, "%s is valid against the real world" % f, r)
+    path = os.environ.get("TCS_EXAMPLES", ".") + ":" + os.environ.get("PATH", "")
+    r = tcs("-q", "-w", os.path.join(folder, "two_pendulums.toml"), "-d", "6s", env={"PATH": path}, timeout=120)
+    check(r.returncode == 0 and r.stdout.count("balanced=1") == 2, "both robots balanced", r)
+
+
 if __name__ == "__main__":
     main(globals())
