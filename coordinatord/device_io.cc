@@ -21,6 +21,8 @@ namespace tcs {
 namespace {
 // Records made but never read: a real sensor's buffer overflows too.
 constexpr size_t kMaxQueued = 4096;
+// Opens per controller (a controller is untrusted: no unbounded growth).
+constexpr size_t kMaxOpens = 1024;
 } // namespace
 
 Status Coordinator::bind_devices()
@@ -74,6 +76,10 @@ void Coordinator::on_dev_open(Controller &c, const ::tcs_msg &m)
 	c.wait_seq = m.seq;
 	if ((size_t)m.arg >= devices_.size()) {
 		reply_now(c, -ENOENT);
+		return;
+	}
+	if (c.devices.size() >= kMaxOpens) {
+		reply_now(c, -EMFILE);
 		return;
 	}
 	BoundDevice &dev = devices_[(size_t)m.arg];
