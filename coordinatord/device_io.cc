@@ -5,6 +5,7 @@
 // written at V is held from the first boundary >= V. A controller asking
 // for what the world has not computed yet waits for it.
 #include <fcntl.h>
+#include <poll.h>
 #include <sys/ioctl.h>
 #include <sys/socket.h>
 
@@ -78,7 +79,16 @@ void Coordinator::on_dev_open(Controller &c, const ::tcs_msg &m)
 		reply_now(c, -ENOENT);
 		return;
 	}
-	if (c.devices.size() >= kMaxOpens) {
+	// A slot whose fd the controller has closed is free again.
+	size_t slot = c.devices.size();
+	for (size_t i = 0; i < c.devices.size(); i++) {
+		struct pollfd p = { c.devices[i]->sock.get(), POLLRDHUP, 0 };
+		if (c.devices[i]->gone || (poll(&p, 1, 0) == 1 && (p.revents & (POLLHUP | POLLRDHUP)))) {
+			slot = i;
+			break;
+		}
+	}
+	if (slot == kMaxOpens) {
 		reply_now(c, -EMFILE);
 		return;
 	}
@@ -103,9 +113,12 @@ void Coordinator::on_dev_open(Controller &c, const ::tcs_msg &m)
 		d->next_due = (std::max(c.v, sim_ns_) + dev.cfg.period_ns - 1) / dev.cfg.period_ns * dev.cfg.period_ns;
 		make_records(*d, sim_ns_ + cfg_.step_ns);
 	}
-	c.devices.push_back(std::move(d));
+	if (slot == c.devices.size())
+		c.devices.push_back(std::move(d));
+	else
+		c.devices[slot] = std::move(d);
 	c.wake_fd = sv[1];
-	reply_now(c, (int64_t)c.devices.size() - 1);
+	reply_now(c, (int64_t)slot);
 }
 
 void Coordinator::make_records(OpenDevice &d, int64_t until)
