@@ -44,7 +44,7 @@ def test_overloaded_loop_fails_as_on_hardware_but_not_in_lockstep():
     # and take the median of those ratios.
     ratios, cpu_runs, native_runs = [], [], []
     for _ in range(5):
-        native_runs.append(float(native([prog("periodic"), 1000, 1, rounds]).values()["rate_hz"]))
+        native_runs.append(float(run([prog("periodic"), 1000, 1, rounds]).values()["rate_hz"]))
         cpu_runs.append(tcs("-q", prog("periodic"), 1000, 1, rounds, timeout=120).values())
         ratios.append(float(cpu_runs[-1]["rate_hz"]) / native_runs[-1])
     ratio = statistics.median(ratios)

@@ -183,9 +183,11 @@ void test_two_pendulums_file(void **)
 	assert_int_equal(r->devices[0].period_ns, 1000000);
 	assert_int_equal(r->devices[2].period_ns, 4000000);
 	assert_int_equal(r->controllers.size(), 2);
+	// The example controller at two rates (however it is found, whatever else it is told).
 	const auto &a = r->controllers[0].argv, &b = r->controllers[1].argv;
-	assert_true(a.size() >= 3 && a[0] == "examples/pendulum_pd" && a[1] == "--rate" && a[2] == "1000");
-	assert_true(b.size() >= 3 && b[0] == "examples/pendulum_pd" && b[1] == "--rate" && b[2] == "250");
+	auto is_pd = [](const std::string &p) { return p.size() >= 11 && p.substr(p.size() - 11) == "pendulum_pd"; };
+	assert_true(a.size() >= 3 && is_pd(a[0]) && a[1] == "--rate" && a[2] == "1000");
+	assert_true(b.size() >= 3 && is_pd(b[0]) && b[1] == "--rate" && b[2] == "250");
 	assert_false(r->controllers[0].cpu_scale.has_value());
 	assert_true(r->controllers[1].cpu_scale == 2.0);
 }
@@ -273,6 +275,37 @@ void test_syntax_errors(void **)
 	expect_error("[sim]\nstep = \"1ms\"\nstep = \"2ms\"\n", 3, "step");
 	expect_error("[sim]\nmodel = \"pendulum\"\n\n[sim\n", 4, "");
 	expect_error("[sim]\nmodel = \"pendulum\n", 2, "");
+}
+
+// Input on which toml++ 3.3 asserts or reaches undefined behaviour must be
+// an error like any other.
+void test_toml_traps(void **)
+{
+	expect_error(kHead + "\n[=[model]]\n", 4, "expected bare key starting character");
+	expect_error(kHead + "[[=device]]\n", 3, "expected bare key starting character");
+	expect_error("[[[sim]]]\n", 1, "expected bare key starting character");
+	expect_error("[\n", 1, "expected bare key starting character");
+	expect_error(kHead + "[[device]]\npath = \"/dev/s\"\nsignals = [\n\"pendulum.hinge.position\",\n}]\n", 7,
+		     "could not determine value type");
+	const std::string not_ascii = "a character that is not ASCII, outside a string or comment";
+	expect_error(kHead + "[model]\nx = [ \xe2\x80\xa8 ]\n", 4, not_ascii);
+	expect_error("[sim]\nmodel = \"pendulum\"\n[\xc3\xa9]\n", 3, not_ascii);
+	expect_error(kHead + "[model]\nx = 1\xc2\xa0\n", 4, not_ascii);
+	expect_error(kHead + "[[controller]]\ncommand = \"\"\"ctl \\\n  \xc2\xa7\"\"\"\n", 5,
+		     "after a backslash in a \"\"\"string\"\"\"");
+	// An earlier syntax error is the one reported.
+	expect_error("[sim]\nstep = \n[=x]\n", 2, "expected");
+	// What the scan must not refuse: valid TOML with look-alikes in strings and comments.
+	Scenario s = parse_ok("\xef\xbb\xbf# caf\xc3\xa9 [=x] }\n" + kHead +
+			      "[[controller]]\ncommand = '''ctl\n[=x] } \xc3\xa9'''\n"
+			      "[[controller]]\ncommand = \"\"\"ctl \\\n [=y] \"a\"\"\"\"\n"
+			      "[[controller]]\ncommand = \"ctl '\\\"[=z]'\"\n");
+	assert_int_equal(s.controllers.size(), 3);
+	assert_string_equal(s.controllers[0].argv[1].c_str(), "[=x]");
+	assert_int_equal(s.controllers[1].argv.size(), 3);
+	assert_string_equal(s.controllers[1].argv[1].c_str(), "[=y]");
+	assert_string_equal(s.controllers[1].argv[2].c_str(), "a");
+	assert_string_equal(s.controllers[2].argv[1].c_str(), "\"[=z]");
 }
 
 void test_unknown_keys(void **)
@@ -612,6 +645,7 @@ int main(void)
 		cmocka_unit_test(test_rates),
 		cmocka_unit_test(test_plain_numbers),
 		cmocka_unit_test(test_syntax_errors),
+		cmocka_unit_test(test_toml_traps),
 		cmocka_unit_test(test_unknown_keys),
 		cmocka_unit_test(test_wrong_types),
 		cmocka_unit_test(test_step),
