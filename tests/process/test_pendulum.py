@@ -55,5 +55,12 @@ def test_duration_end_lets_the_controller_report():
     check(r.wall < 2.0, "without waiting for the SIGKILL grace period", r)
 
 
+def test_periodic_controller_example_runs():
+    pc = os.path.join(os.environ.get("TCS_EXAMPLES", "."), "periodic_controller")
+    r = tcs("-q", "-m", "lockstep", "-d", "2s", "--", pc, "--rate", "500", timeout=60)
+    check(r.returncode == 0 and "periodic_controller: 1000 cycles in " in r.stdout and " 0 deadline misses" in r.stdout,
+          "the periodic example keeps 500 Hz for 2 s and reports at SIGTERM", r)
+
+
 if __name__ == "__main__":
     main(globals())
