@@ -197,7 +197,7 @@ Result<std::vector<std::string>> split_command(std::string_view command)
 	bool in_word = false; // "" is a word too
 	for (size_t i = 0; i < command.size(); i++) {
 		char c = command[i];
-		if (is_space(c)) {
+		if (is_space(c) || c == '\n' || c == '\r') { // a TOML """string""" may span lines
 			if (in_word)
 				words.push_back(std::exchange(word, {}));
 			in_word = false;

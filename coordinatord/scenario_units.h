@@ -42,7 +42,7 @@ struct SignalParts {
 };
 std::optional<SignalParts> split_signal_name(std::string_view name);
 
-// A controller command split into words: on spaces and tabs, with "double
+// A controller command split into words: on blanks and line breaks, with "double
 // quotes" (in which \" and \\ escape) and 'single quotes' (no escapes)
 // grouping words, as a shell would but without expansions.
 Result<std::vector<std::string>> split_command(std::string_view command);
