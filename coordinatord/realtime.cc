@@ -47,6 +47,15 @@ RealtimePlan setup_realtime(bool want_fifo)
 	return plan;
 }
 
+void coordinator_fifo(const RealtimePlan &plan, bool on)
+{
+	if (!plan.fifo)
+		return;
+	struct sched_param sp = {};
+	sp.sched_priority = on ? kCoordinatorPrio : 0;
+	sched_setscheduler(0, (on ? SCHED_FIFO : SCHED_OTHER) | SCHED_RESET_ON_FORK, &sp);
+}
+
 void apply_controller_realtime(const RealtimePlan &plan)
 {
 	if (!plan.fifo)

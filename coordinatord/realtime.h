@@ -19,6 +19,12 @@ struct RealtimePlan {
 // controller is spawned; children inherit the core.
 RealtimePlan setup_realtime(bool want_fifo);
 
+// While the coordinator computes a heavy world, it steps down to normal
+// scheduling: a SCHED_FIFO task using its whole core is held for 50 ms of
+// every second by the kernel's real-time throttling. (No controller runs
+// meanwhile: the world only steps when every one is stopped or waiting.)
+void coordinator_fifo(const RealtimePlan &plan, bool on);
+
 // In a freshly forked controller, before exec: one priority below the
 // coordinator. Async-signal-safe.
 void apply_controller_realtime(const RealtimePlan &plan);

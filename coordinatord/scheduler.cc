@@ -37,6 +37,8 @@ constexpr int64_t kMinSlice = 20 * TCS_NS_PER_US;
 // A controller that made no progress since the last check is asleep in the
 // kernel on something real; check back ever less often, up to this.
 constexpr int64_t kMaxRecheck = 10 * TCS_NS_PER_MS;
+// A world step that costs more wall time than this is heavy.
+constexpr int64_t kHeavyStep = 100 * TCS_NS_PER_US;
 // Bound on the learnt wall-versus-CPU lag of a slice.
 constexpr int64_t kMaxLag = 200 * TCS_NS_PER_US;
 } // namespace
@@ -141,12 +143,21 @@ bool Coordinator::advance_to(int64_t next)
 		steps_ += (next - sim_ns_ + cfg_.step_ns - 1) / cfg_.step_ns;
 		sim_ns_ = next;
 	}
+	// A heavy world (a step costing more than a budget timer's slack) is
+	// computed at normal priority; see coordinator_fifo().
+	bool heavy = world_ && world_->last_step_wall_ns() > kHeavyStep && sim_ns_ < next;
+	if (heavy)
+		coordinator_fifo(rt_, false);
 	while (sim_ns_ < next) {
 		if (auto s = step_world(); !s) {
 			fatal_ = s;
-			return false;
+			break;
 		}
 	}
+	if (heavy)
+		coordinator_fifo(rt_, true);
+	if (!fatal_)
+		return false;
 	if (cfg_.duration_ns >= 0 && sim_ns_ >= cfg_.duration_ns) {
 		begin_end(EndReason::Duration);
 		return false;
