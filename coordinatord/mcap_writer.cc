@@ -1,0 +1,590 @@
+// The MCAP writer (see mcap_writer.h). Record layouts follow the MCAP
+// specification, format version 0: every record is <opcode u8><content
+// length u64><content>, all integers little-endian, strings and arrays
+// prefixed with their byte length as u32.
+#include "mcap_writer.h"
+
+#include <fcntl.h>
+#include <sys/uio.h>
+#include <unistd.h>
+#include <zstd.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <climits>
+#include <cstring>
+
+namespace tcs {
+
+namespace {
+
+constexpr uint8_t kMagic[8] = { 0x89, 'M', 'C', 'A', 'P', '0', '\r', '\n' };
+
+enum Opcode : uint8_t {
+	op_header = 0x01,
+	op_footer = 0x02,
+	op_schema = 0x03,
+	op_channel = 0x04,
+	op_message = 0x05,
+	op_chunk = 0x06,
+	op_message_index = 0x07,
+	op_chunk_index = 0x08,
+	op_statistics = 0x0B,
+	op_summary_offset = 0x0E,
+	op_data_end = 0x0F,
+};
+
+// Opcode, content length, channel id, sequence, log time, publish time.
+constexpr size_t kMessageHead = 1 + 8 + 2 + 4 + 8 + 8;
+
+// ---- CRC-32, eight bytes at a time ("slicing-by-8") ----
+
+struct Crc32Tables {
+	uint32_t t[8][256];
+};
+
+constexpr Crc32Tables make_crc32_tables()
+{
+	Crc32Tables tables{};
+	for (uint32_t i = 0; i < 256; i++) {
+		uint32_t c = i;
+		for (int bit = 0; bit < 8; bit++)
+			c = (c & 1) ? (c >> 1) ^ 0xEDB88320u : c >> 1;
+		tables.t[0][i] = c;
+	}
+	// t[k][i]: the CRC of byte i followed by k zero bytes.
+	for (int k = 1; k < 8; k++)
+		for (int i = 0; i < 256; i++) {
+			uint32_t prev = tables.t[k - 1][i];
+			tables.t[k][i] = (prev >> 8) ^ tables.t[0][prev & 0xFF];
+		}
+	return tables;
+}
+
+constexpr Crc32Tables kCrc32 = make_crc32_tables();
+
+inline uint32_t load_le32(const uint8_t *p)
+{
+	return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
+
+// ---- Serialisation into byte vectors ----
+
+inline void store_le(uint8_t *p, uint64_t v, int bytes)
+{
+	for (int i = 0; i < bytes; i++)
+		p[i] = uint8_t(v >> (8 * i));
+}
+
+inline void put_le(std::vector<uint8_t> &b, uint64_t v, int bytes)
+{
+	uint8_t tmp[8];
+	store_le(tmp, v, bytes);
+	b.insert(b.end(), tmp, tmp + bytes);
+}
+
+inline void put_u8(std::vector<uint8_t> &b, uint8_t v) { b.push_back(v); }
+inline void put_u16(std::vector<uint8_t> &b, uint16_t v) { put_le(b, v, 2); }
+inline void put_u32(std::vector<uint8_t> &b, uint32_t v) { put_le(b, v, 4); }
+inline void put_u64(std::vector<uint8_t> &b, uint64_t v) { put_le(b, v, 8); }
+
+inline void put_bytes(std::vector<uint8_t> &b, const void *data, size_t size)
+{
+	const uint8_t *p = static_cast<const uint8_t *>(data);
+	b.insert(b.end(), p, p + size);
+}
+
+// Callers have checked that s fits a u32 length.
+inline void put_string(std::vector<uint8_t> &b, std::string_view s)
+{
+	put_u32(b, uint32_t(s.size()));
+	put_bytes(b, s.data(), s.size());
+}
+
+// Starts a record; returns where its content length goes, which
+// end_record() fills in once the content is there.
+size_t begin_record(std::vector<uint8_t> &b, Opcode op)
+{
+	put_u8(b, op);
+	size_t at = b.size();
+	put_u64(b, 0);
+	return at;
+}
+
+void end_record(std::vector<uint8_t> &b, size_t at)
+{
+	store_le(b.data() + at, b.size() - at - 8, 8);
+}
+
+bool fits_u32(size_t n) { return uint64_t(n) <= UINT32_MAX; }
+
+uint64_t metadata_bytes(const McapWriter::Metadata &m)
+{
+	uint64_t n = 0;
+	for (const auto &[k, v] : m)
+		n += 4 + k.size() + 4 + v.size();
+	return n;
+}
+
+} // namespace
+
+uint32_t mcap_crc32(uint32_t crc, const void *data, size_t size)
+{
+	const uint8_t *p = static_cast<const uint8_t *>(data);
+	const auto &t = kCrc32.t;
+	uint32_t c = ~crc;
+	for (; size >= 8; p += 8, size -= 8) {
+		uint32_t lo = load_le32(p) ^ c;
+		uint32_t hi = load_le32(p + 4);
+		c = t[7][lo & 0xFF] ^ t[6][(lo >> 8) & 0xFF] ^ t[5][(lo >> 16) & 0xFF] ^ t[4][lo >> 24] ^
+		    t[3][hi & 0xFF] ^ t[2][(hi >> 8) & 0xFF] ^ t[1][(hi >> 16) & 0xFF] ^ t[0][hi >> 24];
+	}
+	for (; size > 0; p++, size--)
+		c = t[0][(c ^ *p) & 0xFF] ^ (c >> 8);
+	return ~c;
+}
+
+namespace {
+
+template <class SchemaT> void put_schema(std::vector<uint8_t> &b, uint16_t id, const SchemaT &s)
+{
+	size_t at = begin_record(b, op_schema);
+	put_u16(b, id);
+	put_string(b, s.name);
+	put_string(b, s.encoding);
+	put_string(b, s.data);
+	end_record(b, at);
+}
+
+template <class ChannelT> void put_channel(std::vector<uint8_t> &b, uint16_t id, const ChannelT &c)
+{
+	size_t at = begin_record(b, op_channel);
+	put_u16(b, id);
+	put_u16(b, c.schema_id);
+	put_string(b, c.topic);
+	put_string(b, c.message_encoding);
+	put_u32(b, uint32_t(metadata_bytes(c.metadata)));
+	for (const auto &[k, v] : c.metadata) {
+		put_string(b, k);
+		put_string(b, v);
+	}
+	end_record(b, at);
+}
+
+} // namespace
+
+McapWriter::McapWriter(McapWriterOptions options) : options_(options) {}
+
+McapWriter::~McapWriter()
+{
+	if (is_open())
+		(void)close();
+	ZSTD_freeCCtx(zstd_);
+}
+
+Error McapWriter::set_error(const std::string &what, int err)
+{
+	error_ = Error{ path_ + ": " + what + ": " + std::strerror(err) };
+	return *error_;
+}
+
+// The error to return when no file is open (before open(), after close()),
+// or the sticky one.
+Status McapWriter::failed_status() const
+{
+	if (error_)
+		return *error_;
+	if (!is_open())
+		return Error{ "MCAP writer: no file is open" + (path_.empty() ? std::string() : " (" + path_ + " was closed)") };
+	return Ok{};
+}
+
+void McapWriter::reset_state()
+{
+	error_.reset();
+	schemas_.clear();
+	channels_.clear();
+	offset_ = 0;
+	data_crc_ = 0;
+	message_count_ = 0;
+	start_time_ = UINT64_MAX;
+	end_time_ = 0;
+	chunk_count_ = 0;
+	chunk_gen_ = 1;
+	chunk_.clear();
+	chunk_channels_.clear();
+	chunk_start_time_ = UINT64_MAX;
+	chunk_end_time_ = 0;
+	chunk_index_records_.clear();
+}
+
+Status McapWriter::open(const std::string &path, std::string_view profile, std::string_view library)
+{
+	if (is_open())
+		return Error{ "cannot open " + path + ": the MCAP writer is still writing " + path_ };
+	reset_state();
+	path_ = path;
+	if (!fits_u32(profile.size()) || !fits_u32(library.size()))
+		return Error{ path + ": profile or library name too long" };
+
+	if (options_.compression == McapCompression::zstd && !zstd_) {
+		zstd_ = ZSTD_createCCtx();
+		if (!zstd_)
+			return Error{ path + ": cannot create a zstd compression context" };
+	}
+	if (zstd_) {
+		// zstd would clamp a level out of its range without a word.
+		const int level = options_.zstd_level;
+		if (level < ZSTD_minCLevel() || level > ZSTD_maxCLevel())
+			return Error{ path + ": zstd level " + std::to_string(level) + " is not in " +
+				      std::to_string(ZSTD_minCLevel()) + ".." + std::to_string(ZSTD_maxCLevel()) };
+		size_t r = ZSTD_CCtx_setParameter(zstd_, ZSTD_c_compressionLevel, level);
+		if (ZSTD_isError(r))
+			return Error{ path + ": zstd level " + std::to_string(level) + ": " + ZSTD_getErrorName(r) };
+	}
+
+	int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+	if (fd < 0)
+		return errno_error(path);
+	fd_.reset(fd);
+	chunk_.reserve(options_.chunk_size + 4096);
+
+	std::vector<uint8_t> head;
+	put_bytes(head, kMagic, sizeof kMagic);
+	size_t at = begin_record(head, op_header);
+	put_string(head, profile);
+	put_string(head, library);
+	end_record(head, at);
+	data_crc_ = mcap_crc32(data_crc_, head.data(), head.size());
+	struct iovec iov = { head.data(), head.size() };
+	Status s = write_all(&iov, 1);
+	if (!s)
+		fd_.reset();
+	return s;
+}
+
+Result<uint16_t> McapWriter::add_schema(std::string_view name, std::string_view encoding, std::string_view data)
+{
+	if (Status s = failed_status(); !s)
+		return s.error();
+	if (!fits_u32(name.size()) || !fits_u32(encoding.size()) || !fits_u32(data.size()))
+		return Error{ path_ + ": schema " + std::string(name.substr(0, 80)) + ": too large for MCAP" };
+	for (size_t i = 0; i < schemas_.size(); i++) {
+		const Schema &s = schemas_[i];
+		if (s.name == name && s.encoding == encoding && s.data == data)
+			return uint16_t(i + 1);
+	}
+	if (schemas_.size() >= UINT16_MAX)
+		return Error{ path_ + ": schema " + std::string(name) + ": more than 65535 schemas" };
+	schemas_.push_back(Schema{ std::string(name), std::string(encoding), std::string(data) });
+	return uint16_t(schemas_.size());
+}
+
+Result<uint16_t> McapWriter::add_channel(std::string_view topic, std::string_view message_encoding,
+					 uint16_t schema_id, const Metadata &metadata)
+{
+	if (Status s = failed_status(); !s)
+		return s.error();
+	std::string what = path_ + ": channel " + std::string(topic.substr(0, 200));
+	if (schema_id > schemas_.size())
+		return Error{ what + ": no schema " + std::to_string(schema_id) };
+	if (channels_.size() > UINT16_MAX)
+		return Error{ what + ": more than 65536 channels" };
+	if (!fits_u32(topic.size()) || !fits_u32(message_encoding.size()) || metadata_bytes(metadata) > UINT32_MAX)
+		return Error{ what + ": too large for MCAP" };
+	Channel c;
+	c.topic = topic;
+	c.message_encoding = message_encoding;
+	c.schema_id = schema_id;
+	c.metadata = metadata;
+	channels_.push_back(std::move(c));
+	return uint16_t(channels_.size() - 1);
+}
+
+Status McapWriter::write(uint16_t channel_id, uint64_t log_time_ns, uint64_t publish_time_ns, const void *data,
+			 size_t size)
+{
+	if (error_ || !is_open())
+		return failed_status();
+	if (channel_id >= channels_.size())
+		return Error{ path_ + ": message on channel " + std::to_string(channel_id) + ", which was never added" };
+	Channel &c = channels_[channel_id];
+
+	// First message on this channel in this chunk: make the chunk
+	// self-contained by giving it the channel (and its schema) first.
+	if (c.in_chunk != chunk_gen_) {
+		if (c.schema_id != 0) {
+			Schema &s = schemas_[c.schema_id - 1];
+			if (s.in_chunk != chunk_gen_) {
+				put_schema(chunk_, c.schema_id, s);
+				s.in_chunk = chunk_gen_;
+			}
+		}
+		put_channel(chunk_, channel_id, c);
+		c.in_chunk = chunk_gen_;
+		chunk_channels_.push_back(channel_id);
+	}
+
+	uint8_t head[kMessageHead];
+	head[0] = op_message;
+	store_le(head + 1, uint64_t(kMessageHead - 9) + size, 8);
+	store_le(head + 9, channel_id, 2);
+	store_le(head + 11, c.sequence, 4);
+	store_le(head + 15, log_time_ns, 8);
+	store_le(head + 23, publish_time_ns, 8);
+	uint64_t at = chunk_.size();
+	chunk_.insert(chunk_.end(), head, head + kMessageHead);
+	put_bytes(chunk_, data, size);
+
+	if (!c.index.empty() && log_time_ns < c.index.back().log_time)
+		c.unsorted = true;
+	c.index.push_back(IndexEntry{ log_time_ns, at });
+	c.sequence++;
+	c.message_count++;
+	message_count_++;
+	chunk_start_time_ = std::min(chunk_start_time_, log_time_ns);
+	chunk_end_time_ = std::max(chunk_end_time_, log_time_ns);
+
+	if (chunk_.size() >= options_.chunk_size)
+		return finish_chunk();
+	return Ok{};
+}
+
+Status McapWriter::flush()
+{
+	if (error_ || !is_open())
+		return failed_status();
+	return finish_chunk();
+}
+
+Status McapWriter::write_all(const struct iovec *iov_in, int count)
+{
+	std::array<struct iovec, 4> iov;
+	if (count > int(iov.size()))
+		return Error{ path_ + ": internal error: too many pieces to write" };
+	uint64_t total = 0;
+	for (int i = 0; i < count; i++) {
+		iov[i] = iov_in[i];
+		total += iov[i].iov_len;
+	}
+	struct iovec *v = iov.data();
+	int n = count;
+	while (n > 0) {
+		if (v->iov_len == 0) {
+			v++, n--;
+			continue;
+		}
+		ssize_t w = ::writev(fd_.get(), v, std::min(n, IOV_MAX));
+		if (w < 0) {
+			if (errno == EINTR)
+				continue;
+			return set_error("write", errno);
+		}
+		// A short write (a full disk, a signal): continue where it stopped.
+		size_t left = size_t(w);
+		while (n > 0 && left >= v->iov_len) {
+			left -= v->iov_len;
+			v++, n--;
+		}
+		if (n > 0) {
+			v->iov_base = static_cast<uint8_t *>(v->iov_base) + left;
+			v->iov_len -= left;
+		}
+	}
+	offset_ += total;
+	return Ok{};
+}
+
+// Chunk record, then one Message Index record per channel in it, written
+// with one writev; the matching Chunk Index record is kept for the summary.
+Status McapWriter::finish_chunk()
+{
+	if (chunk_.empty())
+		return Ok{};
+	const uint64_t uncompressed_size = chunk_.size();
+	const uint32_t crc = mcap_crc32(0, chunk_.data(), chunk_.size());
+
+	const uint8_t *payload = chunk_.data();
+	uint64_t payload_size = uncompressed_size;
+	std::string_view compression;
+	if (options_.compression == McapCompression::zstd) {
+		size_t bound = ZSTD_compressBound(chunk_.size());
+		if (compressed_.size() < bound)
+			compressed_.resize(bound);
+		size_t z = ZSTD_compress2(zstd_, compressed_.data(), compressed_.size(), chunk_.data(), chunk_.size());
+		if (ZSTD_isError(z)) {
+			error_ = Error{ path_ + ": zstd compression failed: " + ZSTD_getErrorName(z) };
+			return *error_;
+		}
+		// Incompressible data is stored as it is (readers decide per chunk).
+		if (z < chunk_.size()) {
+			payload = compressed_.data();
+			payload_size = z;
+			compression = "zstd";
+		}
+	}
+
+	chunk_head_.clear();
+	size_t at = begin_record(chunk_head_, op_chunk);
+	put_u64(chunk_head_, chunk_start_time_);
+	put_u64(chunk_head_, chunk_end_time_);
+	put_u64(chunk_head_, uncompressed_size);
+	put_u32(chunk_head_, crc);
+	put_string(chunk_head_, compression);
+	put_u64(chunk_head_, payload_size);
+	store_le(chunk_head_.data() + at, chunk_head_.size() - at - 8 + payload_size, 8);
+	const uint64_t chunk_offset = offset_;
+	const uint64_t chunk_length = chunk_head_.size() + payload_size;
+
+	// Message Index records in channel order, and the Chunk Index record
+	// that points at them.
+	std::sort(chunk_channels_.begin(), chunk_channels_.end());
+	message_indexes_.clear();
+	std::vector<uint8_t> &ci = chunk_index_records_;
+	size_t ci_at = begin_record(ci, op_chunk_index);
+	put_u64(ci, chunk_start_time_);
+	put_u64(ci, chunk_end_time_);
+	put_u64(ci, chunk_offset);
+	put_u64(ci, chunk_length);
+	put_u32(ci, uint32_t(chunk_channels_.size() * (2 + 8)));
+	for (uint16_t id : chunk_channels_) {
+		Channel &c = channels_[id];
+		if (c.unsorted)
+			std::sort(c.index.begin(), c.index.end(), [](const IndexEntry &a, const IndexEntry &b) {
+				return a.log_time != b.log_time ? a.log_time < b.log_time : a.offset < b.offset;
+			});
+		put_u16(ci, id);
+		put_u64(ci, chunk_offset + chunk_length + message_indexes_.size());
+		size_t mi_at = begin_record(message_indexes_, op_message_index);
+		put_u16(message_indexes_, id);
+		put_u32(message_indexes_, uint32_t(c.index.size() * 16));
+		for (const IndexEntry &e : c.index) {
+			put_u64(message_indexes_, e.log_time);
+			put_u64(message_indexes_, e.offset);
+		}
+		end_record(message_indexes_, mi_at);
+	}
+	put_u64(ci, message_indexes_.size());
+	put_string(ci, compression);
+	put_u64(ci, payload_size);
+	put_u64(ci, uncompressed_size);
+	end_record(ci, ci_at);
+
+	struct iovec iov[3] = {
+		{ chunk_head_.data(), chunk_head_.size() },
+		{ const_cast<uint8_t *>(payload), size_t(payload_size) },
+		{ message_indexes_.data(), message_indexes_.size() },
+	};
+	for (const struct iovec &v : iov)
+		data_crc_ = mcap_crc32(data_crc_, v.iov_base, v.iov_len);
+	if (Status s = write_all(iov, 3); !s)
+		return s;
+
+	chunk_count_++;
+	start_time_ = std::min(start_time_, chunk_start_time_);
+	end_time_ = std::max(end_time_, chunk_end_time_);
+	for (uint16_t id : chunk_channels_) {
+		channels_[id].index.clear();
+		channels_[id].unsorted = false;
+	}
+	chunk_channels_.clear();
+	chunk_.clear();
+	chunk_gen_++;
+	chunk_start_time_ = UINT64_MAX;
+	chunk_end_time_ = 0;
+	return Ok{};
+}
+
+// Data End, then the summary grouped by opcode (Schemas, Channels,
+// Statistics, Chunk Indexes), a Summary Offset per group, the Footer and
+// the magic, in one write.
+Status McapWriter::close()
+{
+	if (!is_open())
+		return error_ ? Status(*error_) : Status(Ok{});
+	if (error_) {
+		fd_.reset();
+		return *error_;
+	}
+	if (Status s = finish_chunk(); !s) {
+		fd_.reset();
+		return s;
+	}
+
+	std::vector<uint8_t> tail;
+	size_t at = begin_record(tail, op_data_end);
+	put_u32(tail, data_crc_);
+	end_record(tail, at);
+	const size_t summary_at = tail.size();
+	const uint64_t summary_start = offset_ + summary_at;
+
+	struct Group {
+		Opcode op;
+		size_t begin, end;
+	};
+	std::vector<Group> groups;
+	auto group = [&](Opcode op, auto &&emit) {
+		size_t begin = tail.size();
+		emit();
+		if (tail.size() > begin)
+			groups.push_back(Group{ op, begin, tail.size() });
+	};
+	group(op_schema, [&] {
+		for (size_t i = 0; i < schemas_.size(); i++)
+			put_schema(tail, uint16_t(i + 1), schemas_[i]);
+	});
+	group(op_channel, [&] {
+		for (size_t i = 0; i < channels_.size(); i++)
+			put_channel(tail, uint16_t(i), channels_[i]);
+	});
+	group(op_statistics, [&] {
+		size_t s = begin_record(tail, op_statistics);
+		put_u64(tail, message_count_);
+		put_u16(tail, uint16_t(schemas_.size()));
+		put_u32(tail, uint32_t(channels_.size()));
+		put_u32(tail, 0); // attachments
+		put_u32(tail, 0); // metadata
+		put_u32(tail, chunk_count_);
+		put_u64(tail, message_count_ ? start_time_ : 0);
+		put_u64(tail, message_count_ ? end_time_ : 0);
+		put_u32(tail, uint32_t(channels_.size() * (2 + 8)));
+		for (size_t i = 0; i < channels_.size(); i++) {
+			put_u16(tail, uint16_t(i));
+			put_u64(tail, channels_[i].message_count);
+		}
+		end_record(tail, s);
+	});
+	group(op_chunk_index, [&] { put_bytes(tail, chunk_index_records_.data(), chunk_index_records_.size()); });
+
+	const uint64_t summary_offset_start = offset_ + tail.size();
+	for (const Group &g : groups) {
+		size_t s = begin_record(tail, op_summary_offset);
+		put_u8(tail, g.op);
+		put_u64(tail, offset_ + g.begin);
+		put_u64(tail, g.end - g.begin);
+		end_record(tail, s);
+	}
+
+	// The summary CRC runs from the summary's first byte through the
+	// Footer's summary_offset_start field, so the Footer's length must be
+	// in place before it is computed.
+	put_u8(tail, op_footer);
+	put_u64(tail, 8 + 8 + 4);
+	put_u64(tail, summary_start);
+	put_u64(tail, summary_offset_start);
+	put_u32(tail, mcap_crc32(0, tail.data() + summary_at, tail.size() - summary_at));
+	put_bytes(tail, kMagic, sizeof kMagic);
+
+	struct iovec iov = { tail.data(), tail.size() };
+	Status s = write_all(&iov, 1);
+	if (!s) {
+		fd_.reset();
+		return s;
+	}
+	if (::close(fd_.release()) != 0)
+		return set_error("close", errno);
+	return Ok{};
+}
+
+} // namespace tcs
