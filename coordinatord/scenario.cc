@@ -21,7 +21,6 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <initializer_list>
 #include <map>
 #include <unordered_set>
@@ -101,6 +100,98 @@ std::string join(const std::vector<std::string> &v)
 	return s;
 }
 
+// toml++ 3.3 has undefined behaviour (a __builtin_unreachable, upstream
+// issues 190 and 295) when it asks whether certain characters between
+// U+0080 and U+FEFF are whitespace, which it does wherever one stands
+// outside a string ("[é]", "x = 1§"). Above U+FEFF its answer is sound, so
+// the text it parses has each such character c moved to U+F0000 + c
+// (private use), and unshift() moves it back in everything read out.
+// Malformed UTF-8 is left for toml++ to report, and U+FEFF stays: toml++
+// reads it as a byte-order mark.
+constexpr uint32_t kShift = 0xF0000;
+
+void put_utf8(std::string &out, uint32_t c)
+{
+	if (c < 0x800) {
+		out += (char)(0xC0 | c >> 6);
+	} else if (c < 0x10000) {
+		out += (char)(0xE0 | c >> 12);
+		out += (char)(0x80 | (c >> 6 & 0x3F));
+	} else {
+		out += (char)(0xF0 | c >> 18);
+		out += (char)(0x80 | (c >> 12 & 0x3F));
+		out += (char)(0x80 | (c >> 6 & 0x3F));
+	}
+	out += (char)(0x80 | (c & 0x3F));
+}
+
+// The well-formed non-ASCII character at s[i] and its length, or 0.
+size_t get_utf8(std::string_view s, size_t i, uint32_t *c)
+{
+	auto cont = [&s](size_t k, unsigned lo = 0x80, unsigned hi = 0xBF) {
+		return k < s.size() && (unsigned char)s[k] >= lo && (unsigned char)s[k] <= hi;
+	};
+	unsigned b = (unsigned char)s[i];
+	if (b >= 0xC2 && b <= 0xDF && cont(i + 1)) {
+		*c = (b & 0x1F) << 6 | (s[i + 1] & 0x3F);
+		return 2;
+	}
+	if (b >= 0xE0 && b <= 0xEF && cont(i + 1, b == 0xE0 ? 0xA0 : 0x80, b == 0xED ? 0x9F : 0xBF) && cont(i + 2)) {
+		*c = (b & 0x0F) << 12 | (s[i + 1] & 0x3F) << 6 | (s[i + 2] & 0x3F);
+		return 3;
+	}
+	if (b >= 0xF0 && b <= 0xF4 && cont(i + 1, b == 0xF0 ? 0x90 : 0x80, b == 0xF4 ? 0x8F : 0xBF) && cont(i + 2) &&
+	    cont(i + 3)) {
+		*c = (b & 0x07) << 18 | (s[i + 1] & 0x3F) << 12 | (s[i + 2] & 0x3F) << 6 | (s[i + 3] & 0x3F);
+		return 4;
+	}
+	return 0;
+}
+
+bool shiftable(uint32_t c)
+{
+	return c >= 0x80 && c < 0xFEFF;
+}
+
+// The text toml++ may parse; nullopt, with its line, for a character in the
+// range the shift uses (it would come back as another one).
+std::optional<std::string> shift_for_toml(std::string_view s, int *bad_line)
+{
+	std::string out;
+	out.reserve(s.size() + s.size() / 4);
+	int line = 1;
+	for (size_t i = 0; i < s.size();) {
+		uint32_t c;
+		size_t n = (unsigned char)s[i] >= 0x80 ? get_utf8(s, i, &c) : 0;
+		if (n && c >= kShift && shiftable(c - kShift)) {
+			*bad_line = line;
+			return std::nullopt;
+		}
+		if (n && shiftable(c))
+			put_utf8(out, c + kShift);
+		else
+			out.append(s.substr(i, n ? n : 1));
+		line += s[i] == '\n';
+		i += n ? n : 1;
+	}
+	return out;
+}
+
+std::string unshift(std::string_view s)
+{
+	std::string out;
+	for (size_t i = 0; i < s.size();) {
+		uint32_t c;
+		size_t n = (unsigned char)s[i] >= 0xF0 ? get_utf8(s, i, &c) : 0;
+		if (n && c >= kShift && shiftable(c - kShift))
+			put_utf8(out, c - kShift);
+		else
+			out.append(s.substr(i, n ? n : 1));
+		i += n ? n : 1;
+	}
+	return out;
+}
+
 struct Entry {
 	int line;
 	std::string key;
@@ -113,7 +204,7 @@ std::vector<Entry> entries(const toml::table &t)
 	std::vector<Entry> v;
 	for (auto &&[k, n] : t) {
 		int line = (int)k.source().begin.line;
-		v.push_back({ line ? line : line_of(n), std::string(k.str()), &n });
+		v.push_back({ line ? line : line_of(n), unshift(k.str()), &n });
 	}
 	std::stable_sort(v.begin(), v.end(), [](const Entry &a, const Entry &b) { return a.line < b.line; });
 	return v;
@@ -129,103 +220,19 @@ std::optional<Entry> lookup(const toml::table &t, std::string_view key)
 	return Entry{ line ? line : line_of(it->second), std::string(key), &it->second };
 }
 
-// toml++ 3.3 has undefined behaviour when it asks whether a non-ASCII
-// character is whitespace (a __builtin_unreachable in the test: upstream
-// issues 190 and 295). It asks outside strings and comments, where TOML
-// allows no such character, and in a """string""" after a backslash, where
-// TOML allows one only after a line-ending backslash and the blanks that
-// follow it ("\<newline>  é"): a case this refuses although it is valid.
-// Finds the first such character: the start of the statement holding it
-// (so that the text before it can be checked first, and an earlier error
-// reported first) and its line. It follows strings, comments and brackets
-// as TOML does while the text is valid; after an error toml++ stops anyway.
-struct SyntaxTrap {
-	size_t statement = std::string_view::npos;
-	int line = 0;
-};
-
-SyntaxTrap find_syntax_trap(std::string_view t)
-{
-	auto ascii = [&t](size_t i) { return i >= t.size() || (unsigned char)t[i] < 0x80; };
-	auto blank = [&t](size_t i) {
-		return i < t.size() && (t[i] == ' ' || t[i] == '\t' || t[i] == '\r' || t[i] == '\n');
-	};
-	int line = 1, depth = 0;
-	bool bol = true; // at the start of a line, outside any value
-	size_t statement = 0;
-	char prev = '\n'; // the last character outside strings and comments
-	for (size_t i = t.compare(0, 3, "\xef\xbb\xbf") == 0 ? 3 : 0; i < t.size(); prev = t[i++]) {
-		char c = t[i];
-		if (c == '\n') {
-			line++;
-			bol = depth <= 0;
-			continue;
-		}
-		if (bol && (c == ' ' || c == '\t' || c == '\r'))
-			continue;
-		if (bol)
-			statement = i;
-		bol = false;
-		// A quote inside a bare word ("1"x") starts no string: toml++
-		// reads on as part of the word.
-		bool starts_string = (c == '"' || c == '\'') && strchr("\n\r\t =[{,.", prev);
-		if (c == '#') {
-			while (i + 1 < t.size() && t[i + 1] != '\n')
-				i++;
-		} else if (starts_string) {
-			const std::string delim(t.compare(i, 3, std::string(3, c)) == 0 ? 3 : 1, c);
-			size_t j = i + delim.size();
-			for (; j < t.size() && t.compare(j, delim.size(), delim) != 0; j++) {
-				if (t[j] == '\n')
-					line++;
-				if (c != '"' || t[j] != '\\')
-					continue;
-				size_t k = j + 1;
-				bool multi = delim.size() == 3;
-				if (multi && blank(k)) {
-					// A line-ending backslash: toml++ tests what follows it.
-					for (; blank(k); k++)
-						line += t[k] == '\n';
-					j = k - 1;
-				} else {
-					j = k; // an escape: skip the escaped character
-				}
-				if (multi && !ascii(k))
-					return { statement, line };
-			}
-			if (j >= t.size())
-				return {}; // unterminated: toml++ stops there
-			j += delim.size() - 1;
-			// """a"""" is a": up to two quotes may precede the closing three.
-			for (int extra = 0; delim.size() == 3 && extra < 2 && j + 1 < t.size() && t[j + 1] == c; extra++)
-				j++;
-			i = j; // prev becomes the closing quote
-		} else if (c == '[' || c == '{') {
-			depth++;
-		} else if (c == ']' || c == '}') {
-			depth--;
-		} else if (!ascii(i)) {
-			return { statement, line };
-		}
-	}
-	return {};
-}
-
 class Parser {
 public:
 	Parser(std::string file, std::string dir) : dir_(std::move(dir)) { sc_.file = std::move(file); }
 
 	Result<Scenario> run(std::string_view text)
 	{
-		// The text before the trap's statement goes to toml++ alone, so
-		// that an earlier error is the one reported.
-		SyntaxTrap trap = find_syntax_trap(text);
-		toml::parse_result r = toml::parse(text.substr(0, trap.statement), sc_.file);
-		if (r && trap.line)
-			return err(trap.line, "a character that is not ASCII, outside a string or comment, or "
-					      "after a backslash in a \"\"\"string\"\"\"");
+		int bad_line = 0;
+		auto shifted_text = shift_for_toml(text, &bad_line);
+		if (!shifted_text)
+			return err(bad_line, "characters U+F0080 to U+FFEFE (private use) cannot be used");
+		toml::parse_result r = toml::parse(*shifted_text, sc_.file);
 		if (!r)
-			return err((int)r.error().source().begin.line, std::string(r.error().description()));
+			return err((int)r.error().source().begin.line, unshift(r.error().description()));
 		const toml::table &root = r.table();
 		Status s = check_keys(root, "at the top level", { "sim", "model", "device", "controller" });
 		if (s)
@@ -270,7 +277,7 @@ private:
 	{
 		if (!e.node->is_string())
 			return err(e.line, e.key + " must be a string such as " + example + ", not " + type_name(*e.node));
-		return e.node->as_string()->get();
+		return unshift(e.node->as_string()->get());
 	}
 
 	Result<double> get_number(const Entry &e, const std::string &what)
@@ -549,7 +556,7 @@ private:
 			int line = line_of(n);
 			if (!n.is_string())
 				return err(line, "signals must be strings, not " + std::string(type_name(n)));
-			const std::string &name = n.as_string()->get();
+			const std::string name = unshift(n.as_string()->get());
 			auto parts = split_signal_name(name);
 			if (!parts)
 				return err(line, "signal '" + name + "' is not <model>.<part>.<field> with field one of "

@@ -30,6 +30,8 @@ def test_installed_tcs_run_finds_its_preload():
         check(glob.glob(os.path.join(root, "**", "include", "tcs", "protocol.h"), recursive=True), "headers")
         check(glob.glob(os.path.join(root, "**", "include", "tcs", "simhost.h"), recursive=True),
               "the simulation plug-in ABI")
+        check(glob.glob(os.path.join(root, "**", "share", "tcs", "scenarios", "pendulum.toml"), recursive=True),
+              "the scenario files")
         pc = glob.glob(os.path.join(root, "**", "pkgconfig", "tcs-simhost.pc"), recursive=True)
         check(len(pc) == 1, "and its pkg-config file")
         with open(pc[0]) as f:
