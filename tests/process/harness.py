@@ -3,11 +3,13 @@ in a session of their own, and fails a test that leaves any process behind
 (stopped or not). Each test file is a list of test_* functions; main() runs
 them and ends with the line 'N passed, N failed'."""
 
+import contextlib
 import os
 import re
 import signal
 import subprocess
 import sys
+import tempfile
 import time
 import traceback
 
@@ -118,6 +120,18 @@ def check(cond, what, result=None):
 def close_to(value, expected, rel, what, result=None):
     check(abs(value - expected) <= rel * abs(expected),
           "%s: %.6g is not within %.1f%% of %.6g" % (what, value, rel * 100, expected), result)
+
+
+@contextlib.contextmanager
+def scenario_file(text):
+    """A scenario written to a temporary file for the length of a with block."""
+    fd, path = tempfile.mkstemp(suffix=".toml", prefix="tcs-test-")
+    with os.fdopen(fd, "w") as f:
+        f.write(text)
+    try:
+        yield path
+    finally:
+        os.unlink(path)
 
 
 def calibrate():

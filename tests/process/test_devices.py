@@ -3,10 +3,7 @@
 and saturated commands, a shadowed existing path with termios, and
 scenario errors reported as FILE:LINE before anything starts."""
 
-import os
-import tempfile
-
-from harness import check, close_to, main, prog, tcs
+from harness import check, close_to, main, prog, scenario_file, tcs
 
 SCENARIO = """\
 [sim]
@@ -51,13 +48,6 @@ limit = 5.0
 """
 
 
-def scenario(text=SCENARIO):
-    fd, path = tempfile.mkstemp(suffix=".toml", prefix="tcs-test-")
-    with os.fdopen(fd, "w") as f:
-        f.write(text)
-    return path
-
-
 def probe(world, *args, mode="lockstep"):
     r = tcs("-q", "-m", mode, "-w", world, prog("device_probe"), *args, timeout=30)
     check(r.returncode == 0, "device_probe %s succeeds" % " ".join(args), r)
@@ -65,8 +55,7 @@ def probe(world, *args, mode="lockstep"):
 
 
 def test_stream_records_come_at_the_rate():
-    world = scenario()
-    try:
+    with scenario_file(SCENARIO) as world:
         for mode in ("lockstep", "cpu"):
             r = probe(world, "stream", "/dev/tcs/pendulum/state", "5", mode=mode)
             times = [int(r.values()["record%d_at" % i]) for i in range(5)]
@@ -79,13 +68,10 @@ def test_stream_records_come_at_the_rate():
         r = probe(world, "stream", "/dev/null", "3")
         check(r.stdout.split() == ["record0_at=0", "record1_at=2000000", "record2_at=4000000"],
               "a shadowed existing path streams at its own rate (500 Hz)", r)
-    finally:
-        os.unlink(world)
 
 
 def test_nonblocking_reads_and_poll_readiness():
-    world = scenario()
-    try:
+    with scenario_file(SCENARIO) as world:
         r = probe(world, "nonblock", "/dev/tcs/pendulum/state")
         check("first=1 second=-1 second_errno=EAGAIN third=1" in r.stdout,
               "O_NONBLOCK: a due record, then EAGAIN, then the next one a ms later", r)
@@ -93,13 +79,10 @@ def test_nonblocking_reads_and_poll_readiness():
         check("poll=1 revents_in=1 waited=1000000" in r.stdout, "poll wakes when the next record is due", r)
         check("select=1 isset=1 waited=1000000" in r.stdout, "so does select", r)
         check("epoll_wait=1 fd_ok=1 waited=1000000" in r.stdout, "and epoll_wait", r)
-    finally:
-        os.unlink(world)
 
 
 def test_latest_and_binary_records():
-    world = scenario()
-    try:
+    with scenario_file(SCENARIO) as world:
         r = probe(world, "latest", "/dev/tcs/pendulum/latest")
         check("reads=1 same_instant_equal=1 later_differs=1" in r.stdout,
               "latest: every read answers, with the world at that instant", r)
@@ -107,13 +90,10 @@ def test_latest_and_binary_records():
         v = r.values()
         check(v["bytes"] == "16" and v["position"] == "1.000000" and v["velocity"] == "0.000000",
               "binary: two little-endian f64 per record (the initial state)", r)
-    finally:
-        os.unlink(world)
 
 
 def test_commands_hold_and_malformed_ones_fail():
-    world = scenario()
-    try:
+    with scenario_file(SCENARIO) as world:
         r = probe(world, "write", "/dev/tcs/pendulum/torque", "/dev/tcs/pendulum/latest")
         v = r.values()
         check(v["ok"] == "4" and v["bad1"] == "-1" and v["bad1_errno"] == "EINVAL", "garbage: EINVAL", r)
@@ -127,18 +107,13 @@ def test_commands_hold_and_malformed_ones_fail():
                  "the last valid command stays in force", r)
         # 100 N*m saturates at the 5 N*m limit: 15 rad/s^2 more for 10 ms.
         close_to(float(v["velocity_gain_next_10ms"]), (15 - 14.715 * 0.84) * 0.01, 0.1, "saturation at limit", r)
-    finally:
-        os.unlink(world)
 
 
 def test_a_serial_port_path_takes_termios():
-    world = scenario()
-    try:
+    with scenario_file(SCENARIO) as world:
         r = probe(world, "termios", "/dev/null")
         check("tcgetattr=0 tcsetattr=0 tcflush=0 speed_ok=1 record=1" in r.stdout,
               "termios calls succeed on a device, as on /dev/ttyUSB0", r)
-    finally:
-        os.unlink(world)
 
 
 def test_scenario_errors_name_file_and_line():
@@ -154,14 +129,11 @@ def test_scenario_errors_name_file_and_line():
         (SCENARIO + "\n[[device\n", 41, ""),
     ]
     for text, line, word in cases:
-        world = scenario(text)
-        try:
+        with scenario_file(text) as world:
             r = tcs("-w", world, "--", "true")
             check(r.returncode == 2, "a bad scenario exits 2", r)
             check(r.stderr.startswith("tcs-run: %s:%d: " % (world, line)), "FILE:LINE (%d) first" % line, r)
             check(word in r.stderr and r.stderr.count("\n") == 1, "one line naming '%s'" % word, r)
-        finally:
-            os.unlink(world)
 
 
 def test_list_signals():

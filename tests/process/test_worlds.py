@@ -5,9 +5,8 @@ exactly what it is in a cheap world."""
 
 import os
 import re
-import tempfile
 
-from harness import calibrate, check, main, prog, tcs
+from harness import calibrate, check, main, prog, scenario_file, tcs
 
 PD = os.path.join(os.environ.get("TCS_EXAMPLES", "."), "pendulum_pd")
 
@@ -67,13 +66,8 @@ def summary_rates(r):
 
 
 def run_two(work_us):
-    fd, path = tempfile.mkstemp(suffix=".toml", prefix="tcs-two-")
-    with os.fdopen(fd, "w") as f:
-        f.write(TWO.format(pd=PD, work=work_us))
-    try:
+    with scenario_file(TWO.format(pd=PD, work=work_us)) as path:
         r = tcs("-w", path, timeout=120)
-    finally:
-        os.unlink(path)
     check(r.returncode == 0, "both controllers run to their end", r)
     rows = summary_rates(r)
     check(len(rows) == 2, "a summary line per controller", r)
@@ -98,10 +92,7 @@ def test_two_robots_keep_their_own_rates():
 def test_box_world_costs_wall_time_not_virtual_time():
     rounds = calibrate() * 3 // 10
     boxes = os.path.join(os.environ.get("TCS_SCENARIOS", "scenarios"), "boxes.toml")
-    fd, world = tempfile.mkstemp(suffix=".toml", prefix="tcs-boxes-")
-    with os.fdopen(fd, "w") as f:
-        f.write('[sim]\nstep = "1ms"\nmodel = "boxes"\n[model]\ncount = 1000\n')
-    try:
+    with scenario_file('[sim]\nstep = "1ms"\nmodel = "boxes"\n[model]\ncount = 1000\n') as world:
         runs = {}
         for name, args in (("pendulum", []), ("1000 boxes", ["-w", world])):
             r = tcs(*args, "-m", "lockstep", "-d", "1s", "--", prog("periodic"), "1000", "2", rounds, timeout=300)
@@ -119,8 +110,6 @@ def test_box_world_costs_wall_time_not_virtual_time():
         lo, _, hi = (ns(x) for x in runs["1000 boxes"][1])
         check(hi > 1.3 * lo, "the box world's step cost varies widely (%.0f..%.0f ns)" % (lo, hi))
         check(lo > 10 * ns(runs["pendulum"][1][1]), "and is far above the pendulum's")
-    finally:
-        os.unlink(world)
     check(os.path.exists(boxes), "scenarios/boxes.toml ships")
 
 
