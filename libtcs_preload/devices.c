@@ -12,6 +12,7 @@
 /* fd -> device handle + 1 (0: not a device). fds beyond the table are
  * never devices: open() moves a device fd below it if it must. */
 static int32_t tcs_fd_handle[TCS_DEVICE_FD_MAX];
+static uint8_t tcs_fd_kind[TCS_DEVICE_FD_MAX]; /* enum tcs_device_kind */
 static int tcs_open_devices;
 
 int tcs_device_lookup(const char *path)
@@ -38,6 +39,11 @@ int tcs_device_handle(int fd)
 	return __atomic_load_n(&tcs_fd_handle[fd], __ATOMIC_RELAXED) - 1;
 }
 
+int tcs_device_kind(int fd)
+{
+	return tcs_device_handle(fd) < 0 ? 0 : tcs_fd_kind[fd];
+}
+
 int tcs_devices_open(void)
 {
 	return __atomic_load_n(&tcs_open_devices, __ATOMIC_RELAXED);
@@ -57,6 +63,7 @@ void tcs_device_copy(int from, int to)
 	if (h < 0 || to < 0 || to >= TCS_DEVICE_FD_MAX)
 		return;
 	tcs_device_forget(to);
+	tcs_fd_kind[to] = tcs_fd_kind[from];
 	__atomic_store_n(&tcs_fd_handle[to], h + 1, __ATOMIC_RELAXED);
 	__atomic_add_fetch(&tcs_open_devices, 1, __ATOMIC_RELAXED);
 }
@@ -95,6 +102,7 @@ long tcs_device_open(int dev, int oflags)
 		tcs_sys3(SYS_fcntl, fd, F_SETFL, O_NONBLOCK);
 	if (!(oflags & O_CLOEXEC))
 		tcs_sys3(SYS_fcntl, fd, F_SETFD, 0);
+	tcs_fd_kind[fd] = (uint8_t)e->kind;
 	__atomic_store_n(&tcs_fd_handle[fd], (int32_t)w.arg + 1, __ATOMIC_RELAXED);
 	__atomic_add_fetch(&tcs_open_devices, 1, __ATOMIC_RELAXED);
 	return fd;

@@ -14,6 +14,8 @@ int tcs_device_lookup(const char *path) TCS_HIDDEN;
 long tcs_device_open(int dev, int oflags) TCS_HIDDEN;
 /* The device handle of fd, or -1 if fd is not a device. */
 int tcs_device_handle(int fd) TCS_HIDDEN;
+/* The kind of device fd is (TCS_DEVICE_SENSOR/ACTUATOR), or 0. */
+int tcs_device_kind(int fd) TCS_HIDDEN;
 /* How many device fds are open (then readiness checks must sync). */
 int tcs_devices_open(void) TCS_HIDDEN;
 /* fd was closed / `to` became a copy of `from`. */

@@ -94,7 +94,11 @@ TCS_EXPORT int __openat64_2(int dirfd, const char *path, int flags)
 static long tcs_before_read(int fd)
 {
 	int h = tcs_device_handle(fd);
-	return h < 0 || !tcs_active() ? 0 : tcs_device_sync(h, fd, TCS_SYNC_READ);
+	if (h < 0 || !tcs_active())
+		return 0;
+	if (tcs_device_kind(fd) != TCS_DEVICE_SENSOR)
+		return -EBADF; /* write-only, like the file it stands for */
+	return tcs_device_sync(h, fd, TCS_SYNC_READ);
 }
 
 /* After writing a device: the coordinator takes the records, stamped with
@@ -130,13 +134,23 @@ TCS_EXPORT ssize_t readv(int fd, const struct iovec *iov, int n)
 	return tcs_errno_result(tcs_sys3(SYS_readv, fd, iov, n));
 }
 
+/* A sensor is read-only, like the file it stands for. */
+static int tcs_write_refused(int fd)
+{
+	return tcs_device_kind(fd) == TCS_DEVICE_SENSOR;
+}
+
 TCS_EXPORT ssize_t write(int fd, const void *buf, size_t n)
 {
+	if (tcs_write_refused(fd))
+		return tcs_errno_result(-EBADF);
 	return tcs_errno_result(tcs_after_write(fd, tcs_sys3(SYS_write, fd, buf, n)));
 }
 
 TCS_EXPORT ssize_t writev(int fd, const struct iovec *iov, int n)
 {
+	if (tcs_write_refused(fd))
+		return tcs_errno_result(-EBADF);
 	return tcs_errno_result(tcs_after_write(fd, tcs_sys3(SYS_writev, fd, iov, n)));
 }
 

@@ -100,6 +100,8 @@ def test_commands_hold_and_malformed_ones_fail():
         check(v["bad2"] == "-1" and v["bad2_errno"] == "EINVAL", "a wrong count of numbers: EINVAL", r)
         check("malformed record" in r.stderr, "and it is reported", r)
         check(v["read_open_of_actuator_errno"] == "EACCES", "an actuator is write-only", r)
+        check(v["read_of_actuator"] == "-1" and v["read_of_actuator_errno"] == "EBADF", "so reading one fails", r)
+        check(v["write_of_sensor"] == "-1" and v["write_of_sensor_errno"] == "EBADF", "a sensor is read-only", r)
         # Started at 1 rad, gravity decelerates it; 2 N*m (the last valid
         # command) adds 2 / (m L^2 / 3) = 6 rad/s^2: over 10 ms, velocity
         # 0.06 - 4.905 * sin(1) * 3 * 0.01 = -0.0638 rad/s.

@@ -144,6 +144,12 @@ int main(int argc, char **argv)
 		       (int)ok, (int)bad1, strerrorname_np(e1), (int)bad2, strerrorname_np(e2), vel, (int)big, vel2 - vel);
 		int wrong = open(path, O_RDONLY);
 		printf("read_open_of_actuator_errno=%s\n", wrong < 0 ? strerrorname_np(errno) : "none");
+		errno = 0;
+		ssize_t rd = read(fd, line, sizeof line);
+		printf("read_of_actuator=%d read_of_actuator_errno=%s\n", (int)rd, strerrorname_np(errno));
+		errno = 0;
+		ssize_t wr = write(st, "1\n", 2);
+		printf("write_of_sensor=%d write_of_sensor_errno=%s\n", (int)wr, strerrorname_np(errno));
 	} else if (!strcmp(check, "termios")) {
 		int fd = must_open(path, O_RDONLY | O_NOCTTY);
 		struct termios t;
