@@ -78,6 +78,11 @@ public:
 	int64_t v = 0;          // virtual time (exact whenever not Running)
 	int64_t charged = 0;    // virtual CPU charged
 	int64_t budget = 0;     // real CPU this slice may use (cpu mode)
+	int64_t slice_wall_start = 0; // wall clock when the slice began (for the trace)
+	bool in_block = false;        // a BLOCK is being served (for the trace)
+	const char *wait_kind = "";
+	int64_t wait_requested_at = 0;
+	bool wait_absolute = false;
 	int64_t checked_used = -1;  // slice CPU at the last budget check (-1: none yet)
 	int64_t lag_ns = 0;         // learnt wall-versus-CPU lag of a slice
 	int64_t check_interval = 0; // wall time until the next check

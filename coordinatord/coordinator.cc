@@ -72,6 +72,21 @@ Status Coordinator::init()
 	}
 	if (auto s = bind_devices(); !s)
 		return s;
+	if (!cfg_.trace_path.empty()) {
+		if (auto s = trace_.open(cfg_.trace_path); !s)
+			return s;
+		// The joint states each step records: scalar positions and velocities.
+		for (size_t i = 0; world_ && i < world_->signal_count(); i++) {
+			const tcs_sim_signal_info &sig = world_->signal(i);
+			std::string name = sig.name;
+			bool joint = sig.width == 1 && (name.size() > 9 && (name.rfind(".position") == name.size() - 9 ||
+									     name.rfind(".velocity") == name.size() - 9));
+			if (joint) {
+				joint_signals_.push_back(i);
+				joints_.emplace_back(name, 0.0);
+			}
+		}
+	}
 
 	origins_.mono_ns = clock_ns(CLOCK_MONOTONIC);
 	origins_.real_ns = cfg_.epoch_ns ? *cfg_.epoch_ns : clock_ns(CLOCK_REALTIME);
@@ -128,6 +143,8 @@ Result<RunReport> Coordinator::run()
 	}
 	budget_timer_.disarm();
 	progress_timer_.disarm();
+	if (auto s = trace_.close(); !s && fatal_)
+		fatal_ = Error{ "the trace: " + s.error().message };
 	if (!fatal_)
 		return fatal_.error();
 
@@ -233,6 +250,8 @@ void Coordinator::on_pidfd(Controller &c)
 	if (waitid(P_PIDFD, (id_t)c.pidfd.get(), &si, WEXITED | WNOHANG | WNOWAIT) < 0 || si.si_pid == 0)
 		return;
 	c.account(c.cpu_now(), cfg_.mode);
+	if (running_ == &c)
+		trace_slice_end(c, "exited");
 	si = {};
 	if (waitid(P_PIDFD, (id_t)c.pidfd.get(), &si, WEXITED | WNOHANG) < 0 || si.si_pid == 0)
 		return;

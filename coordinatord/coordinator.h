@@ -18,6 +18,7 @@
 #include "controller.h"
 #include "device.h"
 #include "sim_world.h"
+#include "trace.h"
 #include "error.h"
 #include "event_loop.h"
 #include "realtime.h"
@@ -31,6 +32,7 @@ struct CoordinatorConfig {
 	int64_t step_ns = 1000000;          // the simulation step dt
 	std::vector<ModelInstance> models;  // the world (none: an empty world)
 	std::vector<DeviceConfig> devices;  // its virtual devices
+	std::string trace_path;             // write an MCAP trace there (empty: none)
 	int64_t duration_ns = -1;           // stop at this virtual time; < 0: when all exit
 	std::optional<int64_t> epoch_ns;    // CLOCK_REALTIME at V = 0; default: now
 	std::string preload;                // absolute path of libtcs_preload.so
@@ -111,6 +113,8 @@ private:
 	void wake(Controller &c, int64_t v, uint16_t reason);
 	void send_wake(Controller &c);
 	void begin_end(EndReason reason, int signo = 0);
+	void trace_slice_end(Controller &c, const char *why);
+	static int64_t wall_now();
 
 	// Devices (device_io.cc).
 	Status bind_devices();
@@ -143,6 +147,9 @@ private:
 	// Actuator commands not yet in force: (virtual time, device, values).
 	std::deque<std::tuple<int64_t, BoundDevice *, std::vector<double>>> commands_;
 	std::vector<int64_t> step_walls_;
+	Trace trace_;
+	std::vector<std::pair<std::string, double>> joints_; // reused for each step's trace
+	std::vector<size_t> joint_signals_;
 	std::vector<std::string> warned_;
 
 	int64_t sim_ns_ = 0;    // S: the simulation clock

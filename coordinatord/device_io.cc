@@ -66,7 +66,10 @@ void Coordinator::restart_slice(Controller &c, int64_t request_cpu)
 	int64_t at = std::clamp<int64_t>(request_cpu, c.slice().cpu_base, std::max(c.slice().cpu_base, c.cpu_now()));
 	int64_t used = c.slice_cpu(at);
 	c.account(at, cfg_.mode);
+	trace_slice_end(c, "request");
 	c.publish_slice(at);
+	if (trace_.is_open())
+		c.slice_wall_start = wall_now();
 	c.budget = std::max<int64_t>(c.budget - used, 1);
 	c.checked_used = 0;
 }
@@ -194,9 +197,13 @@ void Coordinator::take_commands(Controller &c, OpenDevice &d)
 		if (dev.cfg.limit)
 			for (double &v : values)
 				v = std::clamp(v, -*dev.cfg.limit, *dev.cfg.limit);
+		if (trace_.is_open())
+			trace_.command(c.id, dev.cfg.path, c.v, values, false);
 		commands_.emplace_back(c.v, &dev, std::move(values));
 	}
 	if (!ok) {
+		if (trace_.is_open())
+			trace_.command(c.id, dev.cfg.path, c.v, {}, true);
 		dev.malformed++;
 		c.wake_arg = -EINVAL;
 		warn_once(c.name + ": " + dev.cfg.path + ": malformed record (" + why +
@@ -226,6 +233,15 @@ Status Coordinator::step_world()
 		if (auto s = world_->step(); !s)
 			return s;
 		step_walls_.push_back(world_->last_step_wall_ns());
+		if (trace_.is_open()) {
+			std::vector<double> v;
+			for (size_t i = 0; i < joint_signals_.size(); i++) {
+				v.clear();
+				world_->read(joint_signals_[i], v);
+				joints_[i].second = v[0];
+			}
+			trace_.step(sim_ns_ + cfg_.step_ns, world_->last_step_wall_ns(), joints_);
+		}
 	}
 	sim_ns_ += cfg_.step_ns;
 	steps_++;

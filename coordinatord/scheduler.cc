@@ -134,6 +134,20 @@ int64_t Coordinator::world_horizon() const
 	return TCS_NEVER;
 }
 
+int64_t Coordinator::wall_now()
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return tcs_ts_to_ns(&ts);
+}
+
+void Coordinator::trace_slice_end(Controller &c, const char *why)
+{
+	if (trace_.is_open())
+		trace_.slice(c.id, c.slice().v_base, c.v, c.charged - c.slice().charged_base, c.slice_wall_start,
+			     wall_now(), why);
+}
+
 bool Coordinator::advance_to(int64_t next)
 {
 	if (cfg_.duration_ns >= 0 && next >= cfg_.duration_ns)
@@ -214,6 +228,9 @@ void Coordinator::send_wake(Controller &c)
 		close(c.wake_fd);
 		c.wake_fd = -1;
 	}
+	if (c.in_block && trace_.is_open())
+		trace_.wait(c.id, c.wait_kind, c.wait_requested_at, c.deadline, c.v, c.wait_absolute);
+	c.in_block = false;
 	c.wake_arg = 0;
 	c.wake_pending = false;
 }
@@ -223,6 +240,8 @@ void Coordinator::resume(Controller &c, int64_t target)
 	idle_timer_.disarm();
 	// c is held by SIGSTOP or waiting for its WAKE: its CPU clock is still.
 	c.publish_slice(c.cpu_now());
+	if (trace_.is_open())
+		c.slice_wall_start = wall_now();
 	deliver(c); // what its sensors have due by now is in their fds
 	if (c.wake_pending)
 		send_wake(c);
@@ -291,6 +310,7 @@ void Coordinator::preempt(Controller &c)
 	c.state = CtlState::Ready;
 	c.stats.preemptions++;
 	c.account(c.cpu_now(), cfg_.mode);
+	trace_slice_end(c, "preempted");
 }
 
 void Coordinator::on_block(Controller &c, const ::tcs_msg &m)
@@ -313,6 +333,7 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m)
 		running_ = nullptr;
 		// Charged up to the hook's entry, never past what the clock says.
 		c.account(std::min<int64_t>(m.cpu, c.cpu_now()), cfg_.mode);
+		trace_slice_end(c, "blocked");
 	}
 	// (Ready: the budget ran out just as it began to wait; SIGSTOP has
 	// already closed its slice.)
@@ -321,6 +342,10 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m)
 		c.stats.absolute_waits++;
 	c.wait_seq = m.seq;
 	c.deadline = m.deadline;
+	c.in_block = true;
+	c.wait_kind = m.kind == TCS_BLOCK_SLEEP ? "sleep" : "poll";
+	c.wait_requested_at = c.v;
+	c.wait_absolute = (m.flags & TCS_BLOCK_ABSOLUTE) != 0;
 	c.recheck = (m.flags & TCS_BLOCK_RECHECK) != 0;
 	c.wants_devices = (m.flags & TCS_BLOCK_DEVICES) != 0;
 	c.rechecked_at = sim_ns_;

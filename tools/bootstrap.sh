@@ -34,6 +34,21 @@ if ((${#missing[@]})); then
 	apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
+# The official MCAP reader the tests check traces with (Node.js, npm registry).
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+	if [[ $(id -u) != 0 ]]; then
+		echo "bootstrap: Node.js and npm are missing, and installing them needs root" >&2
+		exit 2
+	fi
+	echo "bootstrap: installing nodejs npm"
+	export DEBIAN_FRONTEND=noninteractive
+	apt-get install -y -qq --no-install-recommends nodejs npm >/dev/null
+fi
+if [[ $what == test && ! -d tests/mcap/node_modules/@mcap/core ]]; then
+	echo "bootstrap: installing the MCAP reader for the tests (npm ci)"
+	npm ci --prefix tests/mcap --no-audit --no-fund --loglevel=error >/dev/null
+fi
+
 build=${TCS_BUILD_DIR:-build}
 [[ -f $build/build.ninja ]] || meson setup "$build" >/dev/null
 ninja -C "$build" >/dev/null

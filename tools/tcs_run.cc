@@ -115,7 +115,8 @@ int main(int argc, char **argv)
 			break;
 		}
 		case 't':
-			return fail("--trace " + arg + ": traces are not available in this build yet");
+			cfg.trace_path = arg;
+			break;
 		case OPT_EPOCH: {
 			auto v = parse_epoch(arg);
 			if (!v)

@@ -1,0 +1,174 @@
+// Trace: the topics, their JSON Schemas, and JSON written without
+// allocation on the per-message path (one reused buffer).
+#include "trace.h"
+
+#include <algorithm>
+#include <cinttypes>
+#include <cstdarg>
+#include <cmath>
+#include <cstdio>
+
+namespace tcs {
+
+namespace {
+
+const char kSliceSchema[] = R"({"type":"object","title":"tcs slice","properties":{
+"controller":{"type":"integer"},"v_start_ns":{"type":"integer"},"v_end_ns":{"type":"integer"},
+"charged_ns":{"type":"integer"},"wall_start_ns":{"type":"integer"},"wall_end_ns":{"type":"integer"},
+"end":{"type":"string","enum":["blocked","preempted","exited","request"]}}})";
+
+const char kWaitSchema[] = R"({"type":"object","title":"tcs wait","properties":{
+"controller":{"type":"integer"},"kind":{"type":"string"},"v_request_ns":{"type":"integer"},
+"deadline_ns":{"type":"integer","description":"-1: none"},"v_end_ns":{"type":"integer"},
+"absolute":{"type":"boolean"}}})";
+
+const char kDeviceSchema[] = R"({"type":"object","title":"tcs actuator command","properties":{
+"controller":{"type":"integer"},"path":{"type":"string"},"v_ns":{"type":"integer"},
+"values":{"type":"array","items":{"type":"number"}},"malformed":{"type":"boolean"}}})";
+
+const char kStepSchema[] = R"({"type":"object","title":"tcs simulation step","properties":{
+"v_ns":{"type":"integer"},"wall_cost_ns":{"type":"integer"},
+"joints":{"type":"object","additionalProperties":{"type":"number"}}}})";
+
+// As ROS 2's rosgraph_msgs/Clock, so tools that follow /clock follow tcs.
+const char kClockSchema[] = R"({"type":"object","title":"rosgraph_msgs/Clock","properties":{
+"clock":{"type":"object","properties":{"sec":{"type":"integer"},"nanosec":{"type":"integer"}}}}})";
+
+void append(std::string &s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+void append(std::string &s, const char *fmt, ...)
+{
+	char buf[256];
+	va_list ap;
+	va_start(ap, fmt);
+	int n = vsnprintf(buf, sizeof buf, fmt, ap);
+	va_end(ap);
+	if (n > 0)
+		s.append(buf, (size_t)std::min(n, (int)sizeof buf - 1));
+}
+
+// A JSON string: the paths and names tcs writes are plain, but quote and
+// escape them properly all the same.
+void append_string(std::string &s, const std::string &v)
+{
+	s += '"';
+	for (char c : v) {
+		if (c == '"' || c == '\\')
+			s += '\\';
+		if ((unsigned char)c < 0x20)
+			append(s, "\\u%04x", c);
+		else
+			s += c;
+	}
+	s += '"';
+}
+
+void append_number(std::string &s, double v)
+{
+	if (std::isfinite(v))
+		append(s, "%.17g", v);
+	else
+		s += "null";
+}
+
+} // namespace
+
+Status Trace::open(const std::string &path)
+{
+	if (auto s = writer_.open(path, "", "tcs"); !s)
+		return s;
+	struct Topic {
+		const char *topic, *schema_name, *schema;
+		uint16_t *id;
+	} topics[] = {
+		{ "/tcs/slice", "tcs.Slice", kSliceSchema, &slice_ },
+		{ "/tcs/wait", "tcs.Wait", kWaitSchema, &wait_ },
+		{ "/tcs/device", "tcs.Command", kDeviceSchema, &device_ },
+		{ "/tcs/step", "tcs.Step", kStepSchema, &step_ },
+		{ "/clock", "rosgraph_msgs/Clock", kClockSchema, &clock_ },
+	};
+	for (const auto &t : topics) {
+		auto schema = writer_.add_schema(t.schema_name, t.schema);
+		if (!schema)
+			return schema.error();
+		auto channel = writer_.add_channel(t.topic, *schema);
+		if (!channel)
+			return channel.error();
+		*t.id = *channel;
+	}
+	json_.reserve(4096);
+	return Ok{};
+}
+
+Status Trace::close()
+{
+	if (!writer_.is_open())
+		return status_;
+	auto s = writer_.close();
+	return status_ ? s : status_;
+}
+
+void Trace::emit(uint16_t channel, int64_t v)
+{
+	if (!writer_.is_open() || !status_)
+		return;
+	uint64_t t = v < 0 ? 0 : (uint64_t)v;
+	if (auto s = writer_.write(channel, t, t, json_); !s)
+		status_ = s;
+}
+
+void Trace::slice(int controller, int64_t v_start, int64_t v_end, int64_t charged_ns, int64_t wall_start,
+		  int64_t wall_end, const char *why)
+{
+	json_.clear();
+	append(json_,
+	       "{\"controller\":%d,\"v_start_ns\":%" PRId64 ",\"v_end_ns\":%" PRId64 ",\"charged_ns\":%" PRId64
+	       ",\"wall_start_ns\":%" PRId64 ",\"wall_end_ns\":%" PRId64 ",\"end\":\"%s\"}",
+	       controller, v_start, v_end, charged_ns, wall_start, wall_end, why);
+	emit(slice_, v_start);
+}
+
+void Trace::wait(int controller, const char *kind, int64_t v_request, int64_t deadline, int64_t v_end, bool absolute)
+{
+	json_.clear();
+	append(json_,
+	       "{\"controller\":%d,\"kind\":\"%s\",\"v_request_ns\":%" PRId64 ",\"deadline_ns\":%" PRId64
+	       ",\"v_end_ns\":%" PRId64 ",\"absolute\":%s}",
+	       controller, kind, v_request, deadline == INT64_MAX ? -1 : deadline, v_end, absolute ? "true" : "false");
+	emit(wait_, v_request);
+}
+
+void Trace::command(int controller, const std::string &path, int64_t v, const std::vector<double> &values,
+		    bool malformed)
+{
+	json_.clear();
+	append(json_, "{\"controller\":%d,\"path\":", controller);
+	append_string(json_, path);
+	append(json_, ",\"v_ns\":%" PRId64 ",\"values\":[", v);
+	for (size_t i = 0; i < values.size(); i++) {
+		if (i)
+			json_ += ',';
+		append_number(json_, values[i]);
+	}
+	append(json_, "],\"malformed\":%s}", malformed ? "true" : "false");
+	emit(device_, v);
+}
+
+void Trace::step(int64_t v, int64_t wall_cost_ns, const std::vector<std::pair<std::string, double>> &joints)
+{
+	json_.clear();
+	append(json_, "{\"v_ns\":%" PRId64 ",\"wall_cost_ns\":%" PRId64 ",\"joints\":{", v, wall_cost_ns);
+	for (size_t i = 0; i < joints.size(); i++) {
+		if (i)
+			json_ += ',';
+		append_string(json_, joints[i].first);
+		json_ += ':';
+		append_number(json_, joints[i].second);
+	}
+	json_ += "}}";
+	emit(step_, v);
+	json_.clear();
+	append(json_, "{\"clock\":{\"sec\":%" PRId64 ",\"nanosec\":%" PRId64 "}}", v / 1000000000, v % 1000000000);
+	emit(clock_, v);
+}
+
+} // namespace tcs
