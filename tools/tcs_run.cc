@@ -33,7 +33,7 @@ const char kUsage[] =
 	"      --cpu-scale X      virtual seconds per CPU second (default 1.0;\n"
 	"                         3 models a target CPU three times slower)\n"
 	"  -d, --duration TIME    stop after TIME of virtual time (10s, 250ms, 2min)\n"
-	"  -t, --trace FILE       write a trace (MCAP)\n"
+	"  -t, --trace FILE       write a trace of the run (MCAP)\n"
 	"      --epoch TIME       virtual wall-clock start: RFC 3339 or seconds since 1970\n"
 	"      --connect SOCKET   run under a running coordinatord\n"
 	"  -q, --quiet            no progress line, no summary\n"
