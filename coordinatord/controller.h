@@ -78,7 +78,9 @@ public:
 	int64_t v = 0;          // virtual time (exact whenever not Running)
 	int64_t charged = 0;    // virtual CPU charged
 	int64_t budget = 0;     // real CPU this slice may use (cpu mode)
-	int64_t slice_wall_start = 0; // wall clock when the slice began (for the trace)
+	// Where the current scheduling slice began, for the trace (a device
+	// request answered at once restarts the accounting slice, not this).
+	int64_t trace_wall_start = 0, trace_v_start = 0, trace_charged_start = 0;
 	bool in_block = false;        // a BLOCK is being served (for the trace)
 	const char *wait_kind = "";
 	int64_t wait_requested_at = 0;

@@ -66,10 +66,7 @@ void Coordinator::restart_slice(Controller &c, int64_t request_cpu)
 	int64_t at = std::clamp<int64_t>(request_cpu, c.slice().cpu_base, std::max(c.slice().cpu_base, c.cpu_now()));
 	int64_t used = c.slice_cpu(at);
 	c.account(at, cfg_.mode);
-	trace_slice_end(c, "request");
 	c.publish_slice(at);
-	if (trace_.is_open())
-		c.slice_wall_start = wall_now();
 	c.budget = std::max<int64_t>(c.budget - used, 1);
 	c.checked_used = 0;
 }

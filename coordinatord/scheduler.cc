@@ -144,7 +144,7 @@ int64_t Coordinator::wall_now()
 void Coordinator::trace_slice_end(Controller &c, const char *why)
 {
 	if (trace_.is_open())
-		trace_.slice(c.id, c.slice().v_base, c.v, c.charged - c.slice().charged_base, c.slice_wall_start,
+		trace_.slice(c.id, c.trace_v_start, c.v, c.charged - c.trace_charged_start, c.trace_wall_start,
 			     wall_now(), why);
 }
 
@@ -240,8 +240,11 @@ void Coordinator::resume(Controller &c, int64_t target)
 	idle_timer_.disarm();
 	// c is held by SIGSTOP or waiting for its WAKE: its CPU clock is still.
 	c.publish_slice(c.cpu_now());
-	if (trace_.is_open())
-		c.slice_wall_start = wall_now();
+	if (trace_.is_open()) {
+		c.trace_wall_start = wall_now();
+		c.trace_v_start = c.v;
+		c.trace_charged_start = c.charged;
+	}
 	deliver(c); // what its sensors have due by now is in their fds
 	if (c.wake_pending)
 		send_wake(c);

@@ -15,7 +15,7 @@ namespace {
 const char kSliceSchema[] = R"({"type":"object","title":"tcs slice","properties":{
 "controller":{"type":"integer"},"v_start_ns":{"type":"integer"},"v_end_ns":{"type":"integer"},
 "charged_ns":{"type":"integer"},"wall_start_ns":{"type":"integer"},"wall_end_ns":{"type":"integer"},
-"end":{"type":"string","enum":["blocked","preempted","exited","request"]}}})";
+"end":{"type":"string","enum":["blocked","preempted","exited"]}}})";
 
 const char kWaitSchema[] = R"({"type":"object","title":"tcs wait","properties":{
 "controller":{"type":"integer"},"kind":{"type":"string"},"v_request_ns":{"type":"integer"},
