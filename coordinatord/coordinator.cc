@@ -73,7 +73,7 @@ Status Coordinator::init()
 	if (auto s = bind_devices(); !s)
 		return s;
 	if (!cfg_.trace_path.empty()) {
-		if (auto s = trace_.open(cfg_.trace_path); !s)
+		if (auto s = trace_.open(cfg_.trace_path, rt_.cpu); !s)
 			return s;
 		// The joint states each step records: scalar positions and velocities.
 		for (size_t i = 0; world_ && i < world_->signal_count(); i++) {

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include <sched.h>
+
 namespace tcs {
 
 namespace {
@@ -72,7 +74,7 @@ void append_number(std::string &s, double v)
 
 } // namespace
 
-Status Trace::open(const std::string &path)
+Status Trace::open(const std::string &path, int avoid_cpu)
 {
 	if (auto s = writer_.open(path, "", "tcs"); !s)
 		return s;
@@ -96,24 +98,68 @@ Status Trace::open(const std::string &path)
 		*t.id = *channel;
 	}
 	json_.reserve(4096);
+	open_ = true;
+	thread_ = std::thread([this, avoid_cpu] { writer_loop(avoid_cpu); });
 	return Ok{};
 }
 
 Status Trace::close()
 {
-	if (!writer_.is_open())
-		return status_;
+	if (!open_)
+		return Ok{};
+	{
+		std::lock_guard<std::mutex> lk(mu_);
+		stop_ = true;
+	}
+	cv_.notify_one();
+	thread_.join();
+	open_ = false;
 	auto s = writer_.close();
 	return status_ ? s : status_;
 }
 
 void Trace::emit(uint16_t channel, int64_t v)
 {
-	if (!writer_.is_open() || !status_)
-		return;
-	uint64_t t = v < 0 ? 0 : (uint64_t)v;
-	if (auto s = writer_.write(channel, t, t, json_); !s)
-		status_ = s;
+	{
+		std::lock_guard<std::mutex> lk(mu_);
+		queue_.push_back(Pending{ channel, v < 0 ? 0 : (uint64_t)v, json_ });
+		if (queue_.size() < 1024)
+			return;
+	}
+	cv_.notify_one();
+}
+
+void Trace::writer_loop(int avoid_cpu)
+{
+	// Normal priority, on the other cores: the coordinator's SCHED_FIFO
+	// and its one core are the run's.
+	struct sched_param sp = {};
+	sched_setscheduler(0, SCHED_OTHER, &sp);
+	cpu_set_t set;
+	if (avoid_cpu >= 0 && sched_getaffinity(0, sizeof set, &set) == 0) {
+		cpu_set_t all;
+		CPU_ZERO(&all);
+		for (int c = 0; c < CPU_SETSIZE; c++)
+			CPU_SET(c, &all);
+		CPU_CLR(avoid_cpu, &all);
+		sched_setaffinity(0, sizeof all, &all); // fails harmlessly on one core
+	}
+	std::vector<Pending> batch;
+	for (;;) {
+		{
+			std::unique_lock<std::mutex> lk(mu_);
+			// Written at least every 20 ms, so a killed run loses little.
+			cv_.wait_for(lk, std::chrono::milliseconds(20), [this] { return stop_ || queue_.size() >= 1024; });
+			batch.swap(queue_);
+			if (stop_ && batch.empty())
+				return;
+		}
+		for (auto &p : batch)
+			if (status_)
+				if (auto s = writer_.write(p.channel, p.time, p.time, p.json); !s)
+					status_ = s;
+		batch.clear();
+	}
 }
 
 void Trace::slice(int controller, int64_t v_start, int64_t v_end, int64_t charged_ns, int64_t wall_start,

@@ -7,8 +7,11 @@
 // states) and /clock (the simulation clock, as ROS 2 publishes it).
 #pragma once
 
+#include <condition_variable>
 #include <cstdint>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "error.h"
@@ -18,8 +21,11 @@ namespace tcs {
 
 class Trace {
 public:
-	Status open(const std::string &path);
-	bool is_open() const { return writer_.is_open(); }
+	// Opens path; the file is written by a thread of its own kept off core
+	// avoid_cpu (the controllers' core; -1: anywhere), so that compression
+	// and writing do not take time from the run.
+	Status open(const std::string &path, int avoid_cpu = -1);
+	bool is_open() const { return open_; }
 	Status close();
 
 	void slice(int controller, int64_t v_start, int64_t v_end, int64_t charged_ns, int64_t wall_start,
@@ -30,16 +36,26 @@ public:
 	// joints: (name, value) of every scalar position/velocity signal.
 	void step(int64_t v, int64_t wall_cost_ns, const std::vector<std::pair<std::string, double>> &joints);
 
-	// The first error the trace met (it stops writing then), or Ok.
-	const Status &status() const { return status_; }
-
 private:
+	struct Pending {
+		uint16_t channel;
+		uint64_t time;
+		std::string json;
+	};
 	void emit(uint16_t channel, int64_t v);
+	void writer_loop(int avoid_cpu);
 
-	McapWriter writer_;
+	McapWriter writer_; // the writer thread's, once it runs
+	bool open_ = false;
 	uint16_t slice_ = 0, wait_ = 0, device_ = 0, step_ = 0, clock_ = 0;
-	std::string json_; // reused for every message
-	Status status_ = Ok{};
+	std::string json_; // the message being formatted
+
+	std::mutex mu_;
+	std::condition_variable cv_;
+	std::vector<Pending> queue_; // formatted, not yet written
+	bool stop_ = false;
+	std::thread thread_;
+	Status status_ = Ok{}; // the writer thread's first error (it stops writing then)
 };
 
 } // namespace tcs
