@@ -76,6 +76,7 @@ Status Coordinator::init()
 		if (auto s = trace_.open(cfg_.trace_path, rt_.cpu); !s)
 			return s;
 		// The joint states each step records: scalar positions and velocities.
+		std::vector<std::string> names;
 		for (size_t i = 0; world_ && i < world_->signal_count(); i++) {
 			const tcs_sim_signal_info &sig = world_->signal(i);
 			std::string name = sig.name;
@@ -83,9 +84,10 @@ Status Coordinator::init()
 									     name.rfind(".velocity") == name.size() - 9));
 			if (joint) {
 				joint_signals_.push_back(i);
-				joints_.emplace_back(name, 0.0);
+				names.push_back(name);
 			}
 		}
+		trace_.set_joint_names(std::move(names));
 	}
 
 	origins_.mono_ns = clock_ns(CLOCK_MONOTONIC);

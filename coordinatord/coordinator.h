@@ -148,7 +148,6 @@ private:
 	std::deque<std::tuple<int64_t, BoundDevice *, std::vector<double>>> commands_;
 	std::vector<int64_t> step_walls_;
 	Trace trace_;
-	std::vector<std::pair<std::string, double>> joints_; // reused for each step's trace
 	std::vector<size_t> joint_signals_;
 	std::vector<std::string> warned_;
 

@@ -231,13 +231,11 @@ Status Coordinator::step_world()
 			return s;
 		step_walls_.push_back(world_->last_step_wall_ns());
 		if (trace_.is_open()) {
-			std::vector<double> v;
-			for (size_t i = 0; i < joint_signals_.size(); i++) {
-				v.clear();
-				world_->read(joint_signals_[i], v);
-				joints_[i].second = v[0];
-			}
-			trace_.step(sim_ns_ + cfg_.step_ns, world_->last_step_wall_ns(), joints_);
+			std::vector<double> joints;
+			joints.reserve(joint_signals_.size());
+			for (size_t i : joint_signals_)
+				world_->read(i, joints);
+			trace_.step(sim_ns_ + cfg_.step_ns, world_->last_step_wall_ns(), std::move(joints));
 		}
 	}
 	sim_ns_ += cfg_.step_ns;

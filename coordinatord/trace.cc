@@ -118,11 +118,11 @@ Status Trace::close()
 	return status_ ? s : status_;
 }
 
-void Trace::emit(uint16_t channel, int64_t v)
+void Trace::emit(Event &&e)
 {
 	{
 		std::lock_guard<std::mutex> lk(mu_);
-		queue_.push_back(Pending{ channel, v < 0 ? 0 : (uint64_t)v, json_ });
+		queue_.push_back(std::move(e));
 		if (queue_.size() < 1024)
 			return;
 	}
@@ -144,7 +144,7 @@ void Trace::writer_loop(int avoid_cpu)
 		CPU_CLR(avoid_cpu, &all);
 		sched_setaffinity(0, sizeof all, &all); // fails harmlessly on one core
 	}
-	std::vector<Pending> batch;
+	std::vector<Event> batch;
 	for (;;) {
 		{
 			std::unique_lock<std::mutex> lk(mu_);
@@ -154,10 +154,9 @@ void Trace::writer_loop(int avoid_cpu)
 			if (stop_ && batch.empty())
 				return;
 		}
-		for (auto &p : batch)
+		for (const auto &e : batch)
 			if (status_)
-				if (auto s = writer_.write(p.channel, p.time, p.time, p.json); !s)
-					status_ = s;
+				write_event(e);
 		batch.clear();
 	}
 }
@@ -165,56 +164,101 @@ void Trace::writer_loop(int avoid_cpu)
 void Trace::slice(int controller, int64_t v_start, int64_t v_end, int64_t charged_ns, int64_t wall_start,
 		  int64_t wall_end, const char *why)
 {
-	json_.clear();
-	append(json_,
-	       "{\"controller\":%d,\"v_start_ns\":%" PRId64 ",\"v_end_ns\":%" PRId64 ",\"charged_ns\":%" PRId64
-	       ",\"wall_start_ns\":%" PRId64 ",\"wall_end_ns\":%" PRId64 ",\"end\":\"%s\"}",
-	       controller, v_start, v_end, charged_ns, wall_start, wall_end, why);
-	emit(slice_, v_start);
+	Event e{ Event::Slice };
+	e.controller = controller;
+	e.f[0] = v_start;
+	e.f[1] = v_end;
+	e.f[2] = charged_ns;
+	e.f[3] = wall_start;
+	e.f[4] = wall_end;
+	e.text = why;
+	emit(std::move(e));
 }
 
 void Trace::wait(int controller, const char *kind, int64_t v_request, int64_t deadline, int64_t v_end, bool absolute)
 {
-	json_.clear();
-	append(json_,
-	       "{\"controller\":%d,\"kind\":\"%s\",\"v_request_ns\":%" PRId64 ",\"deadline_ns\":%" PRId64
-	       ",\"v_end_ns\":%" PRId64 ",\"absolute\":%s}",
-	       controller, kind, v_request, deadline == INT64_MAX ? -1 : deadline, v_end, absolute ? "true" : "false");
-	emit(wait_, v_request);
+	Event e{ Event::Wait };
+	e.controller = controller;
+	e.text = kind;
+	e.f[0] = v_request;
+	e.f[1] = deadline == INT64_MAX ? -1 : deadline;
+	e.f[2] = v_end;
+	e.flag = absolute;
+	emit(std::move(e));
 }
 
-void Trace::command(int controller, const std::string &path, int64_t v, const std::vector<double> &values,
-		    bool malformed)
+void Trace::command(int controller, const std::string &path, int64_t v, std::vector<double> values, bool malformed)
 {
-	json_.clear();
-	append(json_, "{\"controller\":%d,\"path\":", controller);
-	append_string(json_, path);
-	append(json_, ",\"v_ns\":%" PRId64 ",\"values\":[", v);
-	for (size_t i = 0; i < values.size(); i++) {
-		if (i)
-			json_ += ',';
-		append_number(json_, values[i]);
-	}
-	append(json_, "],\"malformed\":%s}", malformed ? "true" : "false");
-	emit(device_, v);
+	Event e{ Event::Command };
+	e.controller = controller;
+	e.path = &path;
+	e.f[0] = v;
+	e.values = std::move(values);
+	e.flag = malformed;
+	emit(std::move(e));
 }
 
-void Trace::step(int64_t v, int64_t wall_cost_ns, const std::vector<std::pair<std::string, double>> &joints)
+void Trace::step(int64_t v, int64_t wall_cost_ns, std::vector<double> joint_values)
 {
+	Event e{ Event::Step };
+	e.f[0] = v;
+	e.f[1] = wall_cost_ns;
+	e.values = std::move(joint_values);
+	emit(std::move(e));
+}
+
+void Trace::write_event(const Event &e)
+{
+	auto put = [this](uint16_t channel, int64_t v) {
+		uint64_t t = v < 0 ? 0 : (uint64_t)v;
+		if (auto s = writer_.write(channel, t, t, json_); !s)
+			status_ = s;
+	};
 	json_.clear();
-	append(json_, "{\"v_ns\":%" PRId64 ",\"wall_cost_ns\":%" PRId64 ",\"joints\":{", v, wall_cost_ns);
-	for (size_t i = 0; i < joints.size(); i++) {
-		if (i)
-			json_ += ',';
-		append_string(json_, joints[i].first);
-		json_ += ':';
-		append_number(json_, joints[i].second);
+	switch (e.kind) {
+	case Event::Slice:
+		append(json_,
+		       "{\"controller\":%d,\"v_start_ns\":%" PRId64 ",\"v_end_ns\":%" PRId64 ",\"charged_ns\":%" PRId64
+		       ",\"wall_start_ns\":%" PRId64 ",\"wall_end_ns\":%" PRId64 ",\"end\":\"%s\"}",
+		       e.controller, e.f[0], e.f[1], e.f[2], e.f[3], e.f[4], e.text);
+		put(slice_, e.f[0]);
+		return;
+	case Event::Wait:
+		append(json_,
+		       "{\"controller\":%d,\"kind\":\"%s\",\"v_request_ns\":%" PRId64 ",\"deadline_ns\":%" PRId64
+		       ",\"v_end_ns\":%" PRId64 ",\"absolute\":%s}",
+		       e.controller, e.text, e.f[0], e.f[1], e.f[2], e.flag ? "true" : "false");
+		put(wait_, e.f[0]);
+		return;
+	case Event::Command:
+		append(json_, "{\"controller\":%d,\"path\":", e.controller);
+		append_string(json_, *e.path);
+		append(json_, ",\"v_ns\":%" PRId64 ",\"values\":[", e.f[0]);
+		for (size_t i = 0; i < e.values.size(); i++) {
+			if (i)
+				json_ += ',';
+			append_number(json_, e.values[i]);
+		}
+		append(json_, "],\"malformed\":%s}", e.flag ? "true" : "false");
+		put(device_, e.f[0]);
+		return;
+	case Event::Step:
+		append(json_, "{\"v_ns\":%" PRId64 ",\"wall_cost_ns\":%" PRId64 ",\"joints\":{", e.f[0], e.f[1]);
+		for (size_t i = 0; i < e.values.size() && i < joint_names_.size(); i++) {
+			if (i)
+				json_ += ',';
+			append_string(json_, joint_names_[i]);
+			json_ += ':';
+			append_number(json_, e.values[i]);
+		}
+		json_ += "}}";
+		put(step_, e.f[0]);
+		json_.clear();
+		append(json_, "{\"clock\":{\"sec\":%" PRId64 ",\"nanosec\":%" PRId64 "}}", e.f[0] / 1000000000,
+		       e.f[0] % 1000000000);
+		put(clock_, e.f[0]);
+		return;
 	}
-	json_ += "}}";
-	emit(step_, v);
-	json_.clear();
-	append(json_, "{\"clock\":{\"sec\":%" PRId64 ",\"nanosec\":%" PRId64 "}}", v / 1000000000, v % 1000000000);
-	emit(clock_, v);
 }
 
 } // namespace tcs
