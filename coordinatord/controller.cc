@@ -42,6 +42,7 @@ Result<std::unique_ptr<Controller>> Controller::start(int id, const ControllerSp
 	c->page_->magic = TCS_PAGE_MAGIC;
 	c->page_->version = TCS_PAGE_VERSION;
 	c->page_->mode = (uint32_t)mode;
+	c->page_->flags = spec.report_misses ? TCS_PAGE_REPORT_MISSES : 0;
 	c->page_->cpu_scale = spec.cpu_scale;
 	c->page_->mono_origin_ns = origins.mono_ns;
 	c->page_->real_origin_ns = origins.real_ns;

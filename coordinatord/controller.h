@@ -22,6 +22,7 @@ struct ControllerSpec {
 	std::string path;              // resolved executable
 	std::vector<std::string> argv; // as given
 	double cpu_scale = 1.0;
+	bool report_misses = false; // TCS_PAGE_REPORT_MISSES (set when tracing)
 };
 
 // The constants every controller's clock page starts with.
@@ -42,6 +43,7 @@ struct LoopStats {
 	uint64_t waits = 0;          // BLOCK messages
 	uint64_t absolute_waits = 0; // of which absolute deadlines (periodic loops)
 	uint64_t preemptions = 0;    // budgets that ended with SIGSTOP
+	uint64_t reported_misses = 0; // absolute waits sent though already past
 };
 
 class Controller {
@@ -80,7 +82,7 @@ public:
 	int64_t budget = 0;     // real CPU this slice may use (cpu mode)
 	// Where the current scheduling slice began, for the trace (a device
 	// request answered at once restarts the accounting slice, not this).
-	int64_t trace_wall_start = 0, trace_v_start = 0, trace_charged_start = 0;
+	int64_t trace_wall_start = 0, trace_v_start = 0, trace_charged_start = 0, trace_cpu_start = 0;
 	bool in_block = false;        // a BLOCK is being served (for the trace)
 	const char *wait_kind = "";
 	int64_t wait_requested_at = 0;

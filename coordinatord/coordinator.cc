@@ -123,10 +123,14 @@ Coordinator::~Coordinator()
 
 Status Coordinator::add_controller(const ControllerSpec &spec)
 {
-	auto c = Controller::start((int)ctls_.size() + 1, spec, cfg_.mode, origins_, rt_, cfg_.preload, devices_);
+	ControllerSpec traced = spec;
+	traced.report_misses = trace_.is_open();
+	auto c = Controller::start((int)ctls_.size() + 1, traced, cfg_.mode, origins_, rt_, cfg_.preload, devices_);
 	if (!c)
 		return c.error();
 	Controller *raw = c->get();
+	if (trace_.is_open())
+		trace_.controller(raw->id, raw->name, raw->pid, raw->scale, cfg_.mode, cfg_.step_ns);
 	ctls_.push_back(std::move(*c));
 	if (auto s = loop_.add(raw->channel.get(), [this, raw](uint32_t) { on_channel(*raw); }); !s)
 		return s;
@@ -180,7 +184,7 @@ Result<RunReport> Coordinator::run()
 		cr.charged_ns = c->charged;
 		cr.waits = c->stats.waits + c->quick_waits();
 		cr.periodic_waits = c->stats.absolute_waits + c->past_deadlines();
-		cr.deadline_misses = c->past_deadlines();
+		cr.deadline_misses = c->past_deadlines() + c->stats.reported_misses;
 		cr.preemptions = c->stats.preemptions;
 		cr.ended_by_tcs = c->ended_by_tcs;
 		cr.dropped = c->dropped;
@@ -251,9 +255,10 @@ void Coordinator::on_pidfd(Controller &c)
 	// Peek first: a zombie's CPU clock still reads, so its last slice counts.
 	if (waitid(P_PIDFD, (id_t)c.pidfd.get(), &si, WEXITED | WNOHANG | WNOWAIT) < 0 || si.si_pid == 0)
 		return;
-	c.account(c.cpu_now(), cfg_.mode);
+	int64_t cpu = c.cpu_now();
+	c.account(cpu, cfg_.mode);
 	if (running_ == &c)
-		trace_slice_end(c, "exited");
+		trace_slice_end(c, "exited", cpu);
 	si = {};
 	if (waitid(P_PIDFD, (id_t)c.pidfd.get(), &si, WEXITED | WNOHANG) < 0 || si.si_pid == 0)
 		return;
@@ -344,6 +349,13 @@ void Coordinator::begin_end(EndReason reason, int signo)
 		return;
 	ending_ = true;
 	budget_timer_.disarm();
+	if (running_) {
+		// Its slice ends with the run (what it does after is not traced).
+		int64_t cpu = running_->cpu_now();
+		running_->account(cpu, cfg_.mode);
+		running_->publish_slice(cpu);
+		trace_slice_end(*running_, "ended", cpu);
+	}
 	running_ = nullptr;
 	// Let every controller act on SIGTERM: running, with its waits answered
 	// at once, then SIGKILL after the grace period.

@@ -113,7 +113,9 @@ private:
 	void wake(Controller &c, int64_t v, uint16_t reason);
 	void send_wake(Controller &c);
 	void begin_end(EndReason reason, int signo = 0);
-	void trace_slice_end(Controller &c, const char *why);
+	// cpu: the process's CPU clock at the end; budget and overshoot: of a
+	// preempted slice (real CPU).
+	void trace_slice_end(Controller &c, const char *why, int64_t cpu, int64_t budget = -1, int64_t overshoot = 0);
 	static int64_t wall_now();
 
 	// Devices (device_io.cc).

@@ -235,7 +235,8 @@ Status Coordinator::step_world()
 			joints.reserve(joint_signals_.size());
 			for (size_t i : joint_signals_)
 				world_->read(i, joints);
-			trace_.step(sim_ns_ + cfg_.step_ns, world_->last_step_wall_ns(), std::move(joints));
+			trace_.step(sim_ns_ + cfg_.step_ns, wall_now() - wall_start_, world_->last_step_wall_ns(),
+				    std::move(joints));
 		}
 	}
 	sim_ns_ += cfg_.step_ns;
@@ -273,6 +274,7 @@ void Coordinator::on_dev_sync(Controller &c, const ::tcs_msg &m)
 		if (running_ == &c) {
 			budget_timer_.disarm();
 			running_ = nullptr;
+			trace_slice_end(c, "blocked", c.cpu_now());
 		}
 		c.state = CtlState::Ready;
 		schedule();
@@ -288,6 +290,7 @@ void Coordinator::on_dev_sync(Controller &c, const ::tcs_msg &m)
 	if (was_running && running_ == &c) {
 		budget_timer_.disarm();
 		running_ = nullptr;
+		trace_slice_end(c, "blocked", c.cpu_now());
 	}
 	schedule();
 }

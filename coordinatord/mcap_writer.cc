@@ -3,6 +3,7 @@
 // length u64><content>, all integers little-endian, strings and arrays
 // prefixed with their byte length as u32.
 #include "mcap_writer.h"
+#include "mcap_format.h"
 
 #include <fcntl.h>
 #include <sys/uio.h>
@@ -19,23 +20,7 @@ namespace tcs {
 
 namespace {
 
-constexpr uint8_t kMagic[8] = { 0x89, 'M', 'C', 'A', 'P', '0', '\r', '\n' };
-
-enum Opcode : uint8_t {
-	op_header = 0x01,
-	op_footer = 0x02,
-	op_schema = 0x03,
-	op_channel = 0x04,
-	op_message = 0x05,
-	op_chunk = 0x06,
-	op_message_index = 0x07,
-	op_chunk_index = 0x08,
-	op_statistics = 0x0B,
-	op_summary_offset = 0x0E,
-	op_data_end = 0x0F,
-};
-
-// Opcode, content length, channel id, sequence, log time, publish time.
+// McapOpcode, content length, channel id, sequence, log time, publish time.
 constexpr size_t kMessageHead = 1 + 8 + 2 + 4 + 8 + 8;
 
 // ---- CRC-32, eight bytes at a time ("slicing-by-8") ----
@@ -104,7 +89,7 @@ inline void put_string(std::vector<uint8_t> &b, std::string_view s)
 
 // Starts a record; returns where its content length goes, which
 // end_record() fills in once the content is there.
-size_t begin_record(std::vector<uint8_t> &b, Opcode op)
+size_t begin_record(std::vector<uint8_t> &b, McapOpcode op)
 {
 	put_u8(b, op);
 	size_t at = b.size();
@@ -149,7 +134,7 @@ namespace {
 
 template <class SchemaT> void put_schema(std::vector<uint8_t> &b, uint16_t id, const SchemaT &s)
 {
-	size_t at = begin_record(b, op_schema);
+	size_t at = begin_record(b, mcap_schema);
 	put_u16(b, id);
 	put_string(b, s.name);
 	put_string(b, s.encoding);
@@ -159,7 +144,7 @@ template <class SchemaT> void put_schema(std::vector<uint8_t> &b, uint16_t id, c
 
 template <class ChannelT> void put_channel(std::vector<uint8_t> &b, uint16_t id, const ChannelT &c)
 {
-	size_t at = begin_record(b, op_channel);
+	size_t at = begin_record(b, mcap_channel);
 	put_u16(b, id);
 	put_u16(b, c.schema_id);
 	put_string(b, c.topic);
@@ -251,8 +236,8 @@ Status McapWriter::open(const std::string &path, std::string_view profile, std::
 	chunk_.reserve(options_.chunk_size + 4096);
 
 	std::vector<uint8_t> head;
-	put_bytes(head, kMagic, sizeof kMagic);
-	size_t at = begin_record(head, op_header);
+	put_bytes(head, kMcapMagic, sizeof kMcapMagic);
+	size_t at = begin_record(head, mcap_header);
 	put_string(head, profile);
 	put_string(head, library);
 	end_record(head, at);
@@ -327,7 +312,7 @@ Status McapWriter::write(uint16_t channel_id, uint64_t log_time_ns, uint64_t pub
 	}
 
 	uint8_t head[kMessageHead];
-	head[0] = op_message;
+	head[0] = mcap_message;
 	store_le(head + 1, uint64_t(kMessageHead - 9) + size, 8);
 	store_le(head + 9, channel_id, 2);
 	store_le(head + 11, c.sequence, 4);
@@ -426,7 +411,7 @@ Status McapWriter::finish_chunk()
 	}
 
 	chunk_head_.clear();
-	size_t at = begin_record(chunk_head_, op_chunk);
+	size_t at = begin_record(chunk_head_, mcap_chunk);
 	put_u64(chunk_head_, chunk_start_time_);
 	put_u64(chunk_head_, chunk_end_time_);
 	put_u64(chunk_head_, uncompressed_size);
@@ -442,7 +427,7 @@ Status McapWriter::finish_chunk()
 	std::sort(chunk_channels_.begin(), chunk_channels_.end());
 	message_indexes_.clear();
 	std::vector<uint8_t> &ci = chunk_index_records_;
-	size_t ci_at = begin_record(ci, op_chunk_index);
+	size_t ci_at = begin_record(ci, mcap_chunk_index);
 	put_u64(ci, chunk_start_time_);
 	put_u64(ci, chunk_end_time_);
 	put_u64(ci, chunk_offset);
@@ -456,7 +441,7 @@ Status McapWriter::finish_chunk()
 			});
 		put_u16(ci, id);
 		put_u64(ci, chunk_offset + chunk_length + message_indexes_.size());
-		size_t mi_at = begin_record(message_indexes_, op_message_index);
+		size_t mi_at = begin_record(message_indexes_, mcap_message_index);
 		put_u16(message_indexes_, id);
 		put_u32(message_indexes_, uint32_t(c.index.size() * 16));
 		for (const IndexEntry &e : c.index) {
@@ -513,33 +498,33 @@ Status McapWriter::close()
 	}
 
 	std::vector<uint8_t> tail;
-	size_t at = begin_record(tail, op_data_end);
+	size_t at = begin_record(tail, mcap_data_end);
 	put_u32(tail, data_crc_);
 	end_record(tail, at);
 	const size_t summary_at = tail.size();
 	const uint64_t summary_start = offset_ + summary_at;
 
 	struct Group {
-		Opcode op;
+		McapOpcode op;
 		size_t begin, end;
 	};
 	std::vector<Group> groups;
-	auto group = [&](Opcode op, auto &&emit) {
+	auto group = [&](McapOpcode op, auto &&emit) {
 		size_t begin = tail.size();
 		emit();
 		if (tail.size() > begin)
 			groups.push_back(Group{ op, begin, tail.size() });
 	};
-	group(op_schema, [&] {
+	group(mcap_schema, [&] {
 		for (size_t i = 0; i < schemas_.size(); i++)
 			put_schema(tail, uint16_t(i + 1), schemas_[i]);
 	});
-	group(op_channel, [&] {
+	group(mcap_channel, [&] {
 		for (size_t i = 0; i < channels_.size(); i++)
 			put_channel(tail, uint16_t(i), channels_[i]);
 	});
-	group(op_statistics, [&] {
-		size_t s = begin_record(tail, op_statistics);
+	group(mcap_statistics, [&] {
+		size_t s = begin_record(tail, mcap_statistics);
 		put_u64(tail, message_count_);
 		put_u16(tail, uint16_t(schemas_.size()));
 		put_u32(tail, uint32_t(channels_.size()));
@@ -555,11 +540,11 @@ Status McapWriter::close()
 		}
 		end_record(tail, s);
 	});
-	group(op_chunk_index, [&] { put_bytes(tail, chunk_index_records_.data(), chunk_index_records_.size()); });
+	group(mcap_chunk_index, [&] { put_bytes(tail, chunk_index_records_.data(), chunk_index_records_.size()); });
 
 	const uint64_t summary_offset_start = offset_ + tail.size();
 	for (const Group &g : groups) {
-		size_t s = begin_record(tail, op_summary_offset);
+		size_t s = begin_record(tail, mcap_summary_offset);
 		put_u8(tail, g.op);
 		put_u64(tail, offset_ + g.begin);
 		put_u64(tail, g.end - g.begin);
@@ -569,12 +554,12 @@ Status McapWriter::close()
 	// The summary CRC runs from the summary's first byte through the
 	// Footer's summary_offset_start field, so the Footer's length must be
 	// in place before it is computed.
-	put_u8(tail, op_footer);
+	put_u8(tail, mcap_footer);
 	put_u64(tail, 8 + 8 + 4);
 	put_u64(tail, summary_start);
 	put_u64(tail, summary_offset_start);
 	put_u32(tail, mcap_crc32(0, tail.data() + summary_at, tail.size() - summary_at));
-	put_bytes(tail, kMagic, sizeof kMagic);
+	put_bytes(tail, kMcapMagic, sizeof kMcapMagic);
 
 	struct iovec iov = { tail.data(), tail.size() };
 	Status s = write_all(&iov, 1);

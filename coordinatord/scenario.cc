@@ -15,9 +15,6 @@
 
 #include "scenario.h"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -26,8 +23,8 @@
 #include <unordered_set>
 
 #include "scenario_units.h"
+#include "read_file.h"
 #include "toml_text_shift.h"
-#include "unique_fd.h"
 
 namespace tcs {
 
@@ -585,26 +582,12 @@ Result<Scenario> parse_scenario_text(const std::string &text, const std::string 
 
 Result<Scenario> parse_scenario_file(const std::string &path)
 {
-	UniqueFd fd(open(path.c_str(), O_RDONLY | O_CLOEXEC));
-	if (fd.get() < 0)
-		return errno_error(path);
-	std::string text;
-	char buf[65536];
-	for (;;) {
-		ssize_t n = read(fd.get(), buf, sizeof buf);
-		if (n < 0 && errno == EINTR)
-			continue;
-		if (n < 0)
-			return errno_error(path);
-		if (n == 0)
-			break;
-		text.append(buf, (size_t)n);
-		if (text.size() > kMaxScenarioBytes)
-			return Error{ path + ": too large for a scenario (more than 4 MiB)" };
-	}
+	auto text = read_file(path, kMaxScenarioBytes);
+	if (!text)
+		return text.error();
 	size_t slash = path.rfind('/');
 	std::string dir = slash == std::string::npos ? "" : path.substr(0, slash == 0 ? 1 : slash);
-	return Parser(path, dir).run(text);
+	return Parser(path, dir).run(*text);
 }
 
 } // namespace tcs

@@ -141,11 +141,22 @@ int64_t Coordinator::wall_now()
 	return tcs_ts_to_ns(&ts);
 }
 
-void Coordinator::trace_slice_end(Controller &c, const char *why)
+void Coordinator::trace_slice_end(Controller &c, const char *why, int64_t cpu, int64_t budget, int64_t overshoot)
 {
-	if (trace_.is_open())
-		trace_.slice(c.id, c.trace_v_start, c.v, c.charged - c.trace_charged_start, c.trace_wall_start,
-			     wall_now(), why);
+	if (!trace_.is_open())
+		return;
+	Trace::Slice s;
+	s.v_start = c.trace_v_start;
+	s.v_end = c.v;
+	s.charged_ns = c.charged - c.trace_charged_start;
+	s.cpu_ns = std::max<int64_t>(cpu - c.trace_cpu_start, 0);
+	s.wall_start = c.trace_wall_start - wall_start_;
+	s.wall_end = wall_now() - wall_start_;
+	s.budget_ns = budget;
+	s.overshoot_ns = overshoot;
+	s.sim_ns = sim_ns_;
+	s.why = why;
+	trace_.slice(c.id, s);
 }
 
 bool Coordinator::advance_to(int64_t next)
@@ -239,8 +250,10 @@ void Coordinator::resume(Controller &c, int64_t target)
 {
 	idle_timer_.disarm();
 	// c is held by SIGSTOP or waiting for its WAKE: its CPU clock is still.
-	c.publish_slice(c.cpu_now());
+	int64_t cpu = c.cpu_now();
+	c.publish_slice(cpu);
 	if (trace_.is_open()) {
+		c.trace_cpu_start = cpu;
 		c.trace_wall_start = wall_now();
 		c.trace_v_start = c.v;
 		c.trace_charged_start = c.charged;
@@ -312,8 +325,11 @@ void Coordinator::preempt(Controller &c)
 	c.stopped = true;
 	c.state = CtlState::Ready;
 	c.stats.preemptions++;
-	c.account(c.cpu_now(), cfg_.mode);
-	trace_slice_end(c, "preempted");
+	int64_t cpu = c.cpu_now();
+	int64_t budget = c.budget;
+	int64_t overshoot = c.slice_cpu(cpu) - budget; // before account() closes the slice
+	c.account(cpu, cfg_.mode);
+	trace_slice_end(c, "preempted", cpu, budget, overshoot);
 }
 
 void Coordinator::on_block(Controller &c, const ::tcs_msg &m)
@@ -335,14 +351,18 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m)
 		budget_timer_.disarm();
 		running_ = nullptr;
 		// Charged up to the hook's entry, never past what the clock says.
-		c.account(std::min<int64_t>(m.cpu, c.cpu_now()), cfg_.mode);
-		trace_slice_end(c, "blocked");
+		int64_t cpu = c.cpu_now();
+		c.account(std::min<int64_t>(m.cpu, cpu), cfg_.mode);
+		trace_slice_end(c, "blocked", cpu);
 	}
 	// (Ready: the budget ran out just as it began to wait; SIGSTOP has
 	// already closed its slice.)
 	c.stats.waits++;
-	if (m.flags & TCS_BLOCK_ABSOLUTE)
+	if (m.flags & TCS_BLOCK_ABSOLUTE) {
 		c.stats.absolute_waits++;
+		if (m.deadline <= c.v)
+			c.stats.reported_misses++; // TCS_PAGE_REPORT_MISSES
+	}
 	c.wait_seq = m.seq;
 	c.deadline = m.deadline;
 	c.in_block = true;

@@ -14,10 +14,21 @@ namespace tcs {
 
 namespace {
 
+const char kControllerSchema[] = R"({"type":"object","title":"tcs controller","properties":{
+"controller":{"type":"integer"},"name":{"type":"string"},"pid":{"type":"integer"},
+"cpu_scale":{"type":"number"},"mode":{"type":"string","enum":["cpu","lockstep"]},
+"step_ns":{"type":"integer"}}})";
+
 const char kSliceSchema[] = R"({"type":"object","title":"tcs slice","properties":{
 "controller":{"type":"integer"},"v_start_ns":{"type":"integer"},"v_end_ns":{"type":"integer"},
-"charged_ns":{"type":"integer"},"wall_start_ns":{"type":"integer"},"wall_end_ns":{"type":"integer"},
-"end":{"type":"string","enum":["blocked","preempted","exited"]}}})";
+"charged_ns":{"type":"integer","description":"virtual CPU charged"},
+"cpu_ns":{"type":"integer","description":"real CPU the process used, tcs hooks included"},
+"wall_start_ns":{"type":"integer"},"wall_end_ns":{"type":"integer"},
+"budget_ns":{"type":"integer","description":"preempted: the real CPU budget; else -1"},
+"overshoot_ns":{"type":"integer","description":"preempted: real CPU used beyond the budget"},
+"sim_ns":{"type":"integer","description":"simulation time when the slice ended"},
+"end":{"type":"string","enum":["blocked","preempted","exited","ended"],
+"description":"ended: the run ended while it ran"}}})";
 
 const char kWaitSchema[] = R"({"type":"object","title":"tcs wait","properties":{
 "controller":{"type":"integer"},"kind":{"type":"string"},"v_request_ns":{"type":"integer"},
@@ -29,7 +40,8 @@ const char kDeviceSchema[] = R"({"type":"object","title":"tcs actuator command",
 "values":{"type":"array","items":{"type":"number"}},"malformed":{"type":"boolean"}}})";
 
 const char kStepSchema[] = R"({"type":"object","title":"tcs simulation step","properties":{
-"v_ns":{"type":"integer"},"wall_cost_ns":{"type":"integer"},
+"v_ns":{"type":"integer"},"wall_ns":{"type":"integer","description":"wall time since the run started"},
+"wall_cost_ns":{"type":"integer"},
 "joints":{"type":"object","additionalProperties":{"type":"number"}}}})";
 
 // As ROS 2's rosgraph_msgs/Clock, so tools that follow /clock follow tcs.
@@ -39,7 +51,7 @@ const char kClockSchema[] = R"({"type":"object","title":"rosgraph_msgs/Clock","p
 void append(std::string &s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 void append(std::string &s, const char *fmt, ...)
 {
-	char buf[256];
+	char buf[512];
 	va_list ap;
 	va_start(ap, fmt);
 	int n = vsnprintf(buf, sizeof buf, fmt, ap);
@@ -82,6 +94,7 @@ Status Trace::open(const std::string &path, int avoid_cpu)
 		const char *topic, *schema_name, *schema;
 		uint16_t *id;
 	} topics[] = {
+		{ "/tcs/controller", "tcs.Controller", kControllerSchema, &controller_ },
 		{ "/tcs/slice", "tcs.Slice", kSliceSchema, &slice_ },
 		{ "/tcs/wait", "tcs.Wait", kWaitSchema, &wait_ },
 		{ "/tcs/device", "tcs.Command", kDeviceSchema, &device_ },
@@ -161,17 +174,27 @@ void Trace::writer_loop(int avoid_cpu)
 	}
 }
 
-void Trace::slice(int controller, int64_t v_start, int64_t v_end, int64_t charged_ns, int64_t wall_start,
-		  int64_t wall_end, const char *why)
+void Trace::controller(int controller, const std::string &name, int pid, double cpu_scale, int mode,
+			int64_t step_ns)
 {
-	Event e{ Event::Slice };
+	Event e{ Event::ControllerInfo };
 	e.controller = controller;
-	e.f[0] = v_start;
-	e.f[1] = v_end;
-	e.f[2] = charged_ns;
-	e.f[3] = wall_start;
-	e.f[4] = wall_end;
-	e.text = why;
+	e.path = &name;
+	e.f[0] = pid;
+	e.f[1] = step_ns;
+	e.scale = cpu_scale;
+	e.text = mode == 1 ? "lockstep" : "cpu";
+	emit(std::move(e));
+}
+
+void Trace::slice(int controller, const Slice &s)
+{
+	Event e{ Event::SliceEnd };
+	e.controller = controller;
+	int64_t f[] = { s.v_start, s.v_end, s.charged_ns, s.cpu_ns, s.wall_start, s.wall_end, s.budget_ns,
+			s.overshoot_ns, s.sim_ns };
+	std::copy(std::begin(f), std::end(f), e.f);
+	e.text = s.why;
 	emit(std::move(e));
 }
 
@@ -198,11 +221,12 @@ void Trace::command(int controller, const std::string &path, int64_t v, std::vec
 	emit(std::move(e));
 }
 
-void Trace::step(int64_t v, int64_t wall_cost_ns, std::vector<double> joint_values)
+void Trace::step(int64_t v, int64_t wall_ns, int64_t wall_cost_ns, std::vector<double> joint_values)
 {
 	Event e{ Event::Step };
 	e.f[0] = v;
-	e.f[1] = wall_cost_ns;
+	e.f[1] = wall_ns;
+	e.f[2] = wall_cost_ns;
 	e.values = std::move(joint_values);
 	emit(std::move(e));
 }
@@ -216,11 +240,20 @@ void Trace::write_event(const Event &e)
 	};
 	json_.clear();
 	switch (e.kind) {
-	case Event::Slice:
+	case Event::ControllerInfo:
+		append(json_, "{\"controller\":%d,\"name\":", e.controller);
+		append_string(json_, *e.path);
+		append(json_, ",\"pid\":%" PRId64 ",\"cpu_scale\":", e.f[0]);
+		append_number(json_, e.scale);
+		append(json_, ",\"mode\":\"%s\",\"step_ns\":%" PRId64 "}", e.text, e.f[1]);
+		put(controller_, 0);
+		return;
+	case Event::SliceEnd:
 		append(json_,
 		       "{\"controller\":%d,\"v_start_ns\":%" PRId64 ",\"v_end_ns\":%" PRId64 ",\"charged_ns\":%" PRId64
-		       ",\"wall_start_ns\":%" PRId64 ",\"wall_end_ns\":%" PRId64 ",\"end\":\"%s\"}",
-		       e.controller, e.f[0], e.f[1], e.f[2], e.f[3], e.f[4], e.text);
+		       ",\"cpu_ns\":%" PRId64 ",\"wall_start_ns\":%" PRId64 ",\"wall_end_ns\":%" PRId64
+		       ",\"budget_ns\":%" PRId64 ",\"overshoot_ns\":%" PRId64 ",\"sim_ns\":%" PRId64 ",\"end\":\"%s\"}",
+		       e.controller, e.f[0], e.f[1], e.f[2], e.f[3], e.f[4], e.f[5], e.f[6], e.f[7], e.f[8], e.text);
 		put(slice_, e.f[0]);
 		return;
 	case Event::Wait:
@@ -243,7 +276,8 @@ void Trace::write_event(const Event &e)
 		put(device_, e.f[0]);
 		return;
 	case Event::Step:
-		append(json_, "{\"v_ns\":%" PRId64 ",\"wall_cost_ns\":%" PRId64 ",\"joints\":{", e.f[0], e.f[1]);
+		append(json_, "{\"v_ns\":%" PRId64 ",\"wall_ns\":%" PRId64 ",\"wall_cost_ns\":%" PRId64 ",\"joints\":{",
+		       e.f[0], e.f[1], e.f[2]);
 		for (size_t i = 0; i < e.values.size() && i < joint_names_.size(); i++) {
 			if (i)
 				json_ += ',';

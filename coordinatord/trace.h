@@ -1,10 +1,13 @@
 // The run's trace (DESIGN.md §6): an MCAP file of JSON messages with JSON
 // Schemas, which Foxglove and PlotJuggler decode, logged at virtual time.
-// Topics: /tcs/slice (each stretch a controller ran: virtual and wall start
-// and end, CPU charged, why it ended), /tcs/wait (each hooked wait: kind,
-// requested deadline, when it ended), /tcs/device (each command written to
-// an actuator), /tcs/step (each simulation step's wall cost and joint
-// states) and /clock (the simulation clock, as ROS 2 publishes it).
+// Topics: /tcs/controller (each controller: name, pid, CPU scale, mode),
+// /tcs/slice (each stretch a controller ran: virtual and wall start and end,
+// CPU charged and used, the budget and its overshoot when preempted, why it
+// ended), /tcs/wait (each hooked wait: kind, requested deadline, when it
+// ended), /tcs/device (each command written to an actuator), /tcs/step (each
+// simulation step: wall time, wall cost, joint states) and /clock (the
+// simulation clock, as ROS 2 publishes it). Wall times count from the start
+// of the run.
 #pragma once
 
 #include <condition_variable>
@@ -28,26 +31,40 @@ public:
 	bool is_open() const { return open_; }
 	Status close();
 
-	void slice(int controller, int64_t v_start, int64_t v_end, int64_t charged_ns, int64_t wall_start,
-		   int64_t wall_end, const char *why);
+	// Once per controller, before its first slice. name must outlive the
+	// trace (the controller's does).
+	void controller(int controller, const std::string &name, int pid, double cpu_scale, int mode,
+			int64_t step_ns);
+	struct Slice {
+		int64_t v_start, v_end;
+		int64_t charged_ns;         // virtual CPU charged
+		int64_t cpu_ns;             // real CPU the process used, hooks included
+		int64_t wall_start, wall_end;
+		int64_t budget_ns = -1;     // preempted: the real CPU it was given
+		int64_t overshoot_ns = 0;   // preempted: real CPU used beyond the budget
+		int64_t sim_ns;             // the world's time when it ended
+		const char *why;            // blocked, preempted, exited, ended (the run did)
+	};
+	void slice(int controller, const Slice &s);
 	void wait(int controller, const char *kind, int64_t v_request, int64_t deadline, int64_t v_end, bool absolute);
 	// path must outlive the trace (a device's configured path does).
 	void command(int controller, const std::string &path, int64_t v, std::vector<double> values, bool malformed);
 	// The joint states each step records: their names, set once, then
 	// their values, in that order, with each step.
 	void set_joint_names(std::vector<std::string> names) { joint_names_ = std::move(names); }
-	void step(int64_t v, int64_t wall_cost_ns, std::vector<double> joint_values);
+	void step(int64_t v, int64_t wall_ns, int64_t wall_cost_ns, std::vector<double> joint_values);
 
 private:
 	// What happened, as raw fields: formatting is the writer thread's work,
 	// so that the run pays only for filling this in.
 	struct Event {
-		enum Kind : uint8_t { Slice, Wait, Command, Step } kind;
+		enum Kind : uint8_t { ControllerInfo, SliceEnd, Wait, Command, Step } kind;
 		bool flag = false;          // wait: absolute; command: malformed
 		int controller = 0;
-		int64_t f[6] = {};          // the kind's numbers, in schema order
+		int64_t f[9] = {};          // the kind's numbers, in schema order
+		double scale = 1;           // controller
 		const char *text = "";      // why a slice ended; a wait's kind
-		const std::string *path = nullptr; // command
+		const std::string *path = nullptr; // command: the path; controller: the name
 		std::vector<double> values; // command values; step joint values
 	};
 	void emit(Event &&e);
@@ -56,7 +73,7 @@ private:
 
 	McapWriter writer_; // the writer thread's, once it runs
 	bool open_ = false;
-	uint16_t slice_ = 0, wait_ = 0, device_ = 0, step_ = 0, clock_ = 0;
+	uint16_t controller_ = 0, slice_ = 0, wait_ = 0, device_ = 0, step_ = 0, clock_ = 0;
 	std::vector<std::string> joint_names_;
 	std::string json_; // the writer thread's formatting buffer
 

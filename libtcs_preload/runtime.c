@@ -138,7 +138,8 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 	t->deadline = deadline;
 	t->relative = 0;
 	t->start = v;
-	if (deadline <= v) {
+	int report = (flags & TCS_BLOCK_ABSOLUTE) && (p->flags & TCS_PAGE_REPORT_MISSES);
+	if (deadline <= v && !report) {
 		__atomic_add_fetch(&p->quick_returns, 1, __ATOMIC_RELAXED);
 		if (flags & TCS_BLOCK_ABSOLUTE)
 			__atomic_add_fetch(&p->past_deadlines, 1, __ATOMIC_RELAXED);

@@ -18,7 +18,7 @@ if [[ $what != demo && $what != test ]]; then
 fi
 
 packages=(gcc g++ libc6-dev binutils pkg-config meson ninja-build python3 libcmocka-dev util-linux
-	libode-dev libccd-dev libeigen3-dev libtomlplusplus-dev libzstd-dev)
+	libode-dev libccd-dev libeigen3-dev libtomlplusplus-dev libzstd-dev gnuplot-nox)
 missing=()
 for p in "${packages[@]}"; do
 	dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -166,4 +166,11 @@ std::string format_duration(int64_t ns)
 	return buf;
 }
 
+std::string format_number(const char *printf_format, double value)
+{
+	char buf[128];
+	snprintf(buf, sizeof buf, printf_format, value);
+	return buf;
+}
+
 } // namespace tcs

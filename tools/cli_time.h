@@ -17,5 +17,7 @@ Result<int64_t> parse_epoch(const std::string &text);
 Result<double> parse_positive(const std::string &text);
 // "12.345 s", "250.000 ms", "12.0 us": three significant decimals.
 std::string format_duration(int64_t ns);
+// One number through a printf format (" (%.1f Hz)").
+std::string format_number(const char *printf_format, double value) __attribute__((format(printf, 1, 0)));
 
 } // namespace tcs

@@ -13,19 +13,12 @@ namespace tcs {
 
 namespace {
 
-std::string fmt(const char *f, double a)
-{
-	char buf[64];
-	snprintf(buf, sizeof buf, f, a);
-	return buf;
-}
-
 std::string speed(int64_t virtual_ns, int64_t wall_ns)
 {
 	if (wall_ns <= 0)
 		return "";
 	double x = (double)virtual_ns / (double)wall_ns;
-	return fmt(x >= 100 ? "%.0fx real time" : x >= 10 ? "%.1fx real time" : "%.3gx real time", x);
+	return format_number(x >= 100 ? "%.0fx real time" : x >= 10 ? "%.1fx real time" : "%.3gx real time", x);
 }
 
 std::string how_it_ended(const ControllerReport &c)
@@ -81,12 +74,12 @@ std::string summary(const RunReport &r, int mode)
 		double secs = (double)c.virtual_ns / 1e9;
 		s += "; " + std::to_string(cycles) + (c.periodic_waits ? " periodic" : "") + " waits";
 		if (secs > 0 && cycles > 0)
-			s += fmt(" (%.1f Hz)", (double)cycles / secs);
+			s += format_number(" (%.1f Hz)", (double)cycles / secs);
 		if (c.periodic_waits)
 			s += ", " + std::to_string(c.deadline_misses) + " deadline misses";
 		s += "; CPU " + format_duration(c.charged_ns);
 		if (c.virtual_ns > 0)
-			s += fmt(" (%.1f %%)", 100.0 * (double)c.charged_ns / (double)c.virtual_ns);
+			s += format_number(" (%.1f %%)", 100.0 * (double)c.charged_ns / (double)c.virtual_ns);
 		if (!c.attached && c.dropped.empty())
 			s += "; never loaded libtcs_preload";
 		s += "\n";

@@ -1,5 +1,5 @@
 """meson install into any prefix gives a tcs-run that finds its own
-preload library, with its man page and protocol headers beside it."""
+preload library, tcs-trace, their man pages and the protocol headers."""
 
 import glob
 import os
@@ -26,7 +26,12 @@ def test_installed_tcs_run_finds_its_preload():
         check(r.returncode == 0, "the installed tcs-run runs a controller", r)
         check(r.stdout.strip().startswith(root) and r.stdout.strip().endswith("/tcs/libtcs_preload.so"),
               "with the installed preload library", r)
-        check(glob.glob(os.path.join(root, "**", "man1", "tcs-run.1"), recursive=True), "the man page")
+        for page in ("tcs-run.1", "tcs-trace.1"):
+            check(glob.glob(os.path.join(root, "**", "man1", page), recursive=True), "the man page " + page)
+        tools = glob.glob(os.path.join(root, "**", "bin", "tcs-trace"), recursive=True)
+        check(len(tools) == 1, "tcs-trace installed")
+        r = run([tools[0], "--version"])
+        check(r.returncode == 0 and r.stdout.startswith("tcs-trace "), "and it runs", r)
         check(glob.glob(os.path.join(root, "**", "include", "tcs", "protocol.h"), recursive=True), "headers")
         check(glob.glob(os.path.join(root, "**", "include", "tcs", "simhost.h"), recursive=True),
               "the simulation plug-in ABI")

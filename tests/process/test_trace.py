@@ -9,10 +9,11 @@ import signal
 import subprocess
 import time
 
-from harness import TCS_RUN, assert_nothing_left, check, main, start, tcs
+from harness import TCS_RUN, assert_nothing_left, check, main, run, start, tcs
 
 PD = os.path.join(os.environ.get("TCS_EXAMPLES", "."), "pendulum_pd")
 CHECK = os.environ.get("TCS_MCAP_CHECK", "tests/mcap/check.mjs")
+TCS_TRACE = os.environ.get("TCS_TRACE", "tcs-trace")
 
 
 def read_trace(path, complete=True):
@@ -29,8 +30,9 @@ def test_trace_of_a_pendulum_run():
         check(r.returncode == 0, "the traced run succeeds", r)
         t = read_trace(path)
         print("  %d messages, %d bytes: %s" % (t["messages"], os.path.getsize(path), t["topics"]))
-        check(t["channels"] == t["schemas"] == 5, "five topics, each with its schema", r)
+        check(t["channels"] == t["schemas"] == 6, "six topics, each with its schema", r)
         topics = t["topics"]
+        check(topics["/tcs/controller"] == 1, "the controller described once")
         check(topics["/tcs/step"] == topics["/clock"] >= 2000, "a step and a clock message per step")
         check(abs(topics["/tcs/wait"] - 2000) <= 2, "a wait per control cycle")
         check(abs(topics["/tcs/device"] - 2000) <= 2, "a command per control cycle")
@@ -53,6 +55,10 @@ def test_trace_survives_sigkill():
         t = read_trace(path, complete=False)
         print("  killed after %d bytes: %d messages readable" % (os.path.getsize(path), t["messages"]))
         check(t["messages"] > 1000 and t["truncated"], "all but the last chunk is readable")
+        r = run([TCS_TRACE, "summary", "--json", path])
+        check(r.returncode == 0, "tcs-trace summarises it", r)
+        s = json.loads(r.stdout)
+        check(s["truncated"] and s["controllers"][0]["cycles"] > 100, "as far as it goes", r)
     finally:
         if os.path.exists(path):
             os.unlink(path)

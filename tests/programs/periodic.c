@@ -1,5 +1,7 @@
-/* periodic HZ SECONDS ROUNDS: a periodic control loop as found on robots.
- * Every 1/HZ it does ROUNDS of work(), then sleeps with clock_nanosleep
+/* periodic HZ SECONDS WORK: a periodic control loop as found on robots.
+ * Every 1/HZ it does WORK: ROUNDS of work(), or, written "300us", that much
+ * of its own CPU time (the process CPU-time clock, which tcs virtualises:
+ * so the work costs exactly that much virtual CPU). Then it sleeps with clock_nanosleep
  * (TIMER_ABSTIME, CLOCK_MONOTONIC) until its next release; a release already
  * past counts as a deadline miss (the loop then runs late, as on hardware).
  * Stops after SECONDS of its own monotonic clock and prints what it saw.
@@ -7,6 +9,7 @@
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 #include "work.h"
@@ -14,15 +17,23 @@
 int main(int argc, char **argv)
 {
 	if (argc != 4) {
-		fprintf(stderr, "usage: periodic HZ SECONDS ROUNDS\n");
+		fprintf(stderr, "usage: periodic HZ SECONDS ROUNDS|MICROSECONDSus\n");
 		return 2;
 	}
 	long long period = (long long)(1e9 / atof(argv[1]));
 	long long duration = (long long)(atof(argv[2]) * 1e9);
-	unsigned long long rounds = strtoull(argv[3], NULL, 10);
+	char *unit;
+	unsigned long long rounds = strtoull(argv[3], &unit, 10);
+	long long cpu_work = strcmp(unit, "us") == 0 ? (long long)rounds * 1000 : -1;
 	long long start = clock_ns(CLOCK_MONOTONIC), next = start, loops = 0, misses = 0, failures = 0;
 	while (clock_ns(CLOCK_MONOTONIC) - start < duration) {
-		work(rounds);
+		if (cpu_work >= 0) {
+			long long c0 = clock_ns(CLOCK_PROCESS_CPUTIME_ID);
+			while (clock_ns(CLOCK_PROCESS_CPUTIME_ID) - c0 < cpu_work)
+				work(100);
+		} else {
+			work(rounds);
+		}
 		loops++;
 		next += period;
 		if (clock_ns(CLOCK_MONOTONIC) > next)

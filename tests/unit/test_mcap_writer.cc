@@ -37,6 +37,8 @@ extern "C" {
 #include <cmocka.h>
 }
 
+#include "result_checks.h"
+
 #include "mcap_writer.h"
 
 namespace {
@@ -77,24 +79,6 @@ void spit(const std::string &path, const uint8_t *data, size_t size)
 	assert_int_equal(std::fclose(f), 0);
 }
 
-#define CHECK_OK(expr)                                                                          \
-	do {                                                                                    \
-		auto r_ = (expr);                                                               \
-		if (!r_.ok()) {                                                                 \
-			print_error("%s failed: %s\n", #expr, r_.error().message.c_str());      \
-			fail();                                                                 \
-		}                                                                               \
-	} while (0)
-
-template <class T> T must(tcs::Result<T> r, const char *what)
-{
-	if (!r.ok()) {
-		print_error("%s failed: %s\n", what, r.error().message.c_str());
-		fail();
-	}
-	return std::move(*r);
-}
-#define MUST(expr) must((expr), #expr)
 
 // The textbook bit-at-a-time CRC-32, to check the writer's table-driven one.
 uint32_t ref_crc32(const uint8_t *p, size_t n)

@@ -20,13 +20,19 @@ extern "C" {
 #endif
 
 #define TCS_PAGE_MAGIC 0x70736374u /* "tcsp" */
-#define TCS_PAGE_VERSION 2u
+#define TCS_PAGE_VERSION 3u
 #define TCS_PAGE_SIZE 4096
 
 enum tcs_mode {
 	TCS_MODE_CPU = 0,      /* virtual time advances with the CPU consumed */
 	TCS_MODE_LOCKSTEP = 1, /* computation is free; only waits advance time */
 };
+
+/* flags: an absolute wait whose deadline has already passed (a deadline
+ * miss) goes to the coordinator, which answers at once, instead of returning
+ * without a round trip: set when a trace is written, so it records each miss
+ * with the time it happened. */
+#define TCS_PAGE_REPORT_MISSES 1u
 
 /* The seqlock-protected part: where the current slice started. */
 struct tcs_slice {
@@ -40,7 +46,7 @@ struct tcs_clock_page {
 	uint32_t magic;
 	uint32_t version;
 	uint32_t mode;
-	uint32_t reserved0;
+	uint32_t flags;         /* TCS_PAGE_* */
 	double cpu_scale;
 	int64_t mono_origin_ns; /* real CLOCK_MONOTONIC at V = 0 */
 	int64_t real_origin_ns; /* CLOCK_REALTIME at V = 0: the epoch */

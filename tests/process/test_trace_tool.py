@@ -1,0 +1,300 @@
+"""tcs-trace (DESIGN.md §6): its summary checked against runs whose figures
+are known in advance (a loop whose work is a fixed amount of its own,
+virtualised, CPU time), exports that parse, plots that are images, and a
+clear error for every file that is not a readable tcs trace."""
+
+import csv
+import io
+import json
+import os
+import struct
+import subprocess
+import tempfile
+import xml.etree.ElementTree as ET
+
+from harness import check, close_to, main, prog, run, scenario_file, tcs
+
+TCS_TRACE = os.environ.get("TCS_TRACE", "tcs-trace")
+CHECK = os.environ.get("TCS_MCAP_CHECK", "tests/mcap/check.mjs")
+TMP = tempfile.mkdtemp(prefix="tcs-test-trace-tool-")
+
+
+def trace_tool(*args, timeout=60, env=None):
+    return run([TCS_TRACE] + [str(a) for a in args], timeout=timeout, env=env)
+
+
+def traced_run(name, *args, timeout=120):
+    """Runs tcs-run ARGS with a trace; returns (trace path, tcs-run result)."""
+    path = os.path.join(TMP, name + ".mcap")
+    r = tcs("-t", path, *args, timeout=timeout)
+    check(r.returncode == 0, "the traced run succeeds", r)
+    return path, r
+
+
+def summary(path):
+    r = trace_tool("summary", "--json", path)
+    check(r.returncode == 0, "tcs-trace summary --json succeeds", r)
+    return json.loads(r.stdout)
+
+
+def assert_error(r, *words):
+    """Exit 2 and one line on stderr that says what is wrong (and, for a
+    mistake in the command line, a line pointing at --help)."""
+    lines = r.stderr.strip().splitlines()
+    check(r.returncode == 2, "exit status 2", r)
+    check(lines and lines[0].startswith("tcs-trace: "), "an error line", r)
+    check(lines[1:] in ([], ["Try 'tcs-trace --help' for more information."]), "nothing else", r)
+    for w in words:
+        check(w in lines[0], "the error says %r" % w, r)
+
+
+_on_time = []
+
+
+def on_time_trace():
+    """A 1 kHz loop doing 300 us of CPU per cycle for 2 s: the program's
+    own counts are printed too. Made once, shared by several tests."""
+    if not _on_time:
+        _on_time.append(traced_run("on-time", "--", prog("periodic"), 1000, 2, "300us"))
+    return _on_time[0]
+
+
+def test_summary_of_a_loop_that_keeps_its_deadlines():
+    path, r = on_time_trace()
+    own = r.values()
+    s = summary(path)
+    c = s["controllers"][0]
+    print("  %d cycles at %.3f Hz, %d misses, charged %.1f ms, period p50/p99/max %d/%d/%d ns" %
+          (c["cycles"], c["rate_hz"], c["deadline_misses"], c["charged_cpu_ns"] / 1e6,
+           c["period"]["p50_ns"], c["period"]["p99_ns"], c["period"]["max_ns"]))
+    check(not s["truncated"] and c["periodic"], "a complete trace of a periodic loop")
+    check(c["cycles"] == int(own["loops"]), "one cycle per loop the program counted (%s)" % own["loops"])
+    check(c["deadline_misses"] == int(own["misses"]) == 0, "no deadline missed")
+    check(c["asked_period_ns"] == 1000000, "the period it asked for: 1 ms")
+    close_to(c["rate_hz"], 1000, 0.001, "loop rate")
+    check(c["period"]["p50_ns"] == c["period"]["max_ns"] == 1000000, "every period exactly 1 ms of virtual time")
+    # 2000 cycles x 300 us, plus the program's start and its loop's own cost.
+    expected = c["cycles"] * 300e3
+    check(expected <= c["charged_cpu_ns"] <= expected * 1.05 + 3e6,
+          "charged CPU %.1f ms for %.1f ms of work" % (c["charged_cpu_ns"] / 1e6, expected / 1e6))
+    check(s["timing_error"] < 1e-6, "cpu mode: computing costs exactly the CPU charged")
+    check(1.9e9 < s["virtual_ns"] < 2.1e9 and s["wall_ns"] > 0, "virtual and wall time of the run")
+    check(s["steps"] >= 1999 and s["step_wall_cost"]["min_ns"] > 0, "the world's steps and their wall cost")
+    text = trace_tool("summary", path)
+    check(text.returncode == 0 and "kept every deadline" in text.stdout and "1000.0 Hz" in text.stdout,
+          "the text summary gives the verdict", text)
+
+
+def test_summary_of_an_overloaded_loop():
+    # 1.5 ms of work per 1 ms period: it runs at 2/3 of its rate and misses
+    # every deadline, in cpu mode; lockstep (computation free) hides it.
+    path, r = traced_run("overloaded", "--", prog("periodic"), 1000, 2, "1500us")
+    own = r.values()
+    c = summary(path)["controllers"][0]
+    print("  cpu mode: %d cycles at %.2f Hz, %d misses, CPU %.1f %% of %.3f s" %
+          (c["cycles"], c["rate_hz"], c["deadline_misses"], 100.0 * c["charged_cpu_ns"] / c["span_ns"],
+           c["span_ns"] / 1e9))
+    check(c["cycles"] == int(own["loops"]) and c["deadline_misses"] == int(own["misses"]),
+          "cycles and misses as the program counted them (%s, %s)" % (own["loops"], own["misses"]))
+    close_to(c["rate_hz"], 1000 / 1.5, 0.01, "loop rate")
+    check(c["deadline_misses"] >= c["cycles"] - 1, "every deadline missed")
+    close_to(c["period"]["p50_ns"], 1.5e6, 0.01, "period")
+    close_to(c["charged_cpu_ns"] / c["span_ns"], 1.0, 0.01, "busy all the time")
+
+    path, r = traced_run("lockstep", "-m", "lockstep", "--", prog("periodic"), 1000, 1, "1500us")
+    s = summary(path)
+    c = s["controllers"][0]
+    print("  lockstep: %d cycles at %.2f Hz, %d misses, timing error %.1f %%" %
+          (c["cycles"], c["rate_hz"], c["deadline_misses"], 100 * s["timing_error"]))
+    check(c["mode"] == "lockstep" and c["deadline_misses"] == 0, "lockstep: no miss")
+    close_to(c["rate_hz"], 1000, 0.001, "lockstep: the full rate")
+    close_to(c["charged_cpu_ns"], c["cycles"] * 1.5e6, 0.05, "lockstep still charges the CPU")
+    check(s["timing_error"] > 0.99, "lockstep: computing took no virtual time at all")
+
+
+def test_summary_of_preempted_controllers():
+    # Two controllers on one core: each is preempted when the other is due.
+    with scenario_file('''
+[sim]
+step = "1ms"
+model = "pendulum"
+[[controller]]
+command = "%s 1000 1 700us"
+[[controller]]
+command = "%s 250 1 2000us"
+cpu_scale = 2.0
+''' % (prog("periodic"), prog("periodic"))) as world:
+        path, _ = traced_run("two", "-w", world, "-q")
+    s = summary(path)
+    check(len(s["controllers"]) == 2, "both controllers")
+    a, b = s["controllers"]
+    for c in (a, b):
+        print("  %s at %.1f Hz: %d misses, %d preemptions, overshoot p50 %d ns, p99 %d ns" %
+              (c["name"].split("/")[-1], c["rate_hz"], c["deadline_misses"], c["preemptions"],
+               c["overshoot"]["p50_ns"], c["overshoot"]["p99_ns"]))
+        check(c["overshoot"]["count"] == c["preemptions"], "an overshoot per preemption")
+        check(c["overshoot"]["min_ns"] >= 0, "a preemption comes after the budget, never before")
+    check(b["cpu_scale"] == 2.0 and a["cpu_scale"] == 1.0, "each controller's CPU scale")
+    check(a["preemptions"] + b["preemptions"] > 0, "controllers were preempted")
+    close_to(a["rate_hz"], 1000, 0.002, "the 1 kHz one keeps its rate")
+    close_to(b["rate_hz"], 250, 0.002, "the 250 Hz one keeps its rate")
+    check(a["deadline_misses"] == b["deadline_misses"] == 0, "neither misses a deadline")
+    close_to(b["charged_cpu_ns"], b["cycles"] * 2e6, 0.05, "2 ms of virtual CPU per cycle, at scale 2")
+
+
+def test_exports_parse():
+    path, _ = on_time_trace()
+    counts = mcap_counts(path)
+    out = os.path.join(TMP, "slices.csv")
+    r = trace_tool("export", path, "--format", "csv", "-o", out)
+    check(r.returncode == 0, "csv export", r)
+    with open(out, newline="") as f:
+        rows = list(csv.DictReader(f))
+    check(len(rows) == counts["/tcs/slice"], "a row per slice")
+    check(all(int(x["v_end_ns"]) >= int(x["v_start_ns"]) for x in rows), "numeric columns")
+    check({"blocked"} <= {x["end"] for x in rows}, "the end column")
+
+    r = trace_tool("export", path, "-f", "csv", "--topic", "/tcs/step")
+    rows = list(csv.DictReader(io.StringIO(r.stdout)))
+    check(r.returncode == 0 and len(rows) == counts["/tcs/step"], "steps to stdout, a row per step", r)
+    check("joints.pendulum.hinge.position" in rows[0], "joint states flattened into columns")
+
+    r = trace_tool("export", path, "-f", "json")
+    check(r.returncode == 0, "json export", r)
+    doc = json.loads(r.stdout)
+    check(len(doc["messages"]) == sum(counts.values()), "every message in the JSON export")
+    check({m["topic"] for m in doc["messages"]} == set(counts), "with its topic")
+
+    out = os.path.join(TMP, "trace.json")
+    r = trace_tool("export", path, "-f", "chrome", "-o", out)
+    check(r.returncode == 0, "chrome export", r)
+    with open(out) as f:
+        events = json.load(f)["traceEvents"]
+    names = {e["args"]["name"] for e in events if e["ph"] == "M" and e["name"] == "thread_name"}
+    check("simulation" in names and any(n.startswith("controller 1: ") for n in names),
+          "one track per controller and one for the simulation: %s" % names)
+    spans = [e for e in events if e["ph"] == "X"]
+    check(all(e["dur"] >= 0 and "ts" in e and "tid" in e for e in spans), "complete events")
+    check(sum(1 for e in spans if e.get("cat") == "slice") == counts["/tcs/slice"], "every slice")
+    check(sum(1 for e in spans if e.get("cat") == "simulation") == counts["/tcs/step"], "every step")
+    check(any(e["ph"] == "C" for e in events), "joint states as counters")
+
+
+def test_plots_are_images():
+    path, _ = on_time_trace()
+    for kind in ("timing", "disparity", "error", "joints"):
+        png = os.path.join(TMP, kind + ".png")
+        r = trace_tool("plot", path, "-o", png, "--kind", kind)
+        check(r.returncode == 0, "plot %s" % kind, r)
+        with open(png, "rb") as f:
+            data = f.read()
+        check(data[:8] == b"\x89PNG\r\n\x1a\n", "a PNG")
+        width, height = struct.unpack(">II", data[16:24])
+        check(width >= 600 and height >= 400 and len(data) > 5000, "%s: a real picture, %dx%d, %d bytes" %
+              (kind, width, height, len(data)))
+        svg = os.path.join(TMP, kind + ".svg")
+        r = trace_tool("plot", path, "-o", svg, "-k", kind)
+        check(r.returncode == 0, "svg %s" % kind, r)
+        root = ET.parse(svg).getroot()
+        check(root.tag.endswith("svg") and len(list(root.iter())) > 20, "an SVG with something drawn")
+    r = trace_tool("plot", path, "-o", os.path.join(TMP, "x.png"), env={"PATH": "/nonexistent"})
+    assert_error(r, "gnuplot not found")
+
+
+def test_killed_run_is_summarised():
+    # A trace cut short (as a SIGKILLed run leaves it) is read as far as it goes.
+    path, _ = on_time_trace()
+    with open(path, "rb") as f:
+        data = f.read()
+    cut = os.path.join(TMP, "cut.mcap")
+    with open(cut, "wb") as f:
+        f.write(data[:len(data) * 2 // 3])
+    s = summary(cut)
+    check(s["truncated"] and 0 < s["controllers"][0]["cycles"] < 2000, "a truncated trace's figures", s)
+    text = trace_tool("summary", cut)
+    check("not closed" in text.stdout, "the text says the trace was not closed", text)
+
+
+def test_bad_files_and_usage():
+    missing = os.path.join(TMP, "missing.mcap")
+    assert_error(trace_tool("summary", missing), missing, "No such file")
+    text = os.path.join(TMP, "notes.txt")
+    with open(text, "w") as f:
+        f.write("not a trace\n")
+    assert_error(trace_tool("summary", text), "not an MCAP file")
+    assert_error(trace_tool("export", text, "-f", "csv"), "not an MCAP file")
+
+    foreign = os.path.join(TMP, "foreign.mcap")
+    with open(foreign, "wb") as f:
+        f.write(minimal_mcap())
+    assert_error(trace_tool("summary", foreign), "not a tcs trace")
+
+    path, _ = on_time_trace()
+    with open(path, "rb") as f:
+        data = bytearray(f.read())
+    # Bytes changed inside the first chunk: its data no longer decompress
+    # or no longer match their CRC.
+    start, length = first_chunk(data)
+    for at in (start + length // 3, start + length // 2):
+        for i in range(at, at + 16):
+            data[i] ^= 0x5A
+        bad = os.path.join(TMP, "corrupt.mcap")
+        with open(bad, "wb") as f:
+            f.write(data)
+        assert_error(trace_tool("summary", bad), bad + ": at byte ")
+        assert_error(trace_tool("export", bad, "-f", "json"), bad + ": at byte ")
+
+    out = os.path.join(TMP, "never.csv")
+    assert_error(trace_tool("export", missing, "-f", "csv", "-o", out), "No such file")
+    check(not os.path.exists(out), "a failed export leaves no file behind")
+    assert_error(trace_tool("frobnicate", path), "unknown command")
+    assert_error(trace_tool("summary"), "no trace file")
+    assert_error(trace_tool("plot", path), "-o")
+    assert_error(trace_tool("plot", path, "-o", os.path.join(TMP, "x.jpg")), "png or .svg")
+    assert_error(trace_tool("plot", path, "-o", os.path.join(TMP, "x.png"), "-k", "pie"), "pie")
+    assert_error(trace_tool("export", path), "--format")
+    assert_error(trace_tool("export", path, "-f", "xml"), "xml")
+    check(trace_tool("--help").stdout.startswith("Usage: tcs-trace"), "--help")
+
+
+def mcap_counts(path):
+    """Messages per topic, as the official reader counts them."""
+    r = subprocess.run(["node", CHECK, "--complete", path], capture_output=True, text=True, timeout=120)
+    check(r.returncode == 0, "the official reader reads it: " + r.stdout + r.stderr)
+    return json.loads(r.stdout.strip().splitlines()[-1])["topics"]
+
+
+def first_chunk(data):
+    """(offset, length) of the first Chunk record of an MCAP file."""
+    at = 8
+    while at + 9 <= len(data):
+        op, length = data[at], struct.unpack("<Q", data[at + 1:at + 9])[0]
+        if op == 0x06:
+            return at, length
+        at += 9 + length
+    raise AssertionError("no chunk")
+
+
+def minimal_mcap():
+    """A valid MCAP file that someone else wrote: a Header, one channel
+    without messages, a Footer."""
+    def record(op, body):
+        return bytes([op]) + struct.pack("<Q", len(body)) + body
+
+    def string(s):
+        return struct.pack("<I", len(s)) + s.encode()
+    magic = b"\x89MCAP0\r\n"
+    header = record(0x01, string("") + string("someone else"))
+    channel = record(0x04, struct.pack("<HH", 1, 0) + string("/camera") + string("json") + struct.pack("<I", 0))
+    data_end = record(0x0F, struct.pack("<I", 0))
+    footer = record(0x02, struct.pack("<QQI", 0, 0, 0))
+    return magic + header + channel + data_end + footer + magic
+
+
+if __name__ == "__main__":
+    try:
+        main(globals())
+    finally:
+        for name in os.listdir(TMP):
+            os.unlink(os.path.join(TMP, name))
+        os.rmdir(TMP)
