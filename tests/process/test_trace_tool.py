@@ -28,6 +28,7 @@ def traced_run(name, *args, timeout=120):
     path = os.path.join(TMP, name + ".mcap")
     r = tcs("-t", path, *args, timeout=timeout)
     check(r.returncode == 0, "the traced run succeeds", r)
+    mcap_counts(path)  # the official reader reads it, message by message
     return path, r
 
 
