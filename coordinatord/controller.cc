@@ -42,7 +42,10 @@ Result<std::unique_ptr<Controller>> Controller::start(int id, const ControllerSp
 	c->page_->magic = TCS_PAGE_MAGIC;
 	c->page_->version = TCS_PAGE_VERSION;
 	c->page_->mode = (uint32_t)mode;
-	c->page_->flags = spec.report_misses ? TCS_PAGE_REPORT_MISSES : 0;
+	c->page_->flags = (spec.report_misses ? TCS_PAGE_REPORT_MISSES : 0) |
+			  (rt.cpu_estimate && mode == TCS_MODE_CPU ? TCS_PAGE_CPU_ESTIMATE : 0);
+	c->page_->tsc_mult = rt.tsc_mult;
+	c->page_->tsc_resync = rt.tsc_resync;
 	c->page_->cpu_scale = spec.cpu_scale;
 	c->page_->mono_origin_ns = origins.mono_ns;
 	c->page_->real_origin_ns = origins.real_ns;
@@ -113,6 +116,11 @@ void Controller::account(int64_t cpu, int mode)
 	charged = std::max(charged, tcs_ns_add(slice_.charged_base, used));
 	if (mode == TCS_MODE_CPU)
 		v = std::max(v, tcs_ns_add(slice_.v_base, used));
+}
+
+void Controller::coordinator_ran()
+{
+	tcs_page_bump_gen(page_);
 }
 
 uint64_t Controller::quick_waits() const

@@ -70,6 +70,9 @@ public:
 	int64_t slice_cpu(int64_t cpu) const;
 	// Closes the slice at cpu: v and charged move forward, never back.
 	void account(int64_t cpu, int mode);
+	// The coordinator ran on the controller's core: its CPU-time estimates
+	// from before are stale (TCS_PAGE_CPU_ESTIMATE).
+	void coordinator_ran();
 	uint64_t quick_waits() const;
 	uint64_t past_deadlines() const;
 

@@ -97,6 +97,12 @@ Status Coordinator::init()
 	tai_offset = (tai_offset + TCS_NS_PER_S / 2) / TCS_NS_PER_S * TCS_NS_PER_S;
 	origins_.tai_ns = origins_.real_ns + tai_offset;
 
+	// The coordinator shares the running controller's core: each time it
+	// wakes, that controller's CPU-time estimates (cpu_estimate.c) are off.
+	loop_.set_on_wake([this] {
+		if (running_)
+			running_->coordinator_ran();
+	});
 	Status st = Ok{};
 	auto watch = [&](int fd, EventLoop::Handler h) {
 		if (st)

@@ -42,6 +42,8 @@ Status EventLoop::dispatch(int timeout_ms)
 			return Ok{};
 		return errno_error("epoll_wait");
 	}
+	if (on_wake_)
+		on_wake_();
 	for (int i = 0; i < n; i++) {
 		// A handler may have removed a later fd of this batch: look it up now.
 		auto it = handlers_.find(evs[i].data.fd);

@@ -18,10 +18,13 @@ public:
 	Status init();
 	Status add(int fd, Handler handler);
 	void remove(int fd);
-	// Waits for events (timeout_ms < 0: forever) and runs their handlers.
+	// Waits for events (timeout_ms < 0: forever) and runs their handlers,
+	// after on_wake if set.
 	Status dispatch(int timeout_ms = -1);
+	void set_on_wake(std::function<void()> f) { on_wake_ = std::move(f); }
 
 private:
+	std::function<void()> on_wake_;
 	UniqueFd epoll_;
 	std::unordered_map<int, Handler> handlers_;
 };

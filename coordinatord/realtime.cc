@@ -2,9 +2,14 @@
 #include "realtime.h"
 
 #include <sched.h>
+#include <time.h>
+#if defined(__x86_64__)
+#include <x86intrin.h>
+#endif
 
 #include <cerrno>
 #include <cstring>
+#include <fstream>
 
 namespace tcs {
 
@@ -13,6 +18,52 @@ namespace {
 // own threaded interrupt handlers (50), which must keep running.
 constexpr int kCoordinatorPrio = 3;
 constexpr int kControllerPrio = 2;
+
+// The TSC rate against CLOCK_MONOTONIC_RAW over 2 ms, where the CPU says
+// its TSC is invariant (constant rate, running in every C-state) and the
+// kernel keeps time with it.
+void calibrate_tsc(RealtimePlan &plan)
+{
+#if defined(__x86_64__)
+	std::ifstream info("/proc/cpuinfo");
+	std::string line;
+	bool constant = false, nonstop = false;
+	while (std::getline(info, line) && !(constant && nonstop)) {
+		if (line.rfind("flags", 0) != 0)
+			continue;
+		constant = line.find(" constant_tsc") != std::string::npos;
+		nonstop = line.find(" nonstop_tsc") != std::string::npos;
+	}
+	std::ifstream source("/sys/devices/system/clocksource/clocksource0/current_clocksource");
+	std::string clocksource;
+	source >> clocksource;
+	if (!constant || !nonstop || clocksource != "tsc")
+		return;
+	auto sample = [](uint64_t &tsc, int64_t &ns) {
+		struct timespec ts;
+		uint64_t a = __rdtsc();
+		clock_gettime(CLOCK_MONOTONIC_RAW, &ts);
+		uint64_t b = __rdtsc();
+		tsc = a + (b - a) / 2;
+		ns = (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
+	};
+	uint64_t t0, t1;
+	int64_t n0, n1;
+	sample(t0, n0);
+	struct timespec wait = { 0, 2000000 };
+	while (nanosleep(&wait, &wait) != 0 && errno == EINTR) {
+	}
+	sample(t1, n1);
+	if (t1 <= t0 || n1 <= n0)
+		return;
+	plan.tsc_mult = (uint64_t)(((unsigned __int128)(n1 - n0) << 32) / (t1 - t0));
+	plan.tsc_resync = (uint64_t)((double)(t1 - t0) / (double)(n1 - n0) * 20000.0);
+	plan.cpu_estimate = plan.tsc_mult > 0 && plan.tsc_resync > 0;
+#else
+	(void)plan;
+#endif
+}
+
 } // namespace
 
 RealtimePlan setup_realtime(bool want_fifo)
@@ -39,6 +90,8 @@ RealtimePlan setup_realtime(bool want_fifo)
 	if (sched_setscheduler(0, SCHED_FIFO | SCHED_RESET_ON_FORK, &sp) == 0) {
 		plan.fifo = true;
 		plan.controller_prio = kControllerPrio;
+		if (plan.cpu >= 0)
+			calibrate_tsc(plan);
 	} else {
 		plan.warning = std::string("SCHED_FIFO not permitted (") + std::strerror(errno) +
 			       "): preemption is less precise, CPU accounting stays exact. "

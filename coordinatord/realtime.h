@@ -4,6 +4,7 @@
 // exact either way, only the overshoot of each budget grows.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 namespace tcs {
@@ -13,6 +14,11 @@ struct RealtimePlan {
 	int controller_prio = 0;
 	int cpu = -1;           // the core everything is pinned to, or -1
 	std::string warning;    // non-empty: say it once
+	// Controllers may estimate their CPU time from the TSC between real
+	// readings (TCS_PAGE_CPU_ESTIMATE): pinned, FIFO and an invariant TSC.
+	bool cpu_estimate = false;
+	uint64_t tsc_mult = 0;   // ns per tick, times 2^32
+	uint64_t tsc_resync = 0; // ticks in 20 us
 };
 
 // Applies the plan to the calling process (the coordinator) before any

@@ -69,6 +69,11 @@ int64_t tcs_process_cpu(void) TCS_HIDDEN;
 int64_t tcs_kernel_clock(clockid_t id) TCS_HIDDEN;
 /* The controller's virtual time now. */
 int64_t tcs_vnow(void) TCS_HIDDEN;
+/* v, or the latest virtual time already told if that is later. */
+int64_t tcs_v_not_before(int64_t v) TCS_HIDDEN;
+/* The process's CPU time, estimated without a system call where the clock
+ * page allows it (cpu_estimate.c). */
+int64_t tcs_process_cpu_estimate(void) TCS_HIDDEN;
 /* The virtual CPU time charged to the controller so far. */
 int64_t tcs_charged_now(void) TCS_HIDDEN;
 

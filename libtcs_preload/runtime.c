@@ -58,12 +58,29 @@ int64_t tcs_process_cpu(void)
 	return tcs_kernel_clock(CLOCK_PROCESS_CPUTIME_ID);
 }
 
+/* The latest virtual time this process has been told: estimates of CPU
+ * time (cpu_estimate.c) may run ahead of a later exact reading, and the
+ * clock must not go back. Threads share one core, so a plain load and
+ * store (no locked instruction) keeps it. */
+static int64_t tcs_v_seen;
+
+int64_t tcs_v_not_before(int64_t v)
+{
+	int64_t seen = __atomic_load_n(&tcs_v_seen, __ATOMIC_RELAXED);
+	if (v < seen)
+		return seen;
+	__atomic_store_n(&tcs_v_seen, v, __ATOMIC_RELAXED);
+	return v;
+}
+
 int64_t tcs_vnow(void)
 {
 	const struct tcs_clock_page *p = tcs_rt.page;
 	/* Lockstep needs no CPU reading: the cheapest path of all. */
-	int64_t cpu = p->mode == TCS_MODE_LOCKSTEP ? 0 : tcs_process_cpu();
-	return tcs_page_vnow(p, tcs_page_read_slice(p), cpu);
+	if (p->mode == TCS_MODE_LOCKSTEP)
+		return tcs_page_read_slice(p).v_base;
+	struct tcs_slice s = tcs_page_read_slice(p);
+	return tcs_v_not_before(tcs_page_vnow(p, s, tcs_process_cpu_estimate()));
 }
 
 int64_t tcs_charged_now(void)
@@ -134,7 +151,9 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 	struct tcs_clock_page *p = tcs_rt.page;
 	int64_t cpu = tcs_process_cpu();
 	int64_t v = tcs_page_vnow(p, tcs_page_read_slice(p), cpu);
-	int64_t deadline = t->relative ? tcs_ns_add(v, t->deadline) : t->deadline;
+	/* A relative wait counts from the latest time the program was told,
+	 * so it never sees a sleep end before it should have. */
+	int64_t deadline = t->relative ? tcs_ns_add(tcs_v_not_before(v), t->deadline) : t->deadline;
 	t->deadline = deadline;
 	t->relative = 0;
 	t->start = v;

@@ -67,6 +67,19 @@ def test_clocks_never_go_backwards_under_preemption():
 
 
 
+def test_time_outside_the_cpu_costs_nothing_and_never_goes_back():
+    # A raw nanosleep (no hook sees it) takes no CPU: 5 ms of it may cost
+    # only the CPU of the call itself, whether clock reads are estimated
+    # from the TSC between real readings (SCHED_FIFO) or all real.
+    for env in ({}, {"TCS_NO_FIFO": "1"}):
+        r = tcs("-q", prog("raw_block"), 5, env=env)
+        v = r.values()
+        print("  %s: a 5 ms raw sleep cost %.1f us of virtual time; %s clock reads, %s backwards" %
+              ("estimated" if not env else "exact", int(v["raw_sleep_virtual_ns"]) / 1e3, v["reads"], v["backwards"]))
+        check(int(v["raw_sleep_virtual_ns"]) < 300000, "a raw sleep costs (almost) no virtual time", r)
+        check(v["backwards"] == "0", "the clock never went back", r)
+
+
 def test_each_controller_has_its_own_virtual_cpu():
     # Work as a fixed amount of each one's own (virtual) CPU time, so the
     # figures do not depend on this machine's speed of the moment.

@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 #define TCS_PAGE_MAGIC 0x70736374u /* "tcsp" */
-#define TCS_PAGE_VERSION 3u
+#define TCS_PAGE_VERSION 4u
 #define TCS_PAGE_SIZE 4096
 
 enum tcs_mode {
@@ -33,6 +33,11 @@ enum tcs_mode {
  * without a round trip: set when a trace is written, so it records each miss
  * with the time it happened. */
 #define TCS_PAGE_REPORT_MISSES 1u
+/* flags: the controller may estimate its CPU time between readings of its
+ * CPU-time clock from the TSC (see libtcs_preload/cpu_estimate.c): set where
+ * it runs pinned under SCHED_FIFO, so that it uses CPU at the rate wall time
+ * passes whenever the coordinator (which bumps gen) is not running. */
+#define TCS_PAGE_CPU_ESTIMATE 2u
 
 /* The seqlock-protected part: where the current slice started. */
 struct tcs_slice {
@@ -51,11 +56,13 @@ struct tcs_clock_page {
 	int64_t mono_origin_ns; /* real CLOCK_MONOTONIC at V = 0 */
 	int64_t real_origin_ns; /* CLOCK_REALTIME at V = 0: the epoch */
 	int64_t tai_origin_ns;  /* CLOCK_TAI at V = 0 */
-	uint64_t reserved1[4];
+	uint64_t tsc_mult;      /* TCS_PAGE_CPU_ESTIMATE: ns per TSC tick, times 2^32 */
+	uint64_t tsc_resync;    /* TSC ticks after which an estimate is read again */
+	uint64_t reserved1[2];
 
 	/* Coordinator-written under the seqlock. */
 	uint32_t seq;
-	uint32_t reserved2;
+	uint32_t gen; /* bumped whenever the coordinator ran on the controller's core */
 	struct tcs_slice slice;
 	uint64_t reserved3[4];
 
@@ -106,8 +113,10 @@ static inline struct tcs_slice tcs_page_read_slice(const struct tcs_clock_page *
 }
 
 /* Writer side (the coordinator only). */
+static inline void tcs_page_bump_gen(struct tcs_clock_page *p);
 static inline void tcs_page_write_slice(struct tcs_clock_page *p, struct tcs_slice s)
 {
+	tcs_page_bump_gen(p);
 	uint32_t seq = __atomic_load_n(&p->seq, __ATOMIC_RELAXED);
 	__atomic_store_n(&p->seq, seq + 1, __ATOMIC_RELAXED);
 	__atomic_thread_fence(__ATOMIC_RELEASE);
@@ -115,6 +124,13 @@ static inline void tcs_page_write_slice(struct tcs_clock_page *p, struct tcs_sli
 	__atomic_store_n(&p->slice.cpu_base, s.cpu_base, __ATOMIC_RELAXED);
 	__atomic_store_n(&p->slice.charged_base, s.charged_base, __ATOMIC_RELAXED);
 	__atomic_store_n(&p->seq, seq + 2, __ATOMIC_RELEASE);
+}
+
+/* The coordinator, each time it runs while the controller may be mid-slice
+ * (and with each new slice): estimates made before are stale. */
+static inline void tcs_page_bump_gen(struct tcs_clock_page *p)
+{
+	__atomic_store_n(&p->gen, __atomic_load_n(&p->gen, __ATOMIC_RELAXED) + 1, __ATOMIC_RELEASE);
 }
 
 /* Virtual time of a controller whose process CPU clock reads cpu_now. */

@@ -1,0 +1,64 @@
+/* The process's CPU time without a system call, for cpu-mode clock reads.
+ *
+ * Reading CLOCK_PROCESS_CPUTIME_ID is a system call (~240 ns here, 12x a
+ * native vDSO clock read). Where the coordinator pins a controller to one
+ * core under SCHED_FIFO (TCS_PAGE_CPU_ESTIMATE), the process uses CPU at
+ * exactly the rate the TSC advances, except while the coordinator runs on
+ * that core (it bumps the page's gen each time, and with each new slice) or
+ * while the process sleeps in the kernel outside tcs's hooks. So each thread
+ * keeps an anchor — a real reading and the TSC at that moment — and
+ * extrapolates from it with the TSC, taking a real reading again when gen
+ * changed or the anchor is older than tsc_resync ticks (20 us). An estimate
+ * is at most a system call's return below the truth, and at most tsc_resync
+ * above it (the process slept in the kernel, or was throttled); tcs_vnow()
+ * keeps the clock from going back when a new reading corrects it. */
+#include "preload.h"
+
+#if defined(__x86_64__)
+#include <x86intrin.h>
+
+struct tcs_anchor {
+	uint64_t tsc;
+	int64_t cpu;
+	uint32_t gen;
+	uint8_t valid;
+	uint8_t busy; /* being rewritten: a signal handler must not use it */
+};
+
+static __thread struct tcs_anchor tcs_anchor __attribute__((tls_model("initial-exec")));
+
+int64_t tcs_process_cpu_estimate(void)
+{
+	const struct tcs_clock_page *p = tcs_rt.page;
+	struct tcs_anchor *a = &tcs_anchor;
+	if (!(p->flags & TCS_PAGE_CPU_ESTIMATE) || a->busy)
+		return tcs_process_cpu();
+	uint32_t gen = __atomic_load_n(&p->gen, __ATOMIC_ACQUIRE);
+	uint64_t now = __rdtsc();
+	if (a->valid && gen == a->gen && now - a->tsc < p->tsc_resync)
+		return a->cpu + (int64_t)(((unsigned __int128)(now - a->tsc) * p->tsc_mult) >> 32);
+	/* gen read before the real reading: a coordinator run after it makes
+	 * the next read take a real reading again. */
+	a->busy = 1;
+	__atomic_signal_fence(__ATOMIC_SEQ_CST);
+	int64_t cpu = tcs_process_cpu();
+	uint64_t after = __rdtsc();
+	if (cpu >= 0) {
+		a->tsc = after;
+		a->cpu = cpu;
+		a->gen = gen;
+		a->valid = 1;
+	}
+	__atomic_signal_fence(__ATOMIC_SEQ_CST);
+	a->busy = 0;
+	return cpu;
+}
+
+#else
+
+int64_t tcs_process_cpu_estimate(void)
+{
+	return tcs_process_cpu();
+}
+
+#endif
