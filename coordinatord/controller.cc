@@ -43,7 +43,8 @@ Result<std::unique_ptr<Controller>> Controller::start(int id, const ControllerSp
 	c->page_->version = TCS_PAGE_VERSION;
 	c->page_->mode = (uint32_t)mode;
 	c->page_->flags = (spec.report_misses ? TCS_PAGE_REPORT_MISSES : 0) |
-			  (rt.cpu_estimate && mode == TCS_MODE_CPU ? TCS_PAGE_CPU_ESTIMATE : 0);
+			  (rt.cpu_estimate ? TCS_PAGE_CPU_ESTIMATE : 0) |
+			  (rt.fifo && rt.cpu >= 0 ? TCS_PAGE_FIFO : 0);
 	c->page_->tsc_mult = rt.tsc_mult;
 	c->page_->tsc_resync = rt.tsc_resync;
 	c->page_->cpu_scale = spec.cpu_scale;
@@ -58,6 +59,7 @@ Result<std::unique_ptr<Controller>> Controller::start(int id, const ControllerSp
 		snprintf(e.path, sizeof e.path, "%s", d.cfg.path.c_str());
 		e.kind = (uint32_t)d.cfg.kind;
 		e.format = (uint32_t)d.cfg.format;
+		e.latest = d.cfg.latest ? 1 : 0;
 	}
 
 	SpawnRequest req;

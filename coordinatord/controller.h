@@ -90,6 +90,7 @@ public:
 	const char *wait_kind = "";
 	int64_t wait_requested_at = 0;
 	bool wait_absolute = false;
+	int64_t cpu_at_block = -1; // its CPU clock when its running slice ended in a wait (-1: none)
 	int64_t checked_used = -1;  // slice CPU at the last budget check (-1: none yet)
 	int64_t lag_ns = 0;         // learnt wall-versus-CPU lag of a slice
 	int64_t check_interval = 0; // wall time until the next check

@@ -65,6 +65,10 @@ Status Timer::init()
 
 void Timer::arm(int64_t ns, int64_t interval_ns)
 {
+	if (ns <= 0 && !armed_)
+		return;
+	armed_ = ns > 0;
+	periodic_ = interval_ns > 0;
 	struct itimerspec its = {};
 	its.it_value = tcs_ns_to_ts(ns);
 	its.it_interval = tcs_ns_to_ts(interval_ns);
@@ -74,7 +78,10 @@ void Timer::arm(int64_t ns, int64_t interval_ns)
 bool Timer::consume()
 {
 	uint64_t n;
-	return read(fd_.get(), &n, sizeof n) == (ssize_t)sizeof n;
+	bool fired = read(fd_.get(), &n, sizeof n) == (ssize_t)sizeof n;
+	if (fired && !periodic_)
+		armed_ = false;
+	return fired;
 }
 
 } // namespace tcs

@@ -41,6 +41,10 @@ public:
 
 private:
 	UniqueFd fd_;
+	// May have an expiry pending: disarming a timer that cannot costs no
+	// system call (the scheduler disarms on every wait).
+	bool armed_ = false;
+	bool periodic_ = false;
 };
 
 } // namespace tcs

@@ -250,7 +250,10 @@ void Coordinator::resume(Controller &c, int64_t target)
 {
 	idle_timer_.disarm();
 	// c is held by SIGSTOP or waiting for its WAKE: its CPU clock is still.
-	int64_t cpu = c.cpu_now();
+	// Waking from a wait: its CPU clock has stood still since the BLOCK
+	// (but for the hook's own tail, which the hook's mark excludes anyway).
+	int64_t cpu = c.cpu_at_block >= 0 ? c.cpu_at_block : c.cpu_now();
+	c.cpu_at_block = -1;
 	c.publish_slice(cpu);
 	if (trace_.is_open()) {
 		c.trace_cpu_start = cpu;
@@ -354,6 +357,7 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m)
 		int64_t cpu = c.cpu_now();
 		c.account(std::min<int64_t>(m.cpu, cpu), cfg_.mode);
 		trace_slice_end(c, "blocked", cpu);
+		c.cpu_at_block = cpu;
 	}
 	// (Ready: the budget ran out just as it began to wait; SIGSTOP has
 	// already closed its slice.)

@@ -12,7 +12,8 @@
 /* fd -> device handle + 1 (0: not a device). fds beyond the table are
  * never devices: open() moves a device fd below it if it must. */
 static int32_t tcs_fd_handle[TCS_DEVICE_FD_MAX];
-static uint8_t tcs_fd_kind[TCS_DEVICE_FD_MAX]; /* enum tcs_device_kind */
+static uint8_t tcs_fd_kind[TCS_DEVICE_FD_MAX]; /* enum tcs_device_kind, | TCS_FD_STREAM */
+#define TCS_FD_STREAM 0x80 /* a stream sensor: records in the fd are due */
 static int tcs_open_devices;
 
 int tcs_device_lookup(const char *path)
@@ -41,7 +42,12 @@ int tcs_device_handle(int fd)
 
 int tcs_device_kind(int fd)
 {
-	return tcs_device_handle(fd) < 0 ? 0 : tcs_fd_kind[fd];
+	return tcs_device_handle(fd) < 0 ? 0 : tcs_fd_kind[fd] & ~TCS_FD_STREAM;
+}
+
+int tcs_device_streams(int fd)
+{
+	return tcs_device_handle(fd) >= 0 && (tcs_fd_kind[fd] & TCS_FD_STREAM);
 }
 
 int tcs_devices_open(void)
@@ -79,7 +85,7 @@ long tcs_device_open(int dev, int oflags)
 		return -EBUSY;
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_DEV_OPEN, 0), w;
 	m.arg = dev;
-	m.cpu = tcs_process_cpu();
+	m.cpu = tcs_process_cpu_estimate();
 	m.v = tcs_page_vnow(tcs_rt.page, tcs_page_read_slice(tcs_rt.page), m.cpu);
 	m.flags = (uint16_t)((access == O_RDONLY ? TCS_DEV_READ : TCS_DEV_WRITE) |
 			     ((oflags & O_NONBLOCK) ? TCS_DEV_NONBLOCK : 0));
@@ -102,7 +108,7 @@ long tcs_device_open(int dev, int oflags)
 		tcs_sys3(SYS_fcntl, fd, F_SETFL, O_NONBLOCK);
 	if (!(oflags & O_CLOEXEC))
 		tcs_sys3(SYS_fcntl, fd, F_SETFD, 0);
-	tcs_fd_kind[fd] = (uint8_t)e->kind;
+	tcs_fd_kind[fd] = (uint8_t)(e->kind | (e->kind == TCS_DEVICE_SENSOR && !e->latest ? TCS_FD_STREAM : 0));
 	__atomic_store_n(&tcs_fd_handle[fd], (int32_t)w.arg + 1, __ATOMIC_RELAXED);
 	__atomic_add_fetch(&tcs_open_devices, 1, __ATOMIC_RELAXED);
 	return fd;
@@ -112,7 +118,7 @@ long tcs_device_sync_held(int handle, int fd, unsigned kind)
 {
 	long fl = fd >= 0 ? tcs_sys3(SYS_fcntl, fd, F_GETFL, 0) : 0;
 	struct tcs_clock_page *p = tcs_rt.page;
-	int64_t cpu = tcs_process_cpu();
+	int64_t cpu = tcs_process_cpu_estimate();
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_DEV_SYNC, 0), w;
 	m.kind = (uint16_t)kind;
 	m.flags = (uint16_t)((fl > 0 && (fl & O_NONBLOCK)) ? TCS_DEV_NONBLOCK : 0);

@@ -16,6 +16,8 @@ long tcs_device_open(int dev, int oflags) TCS_HIDDEN;
 int tcs_device_handle(int fd) TCS_HIDDEN;
 /* The kind of device fd is (TCS_DEVICE_SENSOR/ACTUATOR), or 0. */
 int tcs_device_kind(int fd) TCS_HIDDEN;
+/* Whether fd is a stream sensor, whose records in the fd are all due. */
+int tcs_device_streams(int fd) TCS_HIDDEN;
 /* How many device fds are open (then readiness checks must sync). */
 int tcs_devices_open(void) TCS_HIDDEN;
 /* fd was closed / `to` became a copy of `from`. */

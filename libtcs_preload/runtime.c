@@ -149,7 +149,9 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 	     const sigset_t *mask)
 {
 	struct tcs_clock_page *p = tcs_rt.page;
-	int64_t cpu = tcs_process_cpu();
+	/* The charge up to here (the coordinator bounds it by its own reading
+	 * of the CPU clock), and virtual time from it in cpu mode. */
+	int64_t cpu = tcs_process_cpu_estimate();
 	int64_t v = tcs_page_vnow(p, tcs_page_read_slice(p), cpu);
 	/* A relative wait counts from the latest time the program was told,
 	 * so it never sees a sleep end before it should have. */
@@ -201,8 +203,11 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 		nfds = 1;
 	}
 	unsigned early = 0;
+	/* Under SCHED_FIFO on our core the coordinator ran as soon as we sent:
+	 * a reply it could give at once is already there. */
+	int look_first = (tcs_rt.page->flags & TCS_PAGE_FIFO) != 0;
 	for (;;) {
-		if (!early) {
+		if (!early && !look_first) {
 			fds[0].fd = tcs_rt.channel_fd;
 			fds[0].events = POLLIN;
 			fds[0].revents = 0;
@@ -226,7 +231,12 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 		mh.msg_iovlen = 1;
 		mh.msg_control = control.buf;
 		mh.msg_controllen = sizeof control.buf;
-		long r = tcs_sys3(SYS_recvmsg, tcs_rt.channel_fd, &mh, MSG_CMSG_CLOEXEC);
+		long r = tcs_sys3(SYS_recvmsg, tcs_rt.channel_fd, &mh, MSG_CMSG_CLOEXEC | (look_first ? MSG_DONTWAIT : 0));
+		if (look_first) {
+			look_first = 0;
+			if (r == -EAGAIN)
+				continue; /* not yet: wait for it in ppoll */
+		}
 		if (r == -EINTR) {
 			if (!early) {
 				early = TCS_EARLY_SIGNAL;

@@ -38,6 +38,11 @@ enum tcs_mode {
  * it runs pinned under SCHED_FIFO, so that it uses CPU at the rate wall time
  * passes whenever the coordinator (which bumps gen) is not running. */
 #define TCS_PAGE_CPU_ESTIMATE 2u
+/* flags: the coordinator shares the controller's core at a higher SCHED_FIFO
+ * priority, so it has answered a request the coordinator can answer at once
+ * by the time the controller's send returns: look for the reply before
+ * waiting for it. */
+#define TCS_PAGE_FIFO 4u
 
 /* The seqlock-protected part: where the current slice started. */
 struct tcs_slice {

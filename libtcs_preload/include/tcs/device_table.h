@@ -30,6 +30,8 @@ struct tcs_device_entry {
 	char path[TCS_DEVICE_PATH_MAX]; /* absolute, NUL-terminated */
 	uint32_t kind;                  /* enum tcs_device_kind */
 	uint32_t format;                /* enum tcs_device_format */
+	uint32_t latest;                /* sensor: every read is answered with the world now */
+	uint32_t reserved;
 };
 
 struct tcs_device_table {
