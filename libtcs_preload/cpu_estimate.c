@@ -15,30 +15,18 @@
 #include "preload.h"
 
 #if defined(__x86_64__)
-#include <x86intrin.h>
 
-struct tcs_anchor {
-	uint64_t tsc;
-	int64_t cpu;
-	uint32_t gen;
-	uint8_t valid;
-	uint8_t busy; /* being rewritten: a signal handler must not use it */
-};
+__thread struct tcs_anchor tcs_anchor;
 
-static __thread struct tcs_anchor tcs_anchor __attribute__((tls_model("initial-exec")));
-
-int64_t tcs_process_cpu_estimate(void)
+int64_t tcs_process_cpu_resync(void)
 {
 	const struct tcs_clock_page *p = tcs_rt.page;
 	struct tcs_anchor *a = &tcs_anchor;
 	if (!(p->flags & TCS_PAGE_CPU_ESTIMATE) || a->busy)
 		return tcs_process_cpu();
-	uint32_t gen = __atomic_load_n(&p->gen, __ATOMIC_ACQUIRE);
-	uint64_t now = __rdtsc();
-	if (a->valid && gen == a->gen && now - a->tsc < p->tsc_resync)
-		return a->cpu + (int64_t)(((unsigned __int128)(now - a->tsc) * p->tsc_mult) >> 32);
 	/* gen read before the real reading: a coordinator run after it makes
 	 * the next read take a real reading again. */
+	uint32_t gen = __atomic_load_n(&p->gen, __ATOMIC_ACQUIRE);
 	a->busy = 1;
 	__atomic_signal_fence(__ATOMIC_SEQ_CST);
 	int64_t cpu = tcs_process_cpu();
@@ -52,13 +40,6 @@ int64_t tcs_process_cpu_estimate(void)
 	__atomic_signal_fence(__ATOMIC_SEQ_CST);
 	a->busy = 0;
 	return cpu;
-}
-
-#else
-
-int64_t tcs_process_cpu_estimate(void)
-{
-	return tcs_process_cpu();
 }
 
 #endif

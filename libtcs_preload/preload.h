@@ -67,13 +67,49 @@ static inline int tcs_active(void)
 int64_t tcs_process_cpu(void) TCS_HIDDEN;
 /* A clock read straight from the kernel, in ns; -errno on failure. */
 int64_t tcs_kernel_clock(clockid_t id) TCS_HIDDEN;
-/* The controller's virtual time now. */
-int64_t tcs_vnow(void) TCS_HIDDEN;
-/* v, or the latest virtual time already told if that is later. */
-int64_t tcs_v_not_before(int64_t v) TCS_HIDDEN;
+/* The latest virtual time this process has been told (see tcs_vnow). */
+extern int64_t tcs_v_seen TCS_HIDDEN;
+/* v, or the latest virtual time already told if that is later. Threads
+ * share one core, so a plain load and store (no locked instruction) keep
+ * it. */
+static inline int64_t tcs_v_not_before(int64_t v)
+{
+	int64_t seen = __atomic_load_n(&tcs_v_seen, __ATOMIC_RELAXED);
+	if (v < seen)
+		return seen;
+	__atomic_store_n(&tcs_v_seen, v, __ATOMIC_RELAXED);
+	return v;
+}
+
 /* The process's CPU time, estimated without a system call where the clock
- * page allows it (cpu_estimate.c). */
-int64_t tcs_process_cpu_estimate(void) TCS_HIDDEN;
+ * page allows it (cpu_estimate.c): inline, as clock reads are hot. */
+#if defined(__x86_64__)
+#include <x86intrin.h>
+struct tcs_anchor {
+	uint64_t tsc; /* when cpu was read */
+	int64_t cpu;
+	uint32_t gen; /* the page's gen then */
+	uint8_t valid;
+	uint8_t busy; /* being rewritten: a signal handler must not use it */
+};
+extern __thread struct tcs_anchor tcs_anchor TCS_HIDDEN __attribute__((tls_model("initial-exec")));
+int64_t tcs_process_cpu_resync(void) TCS_HIDDEN;
+static inline int64_t tcs_process_cpu_estimate(void)
+{
+	const struct tcs_clock_page *p = tcs_rt.page;
+	const struct tcs_anchor *a = &tcs_anchor;
+	uint64_t now = __rdtsc();
+	if (a->valid && !a->busy && __atomic_load_n(&p->gen, __ATOMIC_ACQUIRE) == a->gen &&
+	    now - a->tsc < p->tsc_resync)
+		return a->cpu + (int64_t)(((unsigned __int128)(now - a->tsc) * p->tsc_mult) >> 32);
+	return tcs_process_cpu_resync();
+}
+#else
+static inline int64_t tcs_process_cpu_estimate(void)
+{
+	return tcs_process_cpu();
+}
+#endif
 /* The virtual CPU time charged to the controller so far. */
 int64_t tcs_charged_now(void) TCS_HIDDEN;
 
@@ -150,6 +186,17 @@ static inline int tcs_errno_result(long r)
 static inline int tcs_is_runtime_fd(int fd)
 {
 	return fd >= 0 && (fd == tcs_rt.channel_fd || fd == tcs_rt.page_fd);
+}
+
+/* The controller's virtual time now: inline, as clock reads are hot. */
+static inline int64_t tcs_vnow(void)
+{
+	const struct tcs_clock_page *p = tcs_rt.page;
+	/* Lockstep needs no CPU reading: the cheapest path of all. */
+	if (p->mode == TCS_MODE_LOCKSTEP)
+		return tcs_page_read_slice(p).v_base;
+	struct tcs_slice s = tcs_page_read_slice(p);
+	return tcs_v_not_before(tcs_page_vnow(p, s, tcs_process_cpu_estimate()));
 }
 
 #endif

@@ -58,30 +58,9 @@ int64_t tcs_process_cpu(void)
 	return tcs_kernel_clock(CLOCK_PROCESS_CPUTIME_ID);
 }
 
-/* The latest virtual time this process has been told: estimates of CPU
- * time (cpu_estimate.c) may run ahead of a later exact reading, and the
- * clock must not go back. Threads share one core, so a plain load and
- * store (no locked instruction) keeps it. */
-static int64_t tcs_v_seen;
-
-int64_t tcs_v_not_before(int64_t v)
-{
-	int64_t seen = __atomic_load_n(&tcs_v_seen, __ATOMIC_RELAXED);
-	if (v < seen)
-		return seen;
-	__atomic_store_n(&tcs_v_seen, v, __ATOMIC_RELAXED);
-	return v;
-}
-
-int64_t tcs_vnow(void)
-{
-	const struct tcs_clock_page *p = tcs_rt.page;
-	/* Lockstep needs no CPU reading: the cheapest path of all. */
-	if (p->mode == TCS_MODE_LOCKSTEP)
-		return tcs_page_read_slice(p).v_base;
-	struct tcs_slice s = tcs_page_read_slice(p);
-	return tcs_v_not_before(tcs_page_vnow(p, s, tcs_process_cpu_estimate()));
-}
+/* Estimates of CPU time (cpu_estimate.c) may run ahead of a later exact
+ * reading, and the clock must not go back: tcs_v_not_before(). */
+int64_t tcs_v_seen;
 
 int64_t tcs_charged_now(void)
 {

@@ -1,0 +1,279 @@
+#!/usr/bin/env python3
+"""The performance suite: every figure of tcs against a baseline measured in
+the same run, as a ratio (absolute times mean little on a shared machine).
+Runs the benchmark programs of bench/ and the tools of a build, prints one
+table (figure, tcs, baseline, ratio, target) and writes it as JSON.
+
+    bench/run.py [--build DIR] [--json FILE] [--quick] [--only NAME,...]
+
+Nothing here is a test: a figure that misses its target is marked, and the
+exit status is 0 all the same (docs/PERFORMANCE.md explains the misses)."""
+
+import argparse
+import datetime
+import json
+import os
+import platform
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+LIBFAKETIME = "/usr/lib/x86_64-linux-gnu/faketime/libfaketime.so.1"
+
+
+class Bench:
+    def __init__(self, build, quick):
+        self.build = build
+        self.quick = quick
+        self.rounds = 3 if quick else 7
+        self.tmp = tempfile.mkdtemp(prefix="tcs-bench-")
+
+    def path(self, *parts):
+        return os.path.join(self.build, *parts)
+
+    def run(self, args, env=None, timeout=600):
+        full = dict(os.environ)
+        full.update(env or {})
+        t0 = time.monotonic()
+        r = subprocess.run([str(a) for a in args], capture_output=True, text=True, env=full, timeout=timeout,
+                           stdin=subprocess.DEVNULL)
+        wall = time.monotonic() - t0
+        if r.returncode != 0:
+            raise RuntimeError("%s failed (exit %d): %s" % (" ".join(map(str, args)), r.returncode,
+                                                            (r.stderr or r.stdout)[-500:]))
+        return r, wall
+
+    def values(self, args, env=None):
+        r, _ = self.run(args, env)
+        return {k: float(v) for k, v in re.findall(r"([A-Za-z_]\w*)=([-0-9.e+]+)", r.stdout)}
+
+    def tcs(self, *args):
+        return [self.path("tools", "tcs-run")] + list(args)
+
+    def interleaved(self, makers):
+        """Runs each (name, fn) once per round, interleaved; the median of each."""
+        got = {name: [] for name, _ in makers}
+        for _ in range(self.rounds):
+            for name, fn in makers:
+                got[name].append(fn())
+        return {name: statistics.median(v) for name, v in got.items()}, got
+
+
+def row(name, tcs, unit, baseline, baseline_name, ratio, target, ok, note=""):
+    return {"figure": name, "tcs": tcs, "unit": unit, "baseline": baseline, "baseline_name": baseline_name,
+            "ratio": ratio, "target": target, "meets_target": ok, "note": note}
+
+
+def clock_reads(b):
+    n = 2000000 if b.quick else 10000000
+    prog = b.path("bench", "clock_cost")
+    makers = [
+        ("native", lambda: b.values([prog, n])["clock_gettime_ns"]),
+        ("cpu", lambda: b.values(b.tcs("-q", prog, n))["clock_gettime_ns"]),
+        ("lockstep", lambda: b.values(b.tcs("-q", "-m", "lockstep", prog, n))["clock_gettime_ns"]),
+    ]
+    if os.path.exists(LIBFAKETIME):
+        makers.append(("libfaketime", lambda: b.values([prog, n], env={"LD_PRELOAD": LIBFAKETIME,
+                                                                        "FAKETIME": "+0"})["clock_gettime_ns"]))
+    m, _ = b.interleaved(makers)
+    rows = []
+    for mode in ("cpu", "lockstep"):
+        rows.append(row("clock_gettime(CLOCK_MONOTONIC), %s mode" % mode, m[mode], "ns", m["native"],
+                        "native vDSO call", m[mode] / m["native"], "<= 1.0x native", m[mode] <= m["native"]))
+        if "libfaketime" in m:
+            rows.append(row("clock_gettime(CLOCK_MONOTONIC), %s mode" % mode, m[mode], "ns", m["libfaketime"],
+                            "libfaketime (Debian)", m[mode] / m["libfaketime"], "< 1.0x libfaketime",
+                            m[mode] < m["libfaketime"]))
+    if "libfaketime" not in m:
+        rows.append(row("clock_gettime vs libfaketime", None, "ns", None, "libfaketime (Debian)", None,
+                        "< 1.0x libfaketime", None, "libfaketime not installed (apt-get install faketime)"))
+    return rows
+
+
+def sleep_round_trip(b):
+    n = 20000 if b.quick else 100000
+    m, _ = b.interleaved([
+        ("pingpong", lambda: b.values([b.path("bench", "seqpacket_pingpong"), n])["seqpacket_roundtrip_ns"]),
+        ("tcs", lambda: b.values(b.tcs("-q", "-m", "lockstep", b.path("bench", "sleep_roundtrip"), n))
+         ["sleep_roundtrip_ns"]),
+    ])
+    return [row("virtual sleep round trip, lockstep", m["tcs"], "ns", m["pingpong"],
+                "same-core SOCK_SEQPACKET ping-pong", m["tcs"] / m["pingpong"], "<= 1.5x",
+                m["tcs"] <= 1.5 * m["pingpong"], "world: the built-in pendulum, stepped once per 1000 sleeps")]
+
+
+def pendulum_speed(b):
+    seconds = 20 if b.quick else 60
+    pd = b.path("examples", "pendulum_pd")
+    rows = []
+    for mode, target in (("lockstep", 50), ("cpu", 20)):
+        walls = [b.run(b.tcs("-q", "-m", mode, "-d", "%ds" % seconds, pd))[1] for _ in range(min(b.rounds, 5))]
+        wall = statistics.median(walls)
+        rows.append(row("1 kHz pendulum controller, %d s virtual, %s mode" % (seconds, mode), wall, "s wall",
+                        seconds, "real time (s)", seconds / wall, ">= %dx faster than real time" % target,
+                        seconds / wall >= target))
+    return rows
+
+
+def preemption_overshoot(b):
+    periodic = b.path("tests", "programs", "periodic")
+    world = os.path.join(b.tmp, "two.toml")
+    with open(world, "w") as f:
+        f.write('[sim]\nstep = "1ms"\nmodel = "pendulum"\n'
+                '[[controller]]\ncommand = "%s 1000 5 700us"\n'
+                '[[controller]]\ncommand = "%s 250 5 2000us"\n' % (periodic, periodic))
+    trace = os.path.join(b.tmp, "two.mcap")
+    b.run(b.tcs("-q", "-w", world, "-t", trace))
+    s = json.loads(b.run([b.path("tools", "trace", "tcs-trace"), "summary", "--json", trace])[0].stdout)
+    # Pooled over both controllers: each preemption's overshoot, p50 and p99
+    # taken per controller, the worse one reported.
+    p50 = max(c["overshoot"]["p50_ns"] for c in s["controllers"])
+    p99 = max(c["overshoot"]["p99_ns"] for c in s["controllers"])
+    n = sum(c["preemptions"] for c in s["controllers"])
+    # The floor: how late a SCHED_FIFO timer wakes its process on this
+    # machine while a lower-priority one computes on the same core.
+    floor = b.values([b.path("bench", "timer_latency")])
+    step = 1e6
+    note = "%d preemptions of two controllers sharing a core; p99 is %.0f %% of the step" % (n, 100 * p99 / step)
+    return [row("preemption overshoot p50", p50 / 1e3, "us", floor["timer_late_p50_ns"] / 1e3,
+                "timer wake-up latency p50 (us)", p50 / floor["timer_late_p50_ns"], "(p99 is the target)", None,
+                note),
+            row("preemption overshoot p99", p99 / 1e3, "us", floor["timer_late_p99_ns"] / 1e3,
+                "timer wake-up latency p99 (us)", p99 / floor["timer_late_p99_ns"], "<= 5 % of a 1 ms step",
+                p99 <= 0.05 * step, note)]
+
+
+def timing_error(b):
+    seconds = 20 if b.quick else 100
+    trace = os.path.join(b.tmp, "long.mcap")
+    b.run(b.tcs("-q", "-t", trace, "--", b.path("tests", "programs", "periodic"), 1000, seconds, "100us"))
+    s = json.loads(b.run([b.path("tools", "trace", "tcs-trace"), "summary", "--json", trace])[0].stdout)
+    c = s["controllers"][0]
+    err = s["timing_error"]
+    period_err = abs(c["period"]["p50_ns"] - c["asked_period_ns"]) / c["asked_period_ns"]
+    rate_err = abs(c["rate_hz"] * c["asked_period_ns"] / 1e9 - 1)
+    return [row("aggregate timing error, %d s at 1 kHz (10 %% work)" % seconds, 100 * err, "%",
+                c["charged_cpu_ns"] / 1e9, "charged CPU (s)", err, "<= 0.1 %", err <= 0.001,
+                "virtual time while computing vs CPU charged"),
+            row("loop rate error, same run", c["rate_hz"], "Hz", 1e9 / c["asked_period_ns"], "asked rate (Hz)",
+                rate_err, "(the paper: < 2 %)", rate_err < 0.02,
+                "%d cycles, %d misses, period p50 off by %.2g" % (c["cycles"], c["deadline_misses"], period_err))]
+
+
+def box_world(b):
+    prog = b.path("bench", "ode_boxes_ratio")
+    if not os.path.exists(prog):
+        return [row("simhost step, 1000 boxes", None, "us", None, "plain ODE program", None, "<= 1.05x", None,
+                    "bench/ode_boxes_ratio not built")]
+    v = b.values([prog] + (["--steps", "600", "--rounds", "2"] if b.quick else []))
+    tcs_us, plain_us = v["simhost_step_ns_median"] / 1e3, v["plain_step_ns_median"] / 1e3
+    return [row("simhost step, 1000-box world", tcs_us, "us", plain_us, "the same world, plain ODE program",
+                v["ratio"], "<= 1.05x", v["ratio"] <= 1.05,
+                "same state bit for bit" if v.get("same_state") == 1 else "STATES DIFFER")]
+
+
+def peak_memory(b):
+    pd = b.path("examples", "pendulum_pd")
+    args = b.tcs("-q", "-d", "10s", pd)
+    pid = os.fork()
+    if pid == 0:
+        devnull = os.open(os.devnull, os.O_RDWR)
+        for fd in (0, 1, 2):
+            os.dup2(devnull, fd)
+        os.execv(args[0], args)
+    _, status, usage = os.wait4(pid, 0)
+    if os.waitstatus_to_exitcode(status) != 0:
+        raise RuntimeError("tcs-run failed")
+    # ru_maxrss of tcs-run and the children it waited for (the controller
+    # is far smaller): the coordinator's peak.
+    kib = usage.ru_maxrss
+    return [row("coordinator peak memory, pendulum run", kib / 1024, "MiB", None, "-", None, "<= 32 MiB",
+                kib <= 32 * 1024, "ru_maxrss of tcs-run (coordinator in-process)")]
+
+
+def trace_cost(b):
+    pd = b.path("examples", "pendulum_pd")
+    trace = os.path.join(b.tmp, "cost.mcap")
+    seconds = 10 if b.quick else 30
+    m, _ = b.interleaved([
+        ("plain", lambda: b.run(b.tcs("-q", "-d", "%ds" % seconds, pd))[1]),
+        ("traced", lambda: b.run(b.tcs("-q", "-d", "%ds" % seconds, "-t", trace, pd))[1]),
+    ])
+    kb = os.path.getsize(trace) / 1e3 / seconds  # per 1000 cycles
+    return [row("--trace, 1 kHz pendulum", m["traced"], "s wall", m["plain"], "the same run untraced",
+                m["traced"] / m["plain"], "< 1.10x", m["traced"] / m["plain"] < 1.10,
+                "%.0f KB of trace per 1,000 cycles" % kb)]
+
+
+BENCHES = [("clock", clock_reads), ("sleep", sleep_round_trip), ("pendulum", pendulum_speed),
+           ("overshoot", preemption_overshoot), ("error", timing_error), ("boxes", box_world),
+           ("memory", peak_memory), ("trace", trace_cost)]
+
+
+def machine():
+    model = ""
+    try:
+        with open("/proc/cpuinfo") as f:
+            model = next((l.split(":", 1)[1].strip() for l in f if l.startswith("model name")), "")
+    except OSError:
+        pass
+    virt = subprocess.run(["systemd-detect-virt"], capture_output=True, text=True).stdout.strip() \
+        if os.path.exists("/usr/bin/systemd-detect-virt") else ""
+    return {"cpu": model, "cores": os.cpu_count(), "kernel": platform.release(),
+            "virtualization": virt or "unknown", "date": datetime.datetime.now(datetime.timezone.utc).isoformat()}
+
+
+def fmt(x, unit=""):
+    if x is None:
+        return "-"
+    if isinstance(x, float):
+        return ("%.3g" % x) if abs(x) < 1000 else ("%.0f" % x)
+    return str(x)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--build", default="build", help="the meson build directory (default: build)")
+    ap.add_argument("--json", help="where to write the table as JSON (default: BUILD/bench-results.json)")
+    ap.add_argument("--quick", action="store_true", help="fewer rounds and shorter runs")
+    ap.add_argument("--only", help="comma-separated: " + ",".join(n for n, _ in BENCHES))
+    args = ap.parse_args()
+    if not os.path.exists(os.path.join(args.build, "tools", "tcs-run")):
+        sys.exit("bench/run.py: no tcs-run in %s: build first (meson setup %s && ninja -C %s)" %
+                 (args.build, args.build, args.build))
+    b = Bench(os.path.abspath(args.build), args.quick)
+    only = set(args.only.split(",")) if args.only else None
+    info = machine()
+    print("tcs performance, %s, %s cores, kernel %s (%s), %s" %
+          (info["cpu"], info["cores"], info["kernel"], info["virtualization"], info["date"][:19]), flush=True)
+    rows = []
+    for name, fn in BENCHES:
+        if only and name not in only:
+            continue
+        t0 = time.monotonic()
+        print("  running %-10s ..." % name, end="", flush=True, file=sys.stderr)
+        try:
+            rows += fn(b)
+        except Exception as e:  # a benchmark that cannot run is reported, the rest go on
+            rows.append(row(name, None, "", None, "", None, "", False, "FAILED: %s" % e))
+        print(" %.1f s" % (time.monotonic() - t0), file=sys.stderr, flush=True)
+    head = ("figure", "tcs", "unit", "baseline", "ratio", "target", "")
+    table = [head] + [(r["figure"], fmt(r["tcs"]), r["unit"], fmt(r["baseline"]) + (" (%s)" % r["baseline_name"]
+                                                                                 if r["baseline_name"] else ""),
+                       fmt(r["ratio"]), r["target"],
+                       {True: "ok", False: "MISSED", None: ""}[r["meets_target"]] +
+                       ("  " + r["note"] if r["note"] else "")) for r in rows]
+    widths = [max(len(t[i]) for t in table) for i in range(len(head) - 1)]
+    for t in table:
+        print("  ".join(t[i].ljust(widths[i]) for i in range(len(head) - 1)) + "  " + t[-1])
+    out = args.json or os.path.join(args.build, "bench-results.json")
+    with open(out, "w") as f:
+        json.dump({"machine": info, "quick": args.quick, "rows": rows}, f, indent=1)
+    print("written: %s" % out)
+
+
+if __name__ == "__main__":
+    main()
