@@ -1,24 +1,27 @@
 #!/usr/bin/env bash
 # The README's two commands. On a fresh Debian 12 machine (as root) this
 # installs the Debian packages tcs needs, builds it, and then either runs
-# the demo (the pendulum experiment under tcs-run in the built-in world) or
-# the whole test suite.
+# the demo (the pendulum experiment under tcs-run in the built-in world),
+# the whole test suite, or the performance suite (bench/run.py, which also
+# wants libfaketime as a baseline).
 #
 #   tools/bootstrap.sh demo
 #   tools/bootstrap.sh test
+#   tools/bootstrap.sh bench [bench/run.py options]
 #
 # TCS_BUILD_DIR picks the build directory (default: build).
 set -euo pipefail
 
 cd "$(dirname "$0")/.."
 what=${1:-}
-if [[ $what != demo && $what != test ]]; then
-	echo "usage: tools/bootstrap.sh demo|test" >&2
+if [[ $what != demo && $what != test && $what != bench ]]; then
+	echo "usage: tools/bootstrap.sh demo|test|bench" >&2
 	exit 2
 fi
 
 packages=(gcc g++ libc6-dev binutils pkg-config meson ninja-build python3 libcmocka-dev util-linux
 	libode-dev libccd-dev libeigen3-dev libtomlplusplus-dev libzstd-dev gnuplot-nox)
+[[ $what == bench ]] && packages+=(faketime)
 missing=()
 for p in "${packages[@]}"; do
 	dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -72,6 +75,11 @@ if [[ $what == demo ]]; then
 	echo "overloaded controller looks perfect."
 	run --cpu-scale 6 -m lockstep -- "$pd" --seconds 10 --work-us 300
 	exit 0
+fi
+
+if [[ $what == bench ]]; then
+	shift
+	exec python3 bench/run.py --build "$build" "$@"
 fi
 
 status=0
