@@ -171,13 +171,9 @@ Result<RunReport> Coordinator::run()
 			r.virtual_ns = std::max(r.virtual_ns, c->v);
 	r.wall_ns = clock_ns(CLOCK_MONOTONIC) - wall_start_;
 	r.steps = steps_;
-	if (!step_walls_.empty()) {
-		std::vector<int64_t> w = step_walls_;
-		std::sort(w.begin(), w.end());
-		r.step_wall_min = w.front();
-		r.step_wall_median = w[w.size() / 2];
-		r.step_wall_max = w.back();
-	}
+	r.step_wall_min = step_walls_.min();
+	r.step_wall_median = step_walls_.median();
+	r.step_wall_max = step_walls_.max();
 	r.realtime = rt_;
 	for (auto &c : ctls_) {
 		ControllerReport cr;

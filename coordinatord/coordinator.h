@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "controller.h"
+#include "duration_stats.h"
 #include "device.h"
 #include "sim_world.h"
 #include "trace.h"
@@ -148,7 +149,7 @@ private:
 	std::vector<BoundDevice> devices_;
 	// Actuator commands not yet in force: (virtual time, device, values).
 	std::deque<std::tuple<int64_t, BoundDevice *, std::vector<double>>> commands_;
-	std::vector<int64_t> step_walls_;
+	DurationStats step_walls_; // wall cost of each world step
 	Trace trace_;
 	std::vector<size_t> joint_signals_;
 	std::vector<std::string> warned_;

@@ -229,7 +229,7 @@ Status Coordinator::step_world()
 		apply_commands(sim_ns_);
 		if (auto s = world_->step(); !s)
 			return s;
-		step_walls_.push_back(world_->last_step_wall_ns());
+		step_walls_.add(world_->last_step_wall_ns());
 		if (trace_.is_open()) {
 			std::vector<double> joints;
 			joints.reserve(joint_signals_.size());
