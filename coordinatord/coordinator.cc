@@ -24,6 +24,8 @@ int64_t clock_ns(clockid_t id)
 }
 
 constexpr int64_t kProgressPeriod = 250 * TCS_NS_PER_MS;
+// Messages a controller may send without an answer (see on_channel).
+constexpr int kMaxUnanswered = 3;
 // How long controllers get to act on SIGTERM at the end before SIGKILL.
 constexpr int64_t kEndGrace = 2 * TCS_NS_PER_S;
 
@@ -44,7 +46,7 @@ Status Coordinator::init()
 		return Error{ "the simulation step must be positive" };
 	if (auto s = loop_.init(); !s)
 		return s;
-	for (Timer *t : { &budget_timer_, &progress_timer_, &kill_timer_, &idle_timer_ })
+	for (Timer *t : { &budget_timer_, &progress_timer_, &kill_timer_, &idle_timer_, &continue_timer_ })
 		if (auto s = t->init(); !s)
 			return s;
 
@@ -112,6 +114,10 @@ Status Coordinator::init()
 	watch(budget_timer_.fd(), [this](uint32_t) { on_budget(); });
 	watch(progress_timer_.fd(), [this](uint32_t) { on_progress(); });
 	watch(idle_timer_.fd(), [this](uint32_t) { on_idle(); });
+	watch(continue_timer_.fd(), [this](uint32_t) {
+		continue_timer_.consume();
+		schedule();
+	});
 	watch(kill_timer_.fd(), [this](uint32_t) {
 		kill_timer_.consume();
 		for (auto &c : ctls_)
@@ -218,6 +224,14 @@ void Coordinator::on_channel(Controller &c)
 			drop(c, std::string("bad message on its channel: ") + why);
 			return;
 		}
+		// The preload waits for the answer to each request: its HELLO, one
+		// request and the EARLY that may cross the answer are all it can
+		// have outstanding. More is a flood.
+		if (++c.unanswered > kMaxUnanswered) {
+			drop(c, "it floods its channel (" + std::to_string(c.unanswered) +
+					" messages without waiting for an answer)");
+			return;
+		}
 		on_message(c, m);
 		if (c.state == CtlState::Exited)
 			return;
@@ -230,6 +244,10 @@ void Coordinator::on_message(Controller &c, const ::tcs_msg &m)
 	case TCS_MSG_HELLO:
 		if (m.arg != c.pid) {
 			drop(c, "HELLO from pid " + std::to_string(m.arg) + " on pid " + std::to_string(c.pid) + "'s channel");
+			return;
+		}
+		if (c.attached) {
+			drop(c, "it said HELLO twice");
 			return;
 		}
 		c.attached = true;

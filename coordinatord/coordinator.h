@@ -143,6 +143,9 @@ private:
 	Timer progress_timer_;
 	Timer kill_timer_;
 	Timer idle_timer_;
+	// Fires at once: a long way for the world to go is computed in slices
+	// of wall time, with the event loop (signals, deaths) served between.
+	Timer continue_timer_;
 	UniqueFd signal_fd_;
 	std::vector<std::unique_ptr<Controller>> ctls_;
 	std::unique_ptr<SimWorld> world_;

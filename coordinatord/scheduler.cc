@@ -37,6 +37,8 @@ constexpr int64_t kMinSlice = 20 * TCS_NS_PER_US;
 // A controller that made no progress since the last check is asleep in the
 // kernel on something real; check back ever less often, up to this.
 constexpr int64_t kMaxRecheck = 10 * TCS_NS_PER_MS;
+// The longest the world computes before the event loop gets a turn.
+constexpr int64_t kAdvanceSlice = 20 * TCS_NS_PER_MS;
 // A world step that costs more wall time than this is heavy.
 constexpr int64_t kHeavyStep = 100 * TCS_NS_PER_US;
 // Bound on the learnt wall-versus-CPU lag of a slice.
@@ -173,15 +175,25 @@ bool Coordinator::advance_to(int64_t next)
 	bool heavy = world_ && world_->last_step_wall_ns() > kHeavyStep && sim_ns_ < next;
 	if (heavy)
 		coordinator_fifo(rt_, false);
+	// At most a slice of wall time here: the rest after the event loop has
+	// had its turn (a controller asleep for hours must not make tcs deaf to
+	// Ctrl-C or to a controller's death while the world computes them).
+	const int64_t yield_at = wall_now() + kAdvanceSlice;
+	bool yielded = false;
 	while (sim_ns_ < next) {
 		if (auto s = step_world(); !s) {
 			fatal_ = s;
 			break;
 		}
+		if (sim_ns_ < next && wall_now() >= yield_at) {
+			continue_timer_.arm(1);
+			yielded = true;
+			break;
+		}
 	}
 	if (heavy)
 		coordinator_fifo(rt_, true);
-	if (!fatal_)
+	if (!fatal_ || yielded)
 		return false;
 	if (cfg_.duration_ns >= 0 && sim_ns_ >= cfg_.duration_ns) {
 		begin_end(EndReason::Duration);
@@ -211,6 +223,7 @@ void Coordinator::wake(Controller &c, int64_t v, uint16_t reason)
 
 void Coordinator::send_wake(Controller &c)
 {
+	c.unanswered = 0;
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_WAKE, c.wait_seq);
 	m.kind = c.wake_reason;
 	m.v = c.v;

@@ -1,0 +1,78 @@
+"""Faults (issue 6): a controller that crashes, is killed mid-wait, or
+misuses its channel to the coordinator is reported and dropped, the others
+keep their rates, the trace stays complete, and nothing is left behind."""
+
+import json
+import os
+import signal
+import subprocess
+import time
+
+from harness import (TCS_RUN, assert_nothing_left, check, main, prog, scenario_file, session_processes, start,
+                     tcs)
+
+CHECK = os.environ.get("TCS_MCAP_CHECK", "tests/mcap/check.mjs")
+
+# Each misuse and what tcs-run says when it drops the controller for it.
+HOSTILE = {
+    "garbage": "bad message on its channel: bad magic",
+    "short": "bad message on its channel: wrong size",
+    "flood": "it said HELLO twice",
+    "early-flood": "it floods its channel",
+    "pid": "HELLO from pid 1 on pid",
+    "block-twice": "it asked to wait while already waiting",
+    "huge": "it asked to wait while already waiting",
+}
+
+
+def test_hostile_controllers_are_dropped_and_the_others_served():
+    for mode, reason in HOSTILE.items():
+        with scenario_file('[sim]\nstep = "1ms"\nmodel = "pendulum"\n'
+                           '[[controller]]\ncommand = "%s 1000 2 100us"\n'
+                           '[[controller]]\ncommand = "%s %s"\n' % (prog("periodic"), prog("hostile"), mode)) as w:
+            r = tcs("-w", w, timeout=60)
+        lines = [l for l in r.stderr.splitlines() if "hostile" in l and "dropped by tcs" in l]
+        print("  %-12s %s" % (mode, lines[0].split("dropped by tcs: ")[1].split(";")[0] if lines else "NOT DROPPED"))
+        check(r.returncode == 2, "%s: exit 2 (tcs dropped a controller)" % mode, r)
+        check(lines and reason in lines[0], "%s: dropped, saying why" % mode, r)
+        v = r.values()
+        check(v.get("rate_hz") == "1000.000" and v.get("misses") == "0",
+              "%s: the other controller kept its rate" % mode, r)
+        check("hostile: still here" not in r.stdout, "%s: the hostile one did not run on" % mode, r)
+
+
+def test_crash_is_reported_and_the_trace_complete():
+    path = "/tmp/tcs-test-crash-%d.mcap" % os.getpid()
+    try:
+        for how, status, says in (("segv", 139, "killed by SIGSEGV"), ("abort", 134, "killed by SIGABRT")):
+            r = tcs("-t", path, prog("exit_with"), how)
+            check(r.returncode == status, "%s: exit %d" % (how, status), r)
+            check(says in r.stderr, "%s: the summary says how it ended" % how, r)
+            c = subprocess.run(["node", CHECK, "--complete", path], capture_output=True, text=True, timeout=60)
+            check(c.returncode == 0, "the trace is complete: " + c.stdout + c.stderr)
+            check(json.loads(c.stdout)["topics"].get("/tcs/slice", 0) >= 1, "with the controller's slices")
+    finally:
+        if os.path.exists(path):
+            os.unlink(path)
+
+
+def test_controller_killed_mid_wait():
+    for mode in ("cpu", "lockstep"):
+        # Real time passes while it waits on nothing virtual: tcs lets it.
+        p = start([TCS_RUN, "-m", mode, "--", "sleep", "100000"])
+        deadline = time.monotonic() + 10
+        child = None
+        while child is None and time.monotonic() < deadline:
+            child = next((pid for pid, state, name in session_processes(p.pid) if name == "sleep"), None)
+            time.sleep(0.05)
+        check(child is not None, "the controller started")
+        time.sleep(0.2)
+        os.kill(child, signal.SIGKILL)
+        out, err = p.communicate(timeout=10)
+        assert_nothing_left(p.pid)
+        check(p.returncode == 137, "%s: exit 137 (128 + SIGKILL), got %s: %s" % (mode, p.returncode, err))
+        check("killed by SIGKILL" in err, "%s: reported: %s" % (mode, err))
+
+
+if __name__ == "__main__":
+    main(globals())
