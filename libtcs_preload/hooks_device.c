@@ -18,6 +18,7 @@
 
 #include "devices.h"
 #include "raw_syscall.h"
+#include "timerfd.h"
 
 /* ---- open ---------------------------------------------------------------- */
 
@@ -115,6 +116,8 @@ static long tcs_after_write(int fd, long written)
 
 TCS_EXPORT ssize_t read(int fd, void *buf, size_t n)
 {
+	if (tcs_vtimer_of(fd) && tcs_active())
+		return tcs_errno_result(tcs_vtimer_read(fd, buf, n));
 	/* A stream sensor's records already in the fd were due when they were
 	 * put there (at the controller's last wake or sync): they are read
 	 * without a round trip, as from a serial port's buffer. Once it is

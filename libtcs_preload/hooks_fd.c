@@ -7,12 +7,14 @@
 
 #include "devices.h"
 #include "raw_syscall.h"
+#include "timerfd.h"
 
 TCS_EXPORT int close(int fd)
 {
 	if (tcs_is_runtime_fd(fd))
 		return tcs_errno_result(-EBADF);
 	tcs_device_forget(fd);
+	tcs_vtimer_forget(fd);
 	return tcs_errno_result(tcs_sys1(SYS_close, fd));
 }
 
@@ -43,8 +45,10 @@ static long tcs_close_range(unsigned first, unsigned last, unsigned flags)
 
 static void tcs_forget_range(unsigned first, unsigned last)
 {
-	for (unsigned fd = first; fd <= last && fd < TCS_DEVICE_FD_MAX; fd++)
+	for (unsigned fd = first; fd <= last && fd < TCS_DEVICE_FD_MAX; fd++) {
 		tcs_device_forget((int)fd);
+		tcs_vtimer_forget((int)fd);
+	}
 }
 
 TCS_EXPORT int close_range(unsigned first, unsigned last, int flags)
@@ -74,8 +78,10 @@ TCS_EXPORT int dup2(int oldfd, int newfd)
 TCS_EXPORT int dup(int oldfd)
 {
 	long r = tcs_sys1(SYS_dup, oldfd);
-	if (r >= 0)
+	if (r >= 0) {
 		tcs_device_copy(oldfd, (int)r);
+		tcs_vtimer_copy(oldfd, (int)r);
+	}
 	return tcs_errno_result(r);
 }
 
@@ -86,7 +92,9 @@ TCS_EXPORT int dup3(int oldfd, int newfd, int flags)
 	long r = tcs_sys3(SYS_dup3, oldfd, newfd, flags);
 	if (r >= 0) {
 		tcs_device_forget(newfd);
+		tcs_vtimer_forget(newfd);
 		tcs_device_copy(oldfd, newfd);
+		tcs_vtimer_copy(oldfd, newfd);
 	}
 	return tcs_errno_result(r);
 }

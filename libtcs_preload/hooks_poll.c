@@ -11,6 +11,7 @@
 
 #include "devices.h"
 #include "raw_syscall.h"
+#include "timerfd.h"
 
 /* Real fds mirrored on the stack while waiting (slot 0 is the channel). */
 #define TCS_MIRROR_MAX 256
@@ -37,15 +38,32 @@ static long tcs_multiplex(int64_t timeout_ns, tcs_check_fn check, void *ctx, str
 		if (s < 0)
 			return s;
 	}
+	/* Virtual timerfds due by now are readable before the fds are checked;
+	 * with any armed, the deadline is absolute, for waits end at expiries. */
+	int timers = tcs_vtimers_armed();
+	int64_t until = timeout_ns < 0 ? TCS_NEVER : timeout_ns, next_timer = TCS_NEVER;
+	if (timers) {
+		int64_t now = tcs_v_not_before(tcs_vnow());
+		next_timer = tcs_vtimers_fire(now);
+		if (timeout_ns >= 0)
+			until = tcs_ns_add(now, timeout_ns);
+	}
 	long r = check(ctx);
 	if (r != 0 || timeout_ns == 0)
 		return r;
 	/* Relative on the first wait; absolute (the same deadline) on any
 	 * that follow a wake-up with nothing ready after all. */
-	struct tcs_wait_time t = { timeout_ns < 0 ? TCS_NEVER : timeout_ns, timeout_ns >= 0, 0, 0 };
+	struct tcs_wait_time t = { until, timeout_ns >= 0 && !timers, 0, 0 };
 	unsigned flags = (mirror ? 0 : TCS_BLOCK_RECHECK) | (devices ? TCS_BLOCK_DEVICES : 0);
 	for (;;) {
+		/* Wake at the next timer expiry if it comes first. */
+		if (timers)
+			t.deadline = next_timer < until ? next_timer : until;
 		long w = tcs_wait(&t, TCS_BLOCK_POLL, flags, mirror, nmirror, mask);
+		if (timers) {
+			next_timer = tcs_vtimers_fire(t.end);
+			t.deadline = until;
+		}
 		if (v_left)
 			*v_left = t.deadline == TCS_NEVER ? TCS_NEVER : t.deadline > t.end ? t.deadline - t.end : 0;
 		if (w == -EINTR)
