@@ -120,6 +120,14 @@ void Controller::account(int64_t cpu, int mode)
 		v = std::max(v, tcs_ns_add(slice_.v_base, used));
 }
 
+int64_t Controller::next_timer() const
+{
+	int64_t next = TCS_NEVER;
+	for (const auto &t : timers)
+		next = std::min(next, t.next);
+	return next;
+}
+
 void Controller::coordinator_ran()
 {
 	tcs_page_bump_gen(page_);

@@ -5,6 +5,7 @@
 
 #include <sys/types.h>
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -14,6 +15,7 @@
 #include "device.h"
 #include "realtime.h"
 #include "tcs/clock_page.h"
+#include "tcs/protocol.h"
 #include "unique_fd.h"
 
 namespace tcs {
@@ -37,6 +39,15 @@ enum class CtlState {
 	Running, // resumed; the coordinator waits for it to block or use its budget
 	Blocked, // in a hooked wait until `deadline`
 	Exited,
+};
+
+// A signal timer of the controller (alarm, setitimer, timer_create): the
+// coordinator sends signo at each expiry of its virtual time.
+struct SignalTimer {
+	int signo = 0;
+	int tid = 0; // 0: the process
+	int64_t next = TCS_NEVER;
+	int64_t interval = 0;
 };
 
 struct LoopStats {
@@ -111,6 +122,10 @@ public:
 	bool sync_nonblock = false;
 	int64_t wake_arg = 0;       // the result the next WAKE carries
 	int wake_fd = -1;           // an fd the next WAKE passes (owned until sent)
+
+	std::array<SignalTimer, TCS_MAX_TIMERS> timers;
+	int64_t next_timer() const; // the earliest expiry (TCS_NEVER: none)
+	bool budgeted = false;      // Running with a budget timer
 
 	int exit_status = -1;   // wait status when Exited
 	bool ended_by_tcs = false; // exited after the run's end was called

@@ -131,6 +131,9 @@ Coordinator::~Coordinator()
 {
 	// Controller's destructor kills and reaps anything still alive.
 	ctls_.clear();
+	// Nothing left to preempt: what follows (the report, the exit, a leak
+	// checker's thread on this core) must not wait for RT throttling.
+	coordinator_fifo(rt_, false);
 }
 
 Status Coordinator::add_controller(const ControllerSpec &spec)
@@ -263,6 +266,9 @@ void Coordinator::on_message(Controller &c, const ::tcs_msg &m)
 		return;
 	case TCS_MSG_DEV_SYNC:
 		on_dev_sync(c, m);
+		return;
+	case TCS_MSG_TIMER:
+		on_timer(c, m);
 		return;
 	}
 }

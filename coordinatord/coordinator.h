@@ -111,6 +111,17 @@ private:
 	void preempt(Controller &c);
 	void on_block(Controller &c, const ::tcs_msg &m);
 	void on_early(Controller &c, const ::tcs_msg &m);
+	// The shortest slice worth a timer. A timer cycle (interrupt, wake-up,
+	// CPU-clock read, re-arm) costs a few microseconds of the same core, so a
+	// shorter slice would leave the controller almost nothing of it: with
+	// SCHED_FIFO it would never get to run at all. The overshoot this allows
+	// is carried into the next budget like any other.
+	static constexpr int64_t kMinSlice = 20 * TCS_NS_PER_US;
+	// Signal timers (signal_timers.cc).
+	void on_timer(Controller &c, const ::tcs_msg &m);
+	void deliver_due_timers(Controller &c);
+	uint64_t due_timer_signals(Controller &c);
+	void budget_to_next_timer(Controller &c);
 	void wake(Controller &c, int64_t v, uint16_t reason);
 	void send_wake(Controller &c);
 	void begin_end(EndReason reason, int signo = 0);

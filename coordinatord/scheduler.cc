@@ -28,12 +28,6 @@
 namespace tcs {
 
 namespace {
-// The shortest slice worth a timer. A timer cycle (interrupt, wake-up,
-// CPU-clock read, re-arm) costs a few microseconds of the same core, so a
-// shorter slice would leave the controller almost nothing of it: with
-// SCHED_FIFO it would never get to run at all. The overshoot this allows
-// is carried into the next budget like any other.
-constexpr int64_t kMinSlice = 20 * TCS_NS_PER_US;
 // A controller that made no progress since the last check is asleep in the
 // kernel on something real; check back ever less often, up to this.
 constexpr int64_t kMaxRecheck = 10 * TCS_NS_PER_MS;
@@ -74,7 +68,14 @@ void Coordinator::schedule()
 		if (!any)
 			return; // everyone has exited; run() notices
 		if (best) {
-			if (best->state == CtlState::Blocked) {
+			if (best->state == CtlState::Blocked && best->next_timer() <= best_at && best->next_timer() < best->deadline) {
+				// A signal timer is due in its wait: send it, and wake it to
+				// re-check (its wait ends with EINTR if a handler ran).
+				best->v = std::max(best->v, best_at);
+				best->wake_arg = (int64_t)due_timer_signals(*best);
+				best->rechecked_at = sim_ns_;
+				wake(*best, best->v, TCS_WAKE_SIGNAL);
+			} else if (best->state == CtlState::Blocked) {
 				bool due = best->deadline < target;
 				best->rechecked_at = sim_ns_;
 				wake(*best, due ? std::max(best->v, best->deadline) : best_at,
@@ -107,7 +108,7 @@ int64_t Coordinator::next_run_at(const Controller &c) const
 		return c.v;
 	if (c.recheck && c.rechecked_at < sim_ns_)
 		return std::max(c.v, sim_ns_);
-	int64_t until = c.deadline;
+	int64_t until = std::min(c.deadline, c.next_timer());
 	if (c.wants_devices)
 		until = std::min(until, next_record_due(c));
 	return until == TCS_NEVER ? TCS_NEVER : std::max(c.v, until);
@@ -283,9 +284,11 @@ void Coordinator::resume(Controller &c, int64_t target)
 	}
 	c.state = CtlState::Running;
 	running_ = &c;
+	c.budgeted = false;
 	if (cfg_.mode == TCS_MODE_CPU && target != TCS_NEVER) {
 		double need = std::ceil((double)(target - c.v) / c.scale);
 		c.budget = std::max<int64_t>((int64_t)need, 1);
+		c.budgeted = true;
 		c.checked_used = -1;
 		// Wall time runs ahead of the CPU the controller gets (our own
 		// work on its core); arm that much later, as learnt so far, so one
@@ -293,6 +296,7 @@ void Coordinator::resume(Controller &c, int64_t target)
 		c.check_interval = std::max(c.budget + c.lag_ns, kMinSlice);
 		budget_timer_.arm(c.check_interval);
 	}
+	budget_to_next_timer(c); // and no further than its own next signal
 	// Lockstep: computation is free, so no budget; it runs until it waits.
 	// Nor is there one when nothing else will ever need the core.
 }
@@ -346,6 +350,7 @@ void Coordinator::preempt(Controller &c)
 	int64_t overshoot = c.slice_cpu(cpu) - budget; // before account() closes the slice
 	c.account(cpu, cfg_.mode);
 	trace_slice_end(c, "preempted", cpu, budget, overshoot);
+	deliver_due_timers(c); // pending until it continues
 }
 
 void Coordinator::on_block(Controller &c, const ::tcs_msg &m)

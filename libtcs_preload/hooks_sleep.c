@@ -19,7 +19,14 @@ static long tcs_virtual_sleep(clockid_t clock, int flags, const struct timespec 
 	struct tcs_wait_time t = { tcs_ts_to_ns(req), !(flags & TIMER_ABSTIME), 0, 0 };
 	if (flags & TIMER_ABSTIME)
 		t.deadline = t.deadline > origin ? t.deadline - origin : 0;
-	long r = tcs_wait(&t, TCS_BLOCK_SLEEP, (flags & TIMER_ABSTIME) ? TCS_BLOCK_ABSOLUTE : 0, NULL, 0, NULL);
+	unsigned bflags = (flags & TIMER_ABSTIME) ? TCS_BLOCK_ABSOLUTE : 0;
+	long r = tcs_wait(&t, TCS_BLOCK_SLEEP, bflags, NULL, 0, NULL);
+	int64_t start = t.start;
+	/* Woken to re-check (a signal no handler took): sleep on to the same
+	 * deadline, now absolute. */
+	while (r == TCS_WAIT_RECHECK)
+		r = tcs_wait(&t, TCS_BLOCK_SLEEP, bflags, NULL, 0, NULL);
+	t.start = start;
 	if (r != -EINTR)
 		return 0;
 	if (rem && !(flags & TIMER_ABSTIME)) {
@@ -90,4 +97,36 @@ TCS_EXPORT int thrd_sleep(const struct timespec *req, struct timespec *rem)
 {
 	long r = tcs_sleep(CLOCK_REALTIME, 0, req, rem);
 	return r == 0 ? 0 : r == -EINTR ? -1 : -2;
+}
+
+/* ---- waits for a signal --------------------------------------------------- */
+
+/* pause and sigsuspend: a wait with no deadline that a signal handler ends
+ * (a signal delivered in virtual time by a timer, or a real one). mask:
+ * the mask during the wait (NULL: the current one). */
+static int tcs_wait_for_handler(const sigset_t *mask)
+{
+	if (!tcs_wait_enter()) {
+		long r = mask ? tcs_sys2(SYS_rt_sigsuspend, mask, TCS_KERNEL_SIGSET_SIZE) : tcs_sys0(SYS_pause);
+		return tcs_errno_result(r);
+	}
+	struct tcs_wait_time t = { TCS_NEVER, 0, 0, 0 };
+	long r;
+	do
+		r = tcs_wait(&t, TCS_BLOCK_SLEEP, 0, NULL, 0, mask);
+	while (r != -EINTR);
+	tcs_wait_leave();
+	return tcs_errno_result(-EINTR);
+}
+
+TCS_EXPORT int pause(void)
+{
+	return tcs_active() ? tcs_wait_for_handler(NULL) : tcs_errno_result(tcs_sys0(SYS_pause));
+}
+
+TCS_EXPORT int sigsuspend(const sigset_t *mask)
+{
+	if (!tcs_active())
+		return tcs_errno_result(tcs_sys2(SYS_rt_sigsuspend, mask, TCS_KERNEL_SIGSET_SIZE));
+	return tcs_wait_for_handler(mask);
 }

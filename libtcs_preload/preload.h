@@ -110,6 +110,9 @@ static inline int64_t tcs_process_cpu_estimate(void)
 	return tcs_process_cpu();
 }
 #endif
+/* The thread a timer's signal signo goes to (hooks_timer.c); 0: the process. */
+int tcs_timer_signal_target(int signo) TCS_HIDDEN;
+
 /* The virtual CPU time charged to the controller so far. */
 int64_t tcs_charged_now(void) TCS_HIDDEN;
 

@@ -124,6 +124,33 @@ static void tcs_send_early(uint32_t seq, unsigned reason)
 	tcs_send(&m);
 }
 
+/* Timer signals due during a wait: raised here, inside the wait, so that
+ * they meet the wait's signal mask; then the kernel says whether a handler
+ * ran (EINTR) or not (ignored, or blocked: wait on). */
+static int tcs_raise_timer_signals(uint64_t bits, const sigset_t *mask)
+{
+	/* Blocked while raised (a signal sent to oneself is delivered on the
+	 * way out of kill), then let in by the wait's mask in a ppoll that
+	 * does not wait. */
+	uint64_t old;
+	tcs_sys4(SYS_rt_sigprocmask, SIG_BLOCK, &bits, &old, TCS_KERNEL_SIGSET_SIZE);
+	long pid = tcs_sys0(SYS_getpid);
+	for (int sig = 1; sig <= 64; sig++) {
+		if (!(bits & (1ull << (sig - 1))))
+			continue;
+		int tid = tcs_timer_signal_target(sig);
+		if (tid > 0)
+			tcs_sys3(SYS_tgkill, pid, tid, sig);
+		else
+			tcs_sys2(SYS_kill, pid, sig);
+	}
+	struct timespec zero = { 0, 0 };
+	long r = tcs_sys5(SYS_ppoll, NULL, 0, &zero, mask ? (const void *)mask : (const void *)&old,
+			  TCS_KERNEL_SIGSET_SIZE);
+	tcs_sys4(SYS_rt_sigprocmask, SIG_SETMASK, &old, NULL, TCS_KERNEL_SIGSET_SIZE);
+	return r == -EINTR ? -EINTR : TCS_WAIT_RECHECK;
+}
+
 int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct pollfd *fds, unsigned nfds,
 	     const sigset_t *mask)
 {
@@ -147,6 +174,17 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 		return TCS_WAIT_DEADLINE;
 	}
 
+	/* A wait with its own signal mask (sigsuspend, ppoll, pselect,
+	 * epoll_pwait) may let in a signal already pending: then it ends now,
+	 * before the coordinator could decide anything else. */
+	if (mask) {
+		struct timespec zero = { 0, 0 };
+		if (tcs_sys5(SYS_ppoll, NULL, 0, &zero, mask, TCS_KERNEL_SIGSET_SIZE) == -EINTR) {
+			t->end = v;
+			return -EINTR;
+		}
+	}
+
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_BLOCK, 0);
 	m.kind = (uint16_t)kind;
 	m.flags = (uint16_t)flags;
@@ -156,10 +194,16 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 	struct tcs_msg w;
 	unsigned early = tcs_roundtrip(&m, fds, nfds, mask, &w, NULL);
 	t->end = w.v;
+	/* A handler ran (a timer's signal, say): the wait was interrupted,
+	 * whatever the answer that crossed the EARLY says. */
+	if (early == TCS_EARLY_SIGNAL)
+		return -EINTR;
+	if (w.kind == TCS_WAKE_SIGNAL)
+		return tcs_raise_timer_signals((uint64_t)w.arg, mask);
 	if (w.kind == TCS_WAKE_RECHECK)
 		return TCS_WAIT_RECHECK;
 	if (w.kind == TCS_WAKE_EARLY)
-		return early == TCS_EARLY_SIGNAL ? -EINTR : TCS_WAIT_FD;
+		return TCS_WAIT_FD;
 	return TCS_WAIT_DEADLINE;
 }
 

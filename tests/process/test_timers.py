@@ -1,6 +1,8 @@
 """Timers in virtual time (issue 6): timerfd_create / timerfd_settime /
 timerfd_gettime, waited on by read, poll, select and epoll, periodic, with
-overrun counts and non-blocking reads."""
+overrun counts and non-blocking reads; and signal timers (setitimer,
+alarm, timer_create with SIGEV_SIGNAL and SIGEV_THREAD_ID) pacing legacy
+loops that wait with sigsuspend or pause, and interrupting sleeps."""
 
 from harness import check, close_to, main, prog, tcs
 
@@ -30,6 +32,41 @@ def test_overruns_are_counted_in_cpu_mode():
         close_to(took, 200 * 2.5e6, 0.02, "%s: the loop takes its work's time" % how, r)
         # Counted up to the last read, before the last round of work.
         check(abs(n - (took - 2500000) // 1000000) <= 1, "%s: every period that passed is counted once" % how, r)
+
+
+def test_signal_timers_pace_a_legacy_loop():
+    for how in ("itimer", "posix", "thread"):
+        r = tcs("-q", "-m", "lockstep", prog("alarm_loop"), how, 1000, 1000, 0)
+        v = r.values()
+        print("  %-6s lockstep: %s ticks in %s ns" % (how, v["ticks"], v["loop_ns"]))
+        check(v["ticks"] == "1000" and v["loop_ns"] == "1000000000",
+              "%s: 1000 signals of a 1 ms timer take exactly 1 s of virtual time" % how, r)
+        check(v["left_ns"] == "1000000", "%s: the timer's time left, in virtual time" % how, r)
+        check(v["unslept"] == "4" and v["slept_ns"] == "1000000000",
+              "%s: alarm(1) ends sleep(5) after 1 s, 4 s unslept" % how, r)
+        # cpu mode, 30 % work: the signal comes on time, the loop keeps its rate.
+        r = tcs("-q", prog("alarm_loop"), how, 500, 1000, 300)
+        v = r.values()
+        print("  %-6s cpu mode, 300 us work: %s ticks in %.3f ms" % (how, v["ticks"], int(v["loop_ns"]) / 1e6))
+        check(v["ticks"] == "500", "%s: every tick handled" % how, r)
+        close_to(int(v["loop_ns"]), 500e6, 0.001, "%s: 500 ticks of 1 ms" % how, r)
+
+
+def test_an_overloaded_signal_loop_runs_late():
+    # 1.5 ms of work per 1 ms tick: the timer interrupts the computation
+    # (the signal is pending when it is done), ticks coalesce, the loop
+    # runs at the pace of its work, as it would on the robot.
+    r = tcs("-q", prog("alarm_loop"), "itimer", 200, 1000, 1500)
+    v = r.values()
+    print("  200 ticks with 1.5 ms of work each: %.1f ms" % (int(v["loop_ns"]) / 1e6))
+    close_to(int(v["loop_ns"]), 200 * 1.5e6, 0.02, "the loop takes its work's time", r)
+
+
+def test_alarm_and_pause():
+    r = tcs("-q", prog("alarm_loop"), "alarm", 3, 0, 0)
+    v = r.values()
+    check(v["ticks"] == "3", "three alarms", r)
+    close_to(int(v["loop_ns"]), 3e9, 0.0001, "alarm(1) and pause() three times: 3 s of virtual time", r)
 
 
 if __name__ == "__main__":

@@ -331,6 +331,31 @@ static void test_hello_bad_pid(void **state)
 	}
 }
 
+static void test_timer_messages(void **state)
+{
+	struct tcs_msg m = tcs_msg_make(TCS_MSG_TIMER, 9);
+	m.flags = 0; /* ITIMER_REAL */
+	m.kind = 14; /* SIGALRM */
+	m.deadline = 1000000;
+	m.arg = 1000000;
+	m.v = 0;
+	assert_accepted(m);
+	m.deadline = TCS_NEVER; /* disarm */
+	m.v = 4242;            /* a thread */
+	m.flags = TCS_MAX_TIMERS - 1;
+	assert_accepted(m);
+	struct tcs_msg bad[] = { m, m, m, m, m, m, m };
+	bad[0].flags = TCS_MAX_TIMERS;
+	bad[1].kind = 0;
+	bad[2].kind = 65;
+	bad[3].deadline = -1;
+	bad[4].arg = -5;
+	bad[5].v = (int64_t)INT32_MAX + 1;
+	bad[6].cpu = -1;
+	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
+		assert_rejected(bad[i]);
+}
+
 /* ---- fuzz ------------------------------------------------------------------ */
 
 /* What the coordinator relies on for every message tcs_msg_check() accepts. */
@@ -362,6 +387,12 @@ static void assert_invariants(const struct tcs_msg *m, const void *raw)
 		assert_true(m->kind >= TCS_SYNC_READ && m->kind <= TCS_SYNC_POLL);
 		assert_int_equal(m->flags & ~TCS_DEV_FLAGS_ALL, 0);
 		assert_true(m->arg >= 0 && m->arg <= INT32_MAX && m->v >= 0 && m->cpu >= 0);
+		break;
+	case TCS_MSG_TIMER:
+		assert_true(m->flags < TCS_MAX_TIMERS);
+		assert_true(m->kind >= 1 && m->kind <= 64);
+		assert_true(m->deadline >= 0 && m->arg >= 0 && m->cpu >= 0);
+		assert_true(m->v >= 0 && m->v <= INT32_MAX);
 		break;
 	default:
 		print_error("accepted a message of type %u\n", m->type);
@@ -497,6 +528,7 @@ int main(void)
 		cmocka_unit_test(test_block_negative_times),
 		cmocka_unit_test(test_early_bad_reason),
 		cmocka_unit_test(test_hello_bad_pid),
+		cmocka_unit_test(test_timer_messages),
 		cmocka_unit_test(test_fuzz_random_buffers),
 		cmocka_unit_test(test_fuzz_mutations),
 	};

@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 #define TCS_PROTO_MAGIC 0x31736374u /* "tcs1" */
-#define TCS_PROTO_VERSION 1u
+#define TCS_PROTO_VERSION 2u
 
 /* Environment through which tcs-run hands the channel to the preload. */
 #define TCS_ENV_CHANNEL_FD "TCS_CHANNEL_FD"
@@ -38,7 +38,15 @@ enum tcs_msg_type {
 	TCS_MSG_WAKE = 4,  /* coordinator → controller: request seq is done (v = its time, arg = result) */
 	TCS_MSG_DEV_OPEN = 5, /* controller → coordinator: open device arg (flags: TCS_DEV_*) */
 	TCS_MSG_DEV_SYNC = 6, /* controller → coordinator: bring device handle arg up to v (kind: TCS_SYNC_*) */
+	TCS_MSG_TIMER = 7,    /* controller → coordinator: (re)arm signal timer flags (see below) */
 };
+
+/* A signal timer (alarm, setitimer, timer_create): TIMER arms slot `flags`
+ * (< TCS_MAX_TIMERS) to send signal `kind` to thread `v` (0: the process)
+ * at virtual time `deadline` (TCS_NEVER: disarmed), then every `arg` ns (0:
+ * once). The coordinator sends the signal when the controller's virtual time
+ * reaches it, stopping a computing controller there. Answered by a WAKE. */
+#define TCS_MAX_TIMERS 64
 
 /* Answering DEV_OPEN, the WAKE carries the device's fd (SCM_RIGHTS) and
  * arg = its handle, or arg = -errno and no fd. Answering DEV_SYNC, arg = 0
@@ -78,6 +86,7 @@ enum tcs_wake_reason {
 	TCS_WAKE_DEADLINE = 1, /* the deadline was reached */
 	TCS_WAKE_EARLY = 2,    /* answered an EARLY */
 	TCS_WAKE_RECHECK = 3,  /* a step passed: re-check real fds and block again */
+	TCS_WAKE_SIGNAL = 4,   /* timer signals are due (arg: bit n-1 for signal n): raise them */
 };
 
 struct tcs_msg {
@@ -156,6 +165,12 @@ static inline const char *tcs_msg_check(const void *buf, long len, struct tcs_ms
 			return "DEV_SYNC with bad flags";
 		if (out->arg < 0 || out->arg > INT32_MAX || out->v < 0 || out->cpu < 0)
 			return "DEV_SYNC with a bad handle or time";
+		return NULL;
+	case TCS_MSG_TIMER:
+		if (out->flags >= TCS_MAX_TIMERS || out->kind < 1 || out->kind > 64)
+			return "TIMER with a bad slot or signal";
+		if (out->deadline < 0 || out->arg < 0 || out->v < 0 || out->v > INT32_MAX || out->cpu < 0)
+			return "TIMER with a negative time or a bad thread";
 		return NULL;
 	case TCS_MSG_WAKE:
 		return "WAKE is sent by the coordinator, not to it";

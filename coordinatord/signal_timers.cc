@@ -1,0 +1,83 @@
+// Signal timers (alarm, setitimer, timer_create in the controller): each
+// signal goes when the controller's virtual time reaches the expiry. A
+// computing controller's budget ends there: it is stopped and sent the
+// signal, which waits for it to continue. A waiting one is woken with the
+// signals to raise itself, inside its wait (sent from here, they could land
+// between its request and its wait, where its handler would run unseen);
+// its wait then returns EINTR if a handler ran.
+#include <signal.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "coordinator.h"
+
+namespace tcs {
+
+void Coordinator::on_timer(Controller &c, const ::tcs_msg &m)
+{
+	restart_slice(c, m.cpu);
+	c.wait_seq = m.seq;
+	SignalTimer &t = c.timers[m.flags];
+	t.signo = m.kind;
+	t.tid = (int)m.v;
+	t.next = m.deadline;
+	t.interval = m.arg;
+	deliver_due_timers(c);
+	reply_now(c, 0);
+	if (c.state == CtlState::Running)
+		budget_to_next_timer(c);
+}
+
+// Advances the timers due by c.v past it; returns the signals they owe as
+// bits (n - 1 for signal n). Expirations that fell together are one signal,
+// as pending signals of one kind are.
+uint64_t Coordinator::due_timer_signals(Controller &c)
+{
+	uint64_t bits = 0;
+	for (SignalTimer &t : c.timers) {
+		if (t.next == TCS_NEVER || t.next > c.v)
+			continue;
+		bits |= 1ull << (t.signo - 1);
+		t.next = t.interval > 0 ? t.next + ((c.v - t.next) / t.interval + 1) * t.interval : TCS_NEVER;
+	}
+	return bits;
+}
+
+// Sends the due signals to a controller that is not waiting (stopped, or
+// about to run), each to the thread its timer names.
+void Coordinator::deliver_due_timers(Controller &c)
+{
+	if (ending_)
+		return;
+	for (SignalTimer &t : c.timers) {
+		if (t.next == TCS_NEVER || t.next > c.v)
+			continue;
+		if (t.tid > 0)
+			syscall(SYS_tgkill, c.pid, t.tid, t.signo);
+		else
+			kill(c.pid, t.signo);
+		t.next = t.interval > 0 ? t.next + ((c.v - t.next) / t.interval + 1) * t.interval : TCS_NEVER;
+	}
+}
+
+// A running controller's budget ends no later than its next timer (cpu mode:
+// in lockstep it reaches it only by waiting).
+void Coordinator::budget_to_next_timer(Controller &c)
+{
+	int64_t at = c.next_timer();
+	if (cfg_.mode != TCS_MODE_CPU || at == TCS_NEVER)
+		return;
+	int64_t need = std::max<int64_t>((int64_t)std::ceil((double)(at - c.v) / c.scale), 1);
+	if (c.budgeted && need >= c.budget)
+		return;
+	c.budget = need;
+	c.budgeted = true;
+	c.checked_used = -1;
+	c.check_interval = std::max(c.budget + c.lag_ns, kMinSlice);
+	budget_timer_.arm(c.check_interval);
+}
+
+} // namespace tcs

@@ -1,0 +1,270 @@
+/* Signal timers in virtual time: alarm, setitimer/getitimer (ITIMER_REAL),
+ * timer_create (SIGEV_SIGNAL, SIGEV_THREAD_ID, SIGEV_NONE), timer_settime,
+ * timer_gettime, timer_getoverrun, timer_delete.
+ *
+ * The runtime keeps each timer's first expiry and interval in virtual time
+ * (slot 0 is ITIMER_REAL, which alarm shares, as in the kernel) and tells
+ * the coordinator, which sends the signal when the controller's virtual time
+ * reaches an expiry: it stops a computing controller there, and ends a wait
+ * (the wait returns EINTR if a handler ran). What is left of a timer is
+ * computed here from the same two numbers. SIGEV_THREAD timers (a new thread
+ * per expiry) run in real time, said once. */
+#include <dlfcn.h>
+#include <signal.h>
+#include <sys/time.h>
+
+#include "preload.h"
+#include "raw_syscall.h"
+
+static void *tcs_next_symbol(const char *name)
+{
+	return dlsym(RTLD_NEXT, name);
+}
+
+/* Our timer_t values: tagged, so that ids of real timers are told apart. */
+#define TCS_TIMER_TAG 0x7c000000u
+
+struct tcs_stimer {
+	int used;
+	int signo;        /* 0: SIGEV_NONE */
+	int tid;          /* SIGEV_THREAD_ID: the thread; 0: the process */
+	clockid_t clock;  /* for absolute times */
+	int64_t first;    /* virtual ns of the first expiry; TCS_NEVER: disarmed */
+	int64_t interval; /* 0: once */
+};
+
+static struct tcs_stimer tcs_stimers[TCS_MAX_TIMERS];
+static int tcs_stimer_lock;
+
+static void tcs_lock(void)
+{
+	while (__atomic_exchange_n(&tcs_stimer_lock, 1, __ATOMIC_ACQUIRE))
+		tcs_cpu_relax();
+}
+
+static void tcs_unlock(void)
+{
+	__atomic_store_n(&tcs_stimer_lock, 0, __ATOMIC_RELEASE);
+}
+
+/* The next expiry after virtual time v (TCS_NEVER: none). */
+static int64_t tcs_stimer_next(const struct tcs_stimer *t, int64_t v)
+{
+	if (t->first == TCS_NEVER || v < t->first)
+		return t->first;
+	if (t->interval <= 0)
+		return TCS_NEVER;
+	return t->first + ((v - t->first) / t->interval + 1) * t->interval;
+}
+
+static struct itimerspec tcs_stimer_value(const struct tcs_stimer *t, int64_t v)
+{
+	struct itimerspec out = { 0 };
+	int64_t next = tcs_stimer_next(t, v);
+	if (next != TCS_NEVER)
+		out.it_value = tcs_ns_to_ts(next - v);
+	out.it_interval = tcs_ns_to_ts(t->interval);
+	return out;
+}
+
+/* Tells the coordinator about slot; 0 or -errno. */
+static long tcs_stimer_sync(int slot, const struct tcs_stimer *t)
+{
+	if (!t->signo)
+		return 0; /* SIGEV_NONE: nothing to send */
+	if (!tcs_wait_enter())
+		return -EBUSY;
+	struct tcs_msg m = tcs_msg_make(TCS_MSG_TIMER, 0), w;
+	m.flags = (uint16_t)slot;
+	m.kind = (uint16_t)t->signo;
+	m.deadline = t->first;
+	m.arg = t->interval;
+	m.v = t->tid;
+	m.cpu = tcs_process_cpu_estimate();
+	tcs_roundtrip(&m, NULL, 0, NULL, &w, NULL);
+	tcs_wait_leave();
+	return w.arg < 0 ? w.arg : 0;
+}
+
+/* Arms slot with a value and interval in ns (value 0: disarm); *old gets
+ * what was left. abs: value is a time of t->clock. */
+static long tcs_stimer_set(int slot, int64_t value, int64_t interval, int abs, struct itimerspec *old)
+{
+	struct tcs_stimer *t = &tcs_stimers[slot];
+	int64_t v = tcs_vnow();
+	tcs_lock();
+	if (old)
+		*old = tcs_stimer_value(t, v);
+	if (value <= 0)
+		t->first = TCS_NEVER;
+	else
+		t->first = abs ? value - tcs_sleep_clock_origin(t->clock) : tcs_ns_add(v, value);
+	t->interval = t->first == TCS_NEVER ? 0 : interval;
+	struct tcs_stimer copy = *t;
+	tcs_unlock();
+	return tcs_stimer_sync(slot, &copy);
+}
+
+int tcs_timer_signal_target(int signo)
+{
+	for (int i = 0; i < TCS_MAX_TIMERS; i++)
+		if (tcs_stimers[i].used && tcs_stimers[i].signo == signo && tcs_stimers[i].tid > 0)
+			return tcs_stimers[i].tid;
+	return 0;
+}
+
+/* ---- ITIMER_REAL and alarm --------------------------------------------------- */
+
+static struct timeval tcs_ts_to_tv(struct timespec ts)
+{
+	struct timeval tv = { ts.tv_sec, ts.tv_nsec / 1000 };
+	return tv;
+}
+
+TCS_EXPORT int setitimer(__itimer_which_t which, const struct itimerval *val, struct itimerval *old)
+{
+	if (which != ITIMER_REAL || !tcs_active())
+		return tcs_errno_result(tcs_sys3(SYS_setitimer, which, val, old));
+	if (!val || val->it_value.tv_usec < 0 || val->it_value.tv_usec >= 1000000 || val->it_interval.tv_usec < 0 ||
+	    val->it_interval.tv_usec >= 1000000 || val->it_value.tv_sec < 0 || val->it_interval.tv_sec < 0)
+		return tcs_errno_result(-EINVAL);
+	struct tcs_stimer *t = &tcs_stimers[0];
+	t->used = 1;
+	t->signo = SIGALRM;
+	t->tid = 0;
+	t->clock = CLOCK_REALTIME;
+	struct itimerspec was;
+	int64_t value = (int64_t)val->it_value.tv_sec * TCS_NS_PER_S + val->it_value.tv_usec * 1000;
+	int64_t interval = (int64_t)val->it_interval.tv_sec * TCS_NS_PER_S + val->it_interval.tv_usec * 1000;
+	long r = tcs_stimer_set(0, value, interval, 0, &was);
+	if (old) {
+		old->it_value = tcs_ts_to_tv(was.it_value);
+		old->it_interval = tcs_ts_to_tv(was.it_interval);
+	}
+	return tcs_errno_result(r);
+}
+
+TCS_EXPORT int getitimer(__itimer_which_t which, struct itimerval *cur)
+{
+	if (which != ITIMER_REAL || !tcs_active())
+		return tcs_errno_result(tcs_sys2(SYS_getitimer, which, cur));
+	tcs_lock();
+	struct itimerspec v = tcs_stimer_value(&tcs_stimers[0], tcs_vnow());
+	tcs_unlock();
+	cur->it_value = tcs_ts_to_tv(v.it_value);
+	cur->it_interval = tcs_ts_to_tv(v.it_interval);
+	return 0;
+}
+
+TCS_EXPORT unsigned alarm(unsigned seconds)
+{
+	struct itimerval val = { { 0, 0 }, { (time_t)seconds, 0 } }, old;
+	if (setitimer(ITIMER_REAL, &val, &old) != 0)
+		return 0;
+	/* Rounded up, as the kernel does: a pending alarm never reads 0. */
+	return (unsigned)(old.it_value.tv_sec + (old.it_value.tv_usec > 0 ? 1 : 0));
+}
+
+/* ---- POSIX timers ------------------------------------------------------------- */
+
+static int tcs_timer_slot(timer_t id)
+{
+	uintptr_t v = (uintptr_t)id;
+	if ((v & ~(uintptr_t)0xffff) != TCS_TIMER_TAG || (v & 0xffff) == 0 || (v & 0xffff) >= TCS_MAX_TIMERS)
+		return -1;
+	int slot = (int)(v & 0xffff);
+	return tcs_stimers[slot].used ? slot : -1;
+}
+
+static int (*tcs_real_timer_create)(clockid_t, struct sigevent *, timer_t *);
+
+TCS_EXPORT int timer_create(clockid_t clock, struct sigevent *sev, timer_t *id)
+{
+	int notify = sev ? sev->sigev_notify : SIGEV_SIGNAL;
+	if (!tcs_active() || notify == SIGEV_THREAD) {
+		if (tcs_active()) {
+			static int once;
+			tcs_report_once(&once, "a SIGEV_THREAD timer runs in real time (not virtualised yet)");
+		}
+		if (!tcs_real_timer_create)
+			tcs_real_timer_create = (int (*)(clockid_t, struct sigevent *, timer_t *))tcs_next_symbol("timer_create");
+		if (!tcs_real_timer_create)
+			return tcs_errno_result(-ENOSYS);
+		return tcs_real_timer_create(clock, sev, id);
+	}
+	if (tcs_sleep_clock_origin(clock) < 0 || (notify != SIGEV_SIGNAL && notify != SIGEV_NONE && notify != SIGEV_THREAD_ID))
+		return tcs_errno_result(-EINVAL);
+	int signo = notify == SIGEV_NONE ? 0 : sev ? sev->sigev_signo : SIGALRM;
+	if (notify != SIGEV_NONE && (signo < 1 || signo > 64))
+		return tcs_errno_result(-EINVAL);
+	tcs_lock();
+	int slot = -1;
+	for (int i = 1; i < TCS_MAX_TIMERS && slot < 0; i++)
+		if (!tcs_stimers[i].used)
+			slot = i;
+	if (slot < 0) {
+		tcs_unlock();
+		return tcs_errno_result(-EAGAIN);
+	}
+	tcs_stimers[slot] = (struct tcs_stimer){ 1, signo, notify == SIGEV_THREAD_ID ? sev->_sigev_un._tid : 0, clock,
+						  TCS_NEVER, 0 };
+	tcs_unlock();
+	*id = (timer_t)(uintptr_t)(TCS_TIMER_TAG | (unsigned)slot);
+	return 0;
+}
+
+static int (*tcs_real_timer_settime)(timer_t, int, const struct itimerspec *, struct itimerspec *);
+static int (*tcs_real_timer_gettime)(timer_t, struct itimerspec *);
+static int (*tcs_real_timer_delete)(timer_t);
+static int (*tcs_real_timer_getoverrun)(timer_t);
+
+#define TCS_REAL(fn, type) (tcs_real_##fn ? tcs_real_##fn : (tcs_real_##fn = (type)tcs_next_symbol(#fn)))
+
+TCS_EXPORT int timer_settime(timer_t id, int flags, const struct itimerspec *val, struct itimerspec *old)
+{
+	int slot = tcs_timer_slot(id);
+	if (slot < 0) {
+		int (*real)(timer_t, int, const struct itimerspec *, struct itimerspec *) =
+			TCS_REAL(timer_settime, int (*)(timer_t, int, const struct itimerspec *, struct itimerspec *));
+		return real ? real(id, flags, val, old) : tcs_errno_result(-EINVAL);
+	}
+	if (!val || !tcs_ts_valid(&val->it_value) || !tcs_ts_valid(&val->it_interval))
+		return tcs_errno_result(-EINVAL);
+	return tcs_errno_result(tcs_stimer_set(slot, tcs_ts_to_ns(&val->it_value), tcs_ts_to_ns(&val->it_interval),
+					       (flags & TIMER_ABSTIME) != 0, old));
+}
+
+TCS_EXPORT int timer_gettime(timer_t id, struct itimerspec *cur)
+{
+	int slot = tcs_timer_slot(id);
+	if (slot < 0) {
+		int (*real)(timer_t, struct itimerspec *) = TCS_REAL(timer_gettime, int (*)(timer_t, struct itimerspec *));
+		return real ? real(id, cur) : tcs_errno_result(-EINVAL);
+	}
+	tcs_lock();
+	*cur = tcs_stimer_value(&tcs_stimers[slot], tcs_vnow());
+	tcs_unlock();
+	return 0;
+}
+
+TCS_EXPORT int timer_getoverrun(timer_t id)
+{
+	int slot = tcs_timer_slot(id);
+	if (slot < 0) {
+		int (*real)(timer_t) = TCS_REAL(timer_getoverrun, int (*)(timer_t));
+		return real ? real(id) : tcs_errno_result(-EINVAL);
+	}
+	return 0; /* expirations are signalled one by one */
+}
+
+TCS_EXPORT int timer_delete(timer_t id)
+{
+	int slot = tcs_timer_slot(id);
+	if (slot < 0) {
+		int (*real)(timer_t) = TCS_REAL(timer_delete, int (*)(timer_t));
+		return real ? real(id) : tcs_errno_result(-EINVAL);
+	}
+	long r = tcs_stimer_set(slot, 0, 0, 0, NULL);
+	tcs_stimers[slot].used = 0;
+	return tcs_errno_result(r);
+}
