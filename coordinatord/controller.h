@@ -92,6 +92,7 @@ public:
 	bool stopped = true;    // held by SIGSTOP
 	bool attached = false;  // the preload said HELLO
 	int unanswered = 0;     // messages since the last WAKE sent
+	int64_t hello_nonce = 0; // the current image's HELLO
 	int64_t v = 0;          // virtual time (exact whenever not Running)
 	int64_t charged = 0;    // virtual CPU charged
 	int64_t budget = 0;     // real CPU this slice may use (cpu mode)

@@ -249,11 +249,13 @@ void Coordinator::on_message(Controller &c, const ::tcs_msg &m)
 			drop(c, "HELLO from pid " + std::to_string(m.arg) + " on pid " + std::to_string(c.pid) + "'s channel");
 			return;
 		}
-		if (c.attached) {
+		// Again after an exec (a new image, a new nonce): welcome.
+		if (c.attached && m.v == c.hello_nonce) {
 			drop(c, "it said HELLO twice");
 			return;
 		}
 		c.attached = true;
+		c.hello_nonce = m.v;
 		return;
 	case TCS_MSG_BLOCK:
 		on_block(c, m);

@@ -398,6 +398,9 @@ static void tcs_say_hello(void)
 {
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_HELLO, 0);
 	m.arg = tcs_sys0(SYS_getpid);
+	/* Tells this program image from the one before an exec: a HELLO with
+	 * the same value again is a misbehaving program, not a new image. */
+	m.v = tcs_kernel_clock(CLOCK_MONOTONIC);
 	tcs_send(&m);
 }
 

@@ -13,6 +13,13 @@ def test_sleep_30_takes_no_wall_time():
     check("30.000 s virtual" in r.stderr, "the summary reports 30 s of virtual time", r)
 
 
+def test_a_program_that_execs_stays_in_virtual_time():
+    # The shell replaces itself with sleep: the new image says HELLO again.
+    r = tcs("-m", "lockstep", "--", "sh", "-c", "exec sleep 7", timeout=20)
+    check(r.returncode == 0, "exit 0", r)
+    check("7.000 s virtual" in r.stderr and r.wall < 2.0, "7 s of virtual time, little wall time", r)
+
+
 def test_python_sleep_loop_sees_exactly_5s():
     script = textwrap.dedent("""
         import time

@@ -32,7 +32,7 @@ extern "C" {
 #define TCS_MAX_DEVICES 64
 
 enum tcs_msg_type {
-	TCS_MSG_HELLO = 1, /* controller → coordinator: preload attached (arg = pid) */
+	TCS_MSG_HELLO = 1, /* controller → coordinator: preload attached (arg = pid, v = this image's nonce) */
 	TCS_MSG_BLOCK = 2, /* controller → coordinator: wait until deadline */
 	TCS_MSG_EARLY = 3, /* controller → coordinator: end wait seq now (kind = reason) */
 	TCS_MSG_WAKE = 4,  /* coordinator → controller: request seq is done (v = its time, arg = result) */
