@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <sys/mman.h>
 #include <sys/socket.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <time.h>
 
@@ -14,6 +15,54 @@
 #include "tcs/device_table.h"
 
 namespace tcs {
+
+// The shared region of a new controller: its clock page (set-once fields
+// filled in) and its device table.
+Result<UniqueFd> Controller::make_page(const ControllerSpec &spec, int mode, const ClockOrigins &origins,
+				       const RealtimePlan &rt, const std::vector<BoundDevice> &bound)
+{
+	UniqueFd page_fd(memfd_create("tcs-clock-page", MFD_CLOEXEC));
+	if (!page_fd)
+		return errno_error("memfd_create");
+	if (ftruncate(page_fd.get(), TCS_SHARED_SIZE) < 0)
+		return errno_error("ftruncate");
+	void *m = mmap(nullptr, TCS_SHARED_SIZE, PROT_READ | PROT_WRITE, MAP_SHARED, page_fd.get(), 0);
+	if (m == MAP_FAILED)
+		return errno_error("mmap");
+	page_ = static_cast<tcs_clock_page *>(m);
+	page_->magic = TCS_PAGE_MAGIC;
+	page_->version = TCS_PAGE_VERSION;
+	page_->mode = (uint32_t)mode;
+	page_->flags = (spec.report_misses ? TCS_PAGE_REPORT_MISSES : 0) | (rt.cpu_estimate ? TCS_PAGE_CPU_ESTIMATE : 0) |
+		       (rt.fifo && rt.cpu >= 0 ? TCS_PAGE_FIFO : 0);
+	page_->tsc_mult = rt.tsc_mult;
+	page_->tsc_resync = rt.tsc_resync;
+	page_->cpu_scale = spec.cpu_scale;
+	page_->mono_origin_ns = origins.mono_ns;
+	page_->real_origin_ns = origins.real_ns;
+	page_->tai_origin_ns = origins.tai_ns;
+	tcs_device_table *table = tcs_device_table_of(page_);
+	for (const auto &d : bound) {
+		if (table->count == TCS_MAX_DEVICES)
+			break;
+		tcs_device_entry &e = table->dev[table->count++];
+		snprintf(e.path, sizeof e.path, "%s", d.cfg.path.c_str());
+		e.kind = (uint32_t)d.cfg.kind;
+		e.format = (uint32_t)d.cfg.format;
+		e.latest = d.cfg.latest ? 1 : 0;
+	}
+	return page_fd;
+}
+
+Status Controller::take_pid(pid_t p)
+{
+	pid = p;
+	page_->owner_pid = p;
+	if (clock_getcpuclockid(pid, &cpu_clock_) != 0)
+		return errno_error("clock_getcpuclockid");
+	publish_slice(cpu_now());
+	return Ok{};
+}
 
 Result<std::unique_ptr<Controller>> Controller::start(int id, const ControllerSpec &spec, int mode,
 						      const ClockOrigins &origins, const RealtimePlan &rt,
@@ -29,54 +78,47 @@ Result<std::unique_ptr<Controller>> Controller::start(int id, const ControllerSp
 		return errno_error("socketpair");
 	c->channel.reset(sv[0]);
 	UniqueFd child_end(sv[1]);
-
-	UniqueFd page_fd(memfd_create("tcs-clock-page", MFD_CLOEXEC));
+	auto page_fd = c->make_page(spec, mode, origins, rt, devices);
 	if (!page_fd)
-		return errno_error("memfd_create");
-	if (ftruncate(page_fd.get(), TCS_SHARED_SIZE) < 0)
-		return errno_error("ftruncate");
-	void *m = mmap(nullptr, TCS_SHARED_SIZE, PROT_READ | PROT_WRITE, MAP_SHARED, page_fd.get(), 0);
-	if (m == MAP_FAILED)
-		return errno_error("mmap");
-	c->page_ = static_cast<tcs_clock_page *>(m);
-	c->page_->magic = TCS_PAGE_MAGIC;
-	c->page_->version = TCS_PAGE_VERSION;
-	c->page_->mode = (uint32_t)mode;
-	c->page_->flags = (spec.report_misses ? TCS_PAGE_REPORT_MISSES : 0) |
-			  (rt.cpu_estimate ? TCS_PAGE_CPU_ESTIMATE : 0) |
-			  (rt.fifo && rt.cpu >= 0 ? TCS_PAGE_FIFO : 0);
-	c->page_->tsc_mult = rt.tsc_mult;
-	c->page_->tsc_resync = rt.tsc_resync;
-	c->page_->cpu_scale = spec.cpu_scale;
-	c->page_->mono_origin_ns = origins.mono_ns;
-	c->page_->real_origin_ns = origins.real_ns;
-	c->page_->tai_origin_ns = origins.tai_ns;
-	tcs_device_table *table = tcs_device_table_of(c->page_);
-	for (const auto &d : devices) {
-		if (table->count == TCS_MAX_DEVICES)
-			break;
-		tcs_device_entry &e = table->dev[table->count++];
-		snprintf(e.path, sizeof e.path, "%s", d.cfg.path.c_str());
-		e.kind = (uint32_t)d.cfg.kind;
-		e.format = (uint32_t)d.cfg.format;
-		e.latest = d.cfg.latest ? 1 : 0;
-	}
+		return page_fd.error();
 
 	SpawnRequest req;
 	req.path = spec.path;
 	req.argv = spec.argv;
 	req.preload = preload;
 	req.channel_fd = child_end.get();
-	req.page_fd = page_fd.get();
+	req.page_fd = page_fd->get();
 	req.realtime = rt;
 	auto spawned = spawn_stopped(req);
 	if (!spawned)
 		return spawned.error();
-	c->pid = spawned->pid;
 	c->pidfd = std::move(spawned->pidfd);
-	if (clock_getcpuclockid(c->pid, &c->cpu_clock_) != 0)
-		return errno_error("clock_getcpuclockid");
-	c->publish_slice(c->cpu_now());
+	if (auto s = c->take_pid(spawned->pid); !s)
+		return s.error();
+	return c;
+}
+
+Result<std::unique_ptr<Controller>> Controller::adopt(int id, const Controller &parent, pid_t pid, UniqueFd channel,
+						      const ControllerSpec &spec, int mode, const ClockOrigins &origins,
+						      const RealtimePlan &rt, const std::vector<BoundDevice> &devices)
+{
+	auto c = std::make_unique<Controller>();
+	c->id = id;
+	c->parent_id = parent.id;
+	c->scale = parent.scale;
+	c->name = parent.name; // until it execs another program
+	c->channel = std::move(channel);
+	auto page_fd = c->make_page(spec, mode, origins, rt, devices);
+	if (!page_fd)
+		return page_fd.error();
+	c->pidfd.reset((int)syscall(SYS_pidfd_open, pid, 0));
+	if (!c->pidfd)
+		return errno_error("pidfd_open");
+	c->stopped = false; // it waits for its answer on its channel
+	c->attached = true; // the CHILD was its hello (an exec brings another)
+	if (auto s = c->take_pid(pid); !s)
+		return s.error();
+	c->page_fd_for_child = std::move(*page_fd);
 	return c;
 }
 

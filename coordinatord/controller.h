@@ -63,9 +63,18 @@ public:
 							 const ClockOrigins &origins, const RealtimePlan &rt,
 							 const std::string &preload,
 							 const std::vector<BoundDevice> &devices);
+	// A child of parent (fork, posix_spawn...) that registered on its
+	// parent's channel: a controller of its own on channel, sharing
+	// its parent's CPU scale. Its clock page goes to it in
+	// page_fd_for_child, with the answer.
+	static Result<std::unique_ptr<Controller>> adopt(int id, const Controller &parent, pid_t pid, UniqueFd channel,
+							 const ControllerSpec &spec, int mode,
+							 const ClockOrigins &origins, const RealtimePlan &rt,
+							 const std::vector<BoundDevice> &devices);
 	~Controller();
 
 	int id = 0;
+	int parent_id = 0; // the controller whose child it is (0: started by tcs)
 	pid_t pid = -1;
 	std::string name;
 	double scale = 1.0;
@@ -133,7 +142,17 @@ public:
 	std::string dropped;    // why tcs dropped it, if it did
 	LoopStats stats;
 
+	UniqueFd page_fd_for_child; // adopted: its page, until sent
+	bool asleep = false;        // stepped aside, asleep in the kernel (asleep.cc)
+	int64_t watch_cpu = 0;      // its CPU at the watchdog's last look
+	int asleep_looks = 0;       // looks in a row that found it asleep
+	pid_t awaiting_child = 0;   // right after a fork: the child not yet registered
+	UniqueFd awaiting_child_fd; // its pidfd (it may die before it registers)
+
 private:
+	Result<UniqueFd> make_page(const ControllerSpec &spec, int mode, const ClockOrigins &origins,
+				   const RealtimePlan &rt, const std::vector<BoundDevice> &bound);
+	Status take_pid(pid_t p);
 	tcs_clock_page *page_ = nullptr;
 	clockid_t cpu_clock_ = 0;
 	tcs_slice slice_ = {};

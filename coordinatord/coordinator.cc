@@ -5,16 +5,62 @@
 #include <signal.h>
 #include <sys/signalfd.h>
 #include <sys/socket.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <time.h>
 
 #include <algorithm>
+#include <cstring>
+#include <fstream>
+#include <sstream>
 
 #include "tcs/protocol.h"
 
 namespace tcs {
 
 namespace {
+
+// What pid runs now (its comm), or fallback.
+std::string program_name(pid_t pid, const std::string &fallback)
+{
+	std::ifstream f("/proc/" + std::to_string(pid) + "/comm");
+	std::string name;
+	return std::getline(f, name) && !name.empty() ? name : fallback;
+}
+
+// The parent pid of pid, from /proc (0 if it is gone).
+pid_t parent_of(pid_t pid)
+{
+	std::ifstream f("/proc/" + std::to_string(pid) + "/stat");
+	std::string stat((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+	size_t close = stat.rfind(')');
+	if (close == std::string::npos)
+		return 0;
+	char state = 0;
+	int ppid = 0;
+	if (sscanf(stat.c_str() + close + 1, " %c %d", &state, &ppid) != 2)
+		return 0;
+	return ppid;
+}
+
+// The wait status of a zombie that is not our child, from /proc (field 52,
+// exit_code); 0 if it is gone already.
+int zombie_status(pid_t pid)
+{
+	std::ifstream f("/proc/" + std::to_string(pid) + "/stat");
+	std::string stat((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+	size_t close = stat.rfind(')');
+	if (close == std::string::npos)
+		return 0;
+	std::istringstream fields(stat.substr(close + 2));
+	std::string field;
+	int status = 0;
+	// Fields from 3 (state) on; exit_code is the 52nd.
+	for (int i = 3; i <= 52 && fields >> field; i++)
+		if (i == 52)
+			status = atoi(field.c_str());
+	return status;
+}
 
 int64_t clock_ns(clockid_t id)
 {
@@ -46,7 +92,7 @@ Status Coordinator::init()
 		return Error{ "the simulation step must be positive" };
 	if (auto s = loop_.init(); !s)
 		return s;
-	for (Timer *t : { &budget_timer_, &progress_timer_, &kill_timer_, &idle_timer_, &continue_timer_ })
+	for (Timer *t : { &budget_timer_, &progress_timer_, &kill_timer_, &idle_timer_, &continue_timer_, &watchdog_timer_ })
 		if (auto s = t->init(); !s)
 			return s;
 
@@ -114,6 +160,7 @@ Status Coordinator::init()
 	watch(budget_timer_.fd(), [this](uint32_t) { on_budget(); });
 	watch(progress_timer_.fd(), [this](uint32_t) { on_progress(); });
 	watch(idle_timer_.fd(), [this](uint32_t) { on_idle(); });
+	watch(watchdog_timer_.fd(), [this](uint32_t) { on_watchdog(); });
 	watch(continue_timer_.fd(), [this](uint32_t) {
 		continue_timer_.consume();
 		schedule();
@@ -198,24 +245,149 @@ Result<RunReport> Coordinator::run()
 		cr.deadline_misses = c->past_deadlines() + c->stats.reported_misses;
 		cr.preemptions = c->stats.preemptions;
 		cr.ended_by_tcs = c->ended_by_tcs;
+		cr.child = c->parent_id != 0;
 		cr.dropped = c->dropped;
 		r.controllers.push_back(cr);
 	}
 	return r;
 }
 
+// The run lasts while a controller tcs started lives (children left behind
+// are ended with it).
 int64_t Coordinator::alive() const
 {
+	return std::count_if(ctls_.begin(), ctls_.end(),
+			     [](auto &c) { return c->parent_id == 0 && c->state != CtlState::Exited; });
+}
+
+int64_t Coordinator::alive_controllers() const
+{
 	return std::count_if(ctls_.begin(), ctls_.end(), [](auto &c) { return c->state != CtlState::Exited; });
+}
+
+void Coordinator::on_child(Controller &parent, const ::tcs_msg &m, UniqueFd channel)
+{
+	pid_t pid = (pid_t)m.arg;
+	auto refuse = [&](const std::string &why) {
+		warn_once("a child of " + parent.name + " runs in real time: " + why);
+		if (channel) {
+			struct tcs_msg w = tcs_msg_make(TCS_MSG_WAKE, m.seq);
+			w.arg = -EPERM;
+			(void)send(channel.get(), &w, sizeof w, MSG_DONTWAIT | MSG_NOSIGNAL);
+		}
+	};
+	if (!channel)
+		return refuse("it sent no channel");
+	// Only a child of this controller may register through its channel.
+	if (parent_of(pid) != parent.pid)
+		return refuse("pid " + std::to_string(pid) + " is not its child");
+	for (auto &o : ctls_)
+		if (o->pid == pid && o->state != CtlState::Exited)
+			return refuse("pid " + std::to_string(pid) + " is registered already");
+	ControllerSpec spec;
+	spec.cpu_scale = parent.scale;
+	spec.report_misses = trace_.is_open();
+	auto made = Controller::adopt((int)ctls_.size() + 1, parent, pid, std::move(channel), spec, cfg_.mode, origins_,
+				      rt_, devices_);
+	if (!made)
+		return; // its channel is closed: the child sees it and runs in real time
+	Controller &c = **made;
+	// It starts where its parent was at the fork (or is now, if it does not
+	// know), never behind the world.
+	int64_t parent_v = parent.v;
+	if (parent.state == CtlState::Running && cfg_.mode == TCS_MODE_CPU)
+		parent_v = std::max(parent_v, parent.slice().v_base +
+						       tcs_scale_cpu(parent.slice_cpu(parent.cpu_now()), parent.scale));
+	c.v = std::max((m.flags & TCS_CHILD_V_KNOWN) ? m.v : parent_v, sim_ns_);
+	c.wait_seq = m.seq;
+	c.state = CtlState::Blocked;
+	c.deadline = c.v;
+	c.wake_fd = c.page_fd_for_child.release();
+	c.wake_arg = 0;
+	ctls_.push_back(std::move(*made));
+	Controller *raw = ctls_.back().get();
+	if (trace_.is_open())
+		trace_.controller(raw->id, raw->name, raw->pid, raw->scale, cfg_.mode, cfg_.step_ns);
+	if (auto s = loop_.add(raw->channel.get(), [this, raw](uint32_t) { on_channel(*raw); }); !s) {
+		fatal_ = s;
+		return;
+	}
+	if (auto s = loop_.add(raw->pidfd.get(), [this, raw](uint32_t) { on_pidfd(*raw); }); !s)
+		fatal_ = s;
+	if (parent.awaiting_child == pid)
+		child_settled(parent);
+	// Someone new waits for the core: is the one that has it asleep?
+	if (running_)
+		arm_watchdog(*running_);
+}
+
+// The parent, right after its fork: it waits until its child has
+// registered (or died first).
+void Coordinator::on_forked(Controller &c, const ::tcs_msg &m)
+{
+	restart_slice(c, m.cpu);
+	c.wait_seq = m.seq;
+	pid_t pid = (pid_t)m.arg;
+	for (auto &o : ctls_)
+		if (o->pid == pid && o->parent_id == c.id) {
+			reply_now(c, 0);
+			return;
+		}
+	UniqueFd fd((int)syscall(SYS_pidfd_open, pid, 0));
+	if (!fd || parent_of(pid) != c.pid) {
+		reply_now(c, -ESRCH);
+		return;
+	}
+	c.awaiting_child = pid;
+	c.awaiting_child_fd = std::move(fd);
+	Controller *raw = &c;
+	if (auto s = loop_.add(c.awaiting_child_fd.get(), [this, raw](uint32_t) { child_settled(*raw); }); !s)
+		fatal_ = s;
+}
+
+void Coordinator::child_settled(Controller &parent)
+{
+	if (parent.awaiting_child == 0)
+		return;
+	loop_.remove(parent.awaiting_child_fd.get());
+	parent.awaiting_child_fd.reset();
+	parent.awaiting_child = 0;
+	if (parent.state != CtlState::Exited)
+		reply_now(parent, 0);
 }
 
 void Coordinator::on_channel(Controller &c)
 {
 	for (;;) {
 		alignas(8) unsigned char buf[sizeof(struct tcs_msg) + 1];
-		ssize_t n = recv(c.channel.get(), buf, sizeof buf, MSG_DONTWAIT);
+		// A child registering passes its channel (SCM_RIGHTS); any other
+		// fd that comes along is closed.
+		union {
+			struct cmsghdr align;
+			char space[CMSG_SPACE(sizeof(int))];
+		} control;
+		struct iovec iov = { buf, sizeof buf };
+		struct msghdr mh = {};
+		mh.msg_iov = &iov;
+		mh.msg_iovlen = 1;
+		mh.msg_control = control.space;
+		mh.msg_controllen = sizeof control.space;
+		ssize_t n = recvmsg(c.channel.get(), &mh, MSG_DONTWAIT | MSG_CMSG_CLOEXEC);
 		if (n < 0 && (errno == EAGAIN || errno == EINTR))
 			return;
+		UniqueFd passed;
+		for (struct cmsghdr *cm = CMSG_FIRSTHDR(&mh); cm; cm = CMSG_NXTHDR(&mh, cm))
+			if (cm->cmsg_level == SOL_SOCKET && cm->cmsg_type == SCM_RIGHTS) {
+				size_t count = (cm->cmsg_len - CMSG_LEN(0)) / sizeof(int);
+				for (size_t i = 0; i < count; i++) {
+					int fd;
+					memcpy(&fd, CMSG_DATA(cm) + i * sizeof(int), sizeof fd);
+					if (!passed)
+						passed.reset(fd);
+					else
+						close(fd);
+				}
+			}
 		if (n == 0 || (n < 0 && errno == ECONNRESET)) {
 			// Every copy of the controller's end is closed: it is exiting
 			// (its pidfd tells when). Nothing more will come.
@@ -226,6 +398,11 @@ void Coordinator::on_channel(Controller &c)
 		if (const char *why = tcs_msg_check(buf, (long)n, &m)) {
 			drop(c, std::string("bad message on its channel: ") + why);
 			return;
+		}
+		if (m.type == TCS_MSG_CHILD && !(m.flags & TCS_CHILD_PARENT)) {
+			// From a new child, not from c: it waits on its own channel.
+			on_child(c, m, std::move(passed));
+			continue;
 		}
 		// The preload waits for the answer to each request: its HELLO, one
 		// request and the EARLY that may cross the answer are all it can
@@ -243,6 +420,8 @@ void Coordinator::on_channel(Controller &c)
 
 void Coordinator::on_message(Controller &c, const ::tcs_msg &m)
 {
+	if (c.asleep)
+		wake_from_asleep(c); // it woke by itself and asks something
 	switch (m.type) {
 	case TCS_MSG_HELLO:
 		if (m.arg != c.pid) {
@@ -256,6 +435,9 @@ void Coordinator::on_message(Controller &c, const ::tcs_msg &m)
 		}
 		c.attached = true;
 		c.hello_nonce = m.v;
+		if (c.parent_id != 0)
+			c.name = program_name(c.pid, c.name); // a child after its exec
+		c.unanswered = 0; // a new image owes nothing yet
 		return;
 	case TCS_MSG_BLOCK:
 		on_block(c, m);
@@ -272,6 +454,9 @@ void Coordinator::on_message(Controller &c, const ::tcs_msg &m)
 	case TCS_MSG_TIMER:
 		on_timer(c, m);
 		return;
+	case TCS_MSG_CHILD:
+		on_forked(c, m);
+		return;
 	}
 }
 
@@ -279,6 +464,18 @@ void Coordinator::on_pidfd(Controller &c)
 {
 	if (c.state == CtlState::Exited)
 		return;
+	if (c.parent_id != 0) {
+		// A child of a controller: its parent reaps it, not us. Its pidfd
+		// being readable says it has ended; its zombie (if the parent has
+		// not reaped it yet) still tells its CPU and exit status.
+		int64_t cpu = c.cpu_now();
+		if (cpu > 0)
+			c.account(cpu, cfg_.mode);
+		if (running_ == &c)
+			trace_slice_end(c, "exited", std::max<int64_t>(cpu, 0));
+		on_exit(c, zombie_status(c.pid));
+		return;
+	}
 	siginfo_t si = {};
 	// Peek first: a zombie's CPU clock still reads, so its last slice counts.
 	if (waitid(P_PIDFD, (id_t)c.pidfd.get(), &si, WEXITED | WNOHANG | WNOWAIT) < 0 || si.si_pid == 0)
@@ -300,6 +497,11 @@ void Coordinator::on_exit(Controller &c, int wait_status)
 {
 	c.state = CtlState::Exited;
 	c.exit_status = wait_status;
+	// A parent waiting for its children learns of it at the child's
+	// virtual time.
+	for (auto &p : ctls_)
+		if (p->id == c.parent_id && p->state == CtlState::Blocked && p->recheck && !p->sync_pending)
+			wake(*p, std::max(p->v, c.v), TCS_WAKE_RECHECK);
 	loop_.remove(c.channel.get());
 	loop_.remove(c.pidfd.get());
 	if (running_ == &c) {

@@ -50,6 +50,7 @@ struct ControllerReport {
 	std::string name;
 	int wait_status = -1;     // as from waitpid; -1 if it never ended by itself
 	bool ended_by_tcs = false; // stopped by tcs at the end of the run
+	bool child = false;        // a child of a controller (its status is not tcs-run's)
 	std::string dropped;      // non-empty: tcs dropped it, and why
 	bool attached = false;    // libtcs_preload reported in
 	int64_t virtual_ns = 0;
@@ -119,6 +120,16 @@ private:
 	static constexpr int64_t kMinSlice = 20 * TCS_NS_PER_US;
 	// Signal timers (signal_timers.cc).
 	void on_timer(Controller &c, const ::tcs_msg &m);
+	void on_child(Controller &parent, const ::tcs_msg &m, UniqueFd channel);
+	void on_forked(Controller &c, const ::tcs_msg &m);
+	// Asleep in the kernel outside the hooks (asleep.cc).
+	static constexpr int64_t kWatchdog = 500 * TCS_NS_PER_US;
+	void arm_watchdog(Controller &c);
+	void on_watchdog();
+	bool still_asleep(Controller &c);
+	void wake_from_asleep(Controller &c);
+	int64_t alive_controllers() const;
+	void child_settled(Controller &parent);
 	void deliver_due_timers(Controller &c);
 	uint64_t due_timer_signals(Controller &c);
 	void budget_to_next_timer(Controller &c);
@@ -157,6 +168,7 @@ private:
 	// Fires at once: a long way for the world to go is computed in slices
 	// of wall time, with the event loop (signals, deaths) served between.
 	Timer continue_timer_;
+	Timer watchdog_timer_; // looks at a running controller that may be asleep
 	UniqueFd signal_fd_;
 	std::vector<std::unique_ptr<Controller>> ctls_;
 	std::unique_ptr<SimWorld> world_;

@@ -40,6 +40,11 @@ bool parse_text_line(const std::string &line, size_t width, std::vector<double> 
 	for (;;) {
 		while (*p == ' ' || *p == '\t' || *p == '\r' || *p == ',')
 			p++;
+		if (*p == '\0' && p != line.c_str() + line.size()) {
+			// strtod would stop there and the rest be lost unseen.
+			*why = "a line holds a NUL byte";
+			return false;
+		}
 		if (*p == '\0')
 			break;
 		char *end;

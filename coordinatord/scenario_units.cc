@@ -150,6 +150,10 @@ Result<double> parse_rate_hz(std::string_view text)
 		return Error{ quoted(text) + ": a rate must be positive" };
 	if (hz > 1e9L)
 		return Error{ quoted(text) + " is too fast (at most 1 GHz)" };
+	// Slower, its period would not fit virtual time ("1e-4000 Hz" is
+	// positive, and 0 as a double).
+	if (hz < 1e-6L)
+		return Error{ quoted(text) + " is too slow (at least 1e-6 Hz, one record in 11.6 days)" };
 	return (double)hz;
 }
 

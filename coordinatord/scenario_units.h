@@ -23,7 +23,8 @@ Result<double> parse_plain_number(std::string_view text);
 Result<int64_t> parse_duration_ns(std::string_view text);
 
 // A rate with its unit (Hz, kHz, MHz; "KHz" is read as kHz), in Hz:
-// positive and at most 1 GHz, so that its period is at least 1 ns.
+// at most 1 GHz, so that its period is at least 1 ns, and at least 1e-6 Hz,
+// so that its period (at most 1e15 ns) is far from overflowing.
 Result<double> parse_rate_hz(std::string_view text);
 
 // 1/hz rounded to the nearest nanosecond: 3 kHz gives 333333 ns.

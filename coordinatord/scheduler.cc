@@ -67,6 +67,11 @@ void Coordinator::schedule()
 		}
 		if (!any)
 			return; // everyone has exited; run() notices
+		if (best && best->asleep && still_asleep(*best)) {
+			// Looked at: still asleep, its turn passes for this step.
+			best->rechecked_at = sim_ns_;
+			continue;
+		}
 		if (best) {
 			if (best->state == CtlState::Blocked && best->next_timer() <= best_at && best->next_timer() < best->deadline) {
 				// A signal timer is due in its wait: send it, and wake it to
@@ -297,6 +302,7 @@ void Coordinator::resume(Controller &c, int64_t target)
 		budget_timer_.arm(c.check_interval);
 	}
 	budget_to_next_timer(c); // and no further than its own next signal
+	arm_watchdog(c);
 	// Lockstep: computation is free, so no budget; it runs until it waits.
 	// Nor is there one when nothing else will ever need the core.
 }

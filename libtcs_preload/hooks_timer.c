@@ -105,6 +105,13 @@ static long tcs_stimer_set(int slot, int64_t value, int64_t interval, int abs, s
 	return tcs_stimer_sync(slot, &copy);
 }
 
+void tcs_timers_forget_all(void)
+{
+	__builtin_memset(tcs_stimers, 0, sizeof tcs_stimers);
+	for (int i = 0; i < TCS_MAX_TIMERS; i++)
+		tcs_stimers[i].first = TCS_NEVER;
+}
+
 int tcs_timer_signal_target(int signo)
 {
 	for (int i = 0; i < TCS_MAX_TIMERS; i++)

@@ -110,6 +110,16 @@ static inline int64_t tcs_process_cpu_estimate(void)
 	return tcs_process_cpu();
 }
 #endif
+/* A child process (children.c): registers with the coordinator through
+ * parent_channel and takes its own channel and clock page; 0, or -1 when
+ * refused (it then runs in real time). */
+int tcs_become_child(int parent_channel, int64_t fork_v, int v_known) TCS_HIDDEN;
+void tcs_children_init(void) TCS_HIDDEN;
+/* Says once per process that this descendant runs in real time. */
+void tcs_tell_detached(struct tcs_clock_page *page) TCS_HIDDEN;
+/* Forgets every signal timer (a new child has none). */
+void tcs_timers_forget_all(void) TCS_HIDDEN;
+
 /* The thread a timer's signal signo goes to (hooks_timer.c); 0: the process. */
 int tcs_timer_signal_target(int signo) TCS_HIDDEN;
 

@@ -306,7 +306,7 @@ static int tcs_env_int(const char *name, long *out)
  * exec is one process, so the clock page remembers who has been told: the
  * forked child keeps the page fd open through exec for that, and nothing
  * else of the runtime. */
-static void tcs_tell_detached(struct tcs_clock_page *page)
+void tcs_tell_detached(struct tcs_clock_page *page)
 {
 	char pid[24], *p = pid + sizeof pid;
 	long n = tcs_sys0(SYS_getpid), self = n;
@@ -316,17 +316,7 @@ static void tcs_tell_detached(struct tcs_clock_page *page)
 	while ((n /= 10) > 0);
 	if (!page || __atomic_exchange_n(&page->detached_pid, self, __ATOMIC_RELAXED) != self)
 		tcs_write_stderr("process ", p,
-				 ", started by the controller, runs in real time (child processes are not virtualised yet)");
-}
-
-static void tcs_atfork_child(void)
-{
-	if (tcs_rt.state != TCS_ON)
-		return;
-	tcs_rt.state = TCS_DETACHED;
-	tcs_tell_detached(tcs_rt.page);
-	tcs_sys1(SYS_close, tcs_rt.channel_fd);
-	tcs_rt.channel_fd = -1;
+				 ", started by the controller, runs in real time (the coordinator could not take it on)");
 }
 
 /* After exec in a descendant: the page fd, if it is still ours, tells
@@ -414,21 +404,34 @@ __attribute__((constructor)) static void tcs_init(void)
 		tcs_write_stderr("libtcs_preload.so loaded outside tcs-run; this program runs in real time", NULL, NULL);
 		goto out;
 	}
-	if (controller != tcs_sys0(SYS_getpid)) {
-		tcs_detach_descendant((int)page);
-		goto out;
-	}
-	tcs_rt.pid = controller;
+	(void)controller; /* the page says whose it is */
+	tcs_rt.pid = tcs_sys0(SYS_getpid);
 	tcs_rt.channel_fd = (int)channel;
 	tcs_rt.page_fd = (int)page;
 	int r = tcs_map_page();
+	if (r < 0 && r != -EPROTO) {
+		/* No page of ours: a descendant that closed it, or a stray. */
+		tcs_detach_descendant(-1);
+		goto out;
+	}
 	if (r < 0) {
-		tcs_write_stderr(r == -EPROTO ? "libtcs_preload.so does not match the coordinator (mixed installations?)"
-					      : "cannot map the clock page",
+		tcs_write_stderr("libtcs_preload.so does not match the coordinator (mixed installations?)",
 				 "; refusing to run in real time", NULL);
 		tcs_sys1(SYS_exit_group, 2);
 	}
-	pthread_atfork(NULL, NULL, tcs_atfork_child);
+	if (tcs_rt.page->owner_pid != tcs_rt.pid) {
+		/* A child started by vfork or posix_spawn, its new program just
+		 * loaded, the page its parent's: it registers now. */
+		if (tcs_become_child((int)channel, 0, 0) < 0) {
+			struct tcs_clock_page *parents = tcs_rt.page;
+			tcs_rt.page = NULL;
+			tcs_rt.state = TCS_DETACHED;
+			tcs_tell_detached(parents);
+			tcs_sys2(SYS_munmap, parents, TCS_SHARED_SIZE);
+			goto out;
+		}
+	}
+	tcs_children_init();
 	tcs_say_hello();
 	__atomic_store_n(&tcs_rt.state, TCS_ON, __ATOMIC_RELEASE);
 out:

@@ -68,7 +68,17 @@ std::string summary(const RunReport &r, int mode)
 		s += "tcs-run:   world: " + std::to_string(r.steps) + " steps; wall cost per step min " +
 		     format_duration(r.step_wall_min) + ", median " + format_duration(r.step_wall_median) + ", max " +
 		     format_duration(r.step_wall_max) + "\n";
+	// Child processes of the controllers: one line for them all.
+	size_t children = 0;
+	int64_t children_cpu = 0;
+	for (const auto &c : r.controllers)
+		if (c.child) {
+			children++;
+			children_cpu += c.charged_ns;
+		}
 	for (const auto &c : r.controllers) {
+		if (c.child)
+			continue;
 		s += "tcs-run:   " + c.name + " (pid " + std::to_string(c.pid) + "): " + how_it_ended(c);
 		uint64_t cycles = c.periodic_waits ? c.periodic_waits : c.waits;
 		double secs = (double)c.virtual_ns / 1e9;
@@ -84,6 +94,9 @@ std::string summary(const RunReport &r, int mode)
 			s += "; never loaded libtcs_preload";
 		s += "\n";
 	}
+	if (children)
+		s += "tcs-run:   and " + std::to_string(children) + (children == 1 ? " child process" : " child processes") +
+		     " of theirs, each in virtual time on a CPU of its own; CPU " + format_duration(children_cpu) + "\n";
 	return s;
 }
 
@@ -95,7 +108,7 @@ int exit_status(const RunReport &r)
 	if (r.reason == EndReason::Signal)
 		return 128 + r.signal;
 	for (const auto &c : r.controllers)
-		if (!c.ended_by_tcs && c.wait_status >= 0 && status_code(c.wait_status) != 0)
+		if (!c.child && !c.ended_by_tcs && c.wait_status >= 0 && status_code(c.wait_status) != 0)
 			return status_code(c.wait_status);
 	return 0;
 }

@@ -1,14 +1,16 @@
 // The fuzz target for the trace reader: an input is read as an MCAP file,
 // every message's data parsed as JSON; an input that is not MCAP at all is
 // parsed as one JSON text, so that JSON seeds fuzz the parser directly.
-// Built with libFuzzer (clang) or with standalone_driver.cc; either way a
-// crash, a sanitizer report or a broken promise of the API aborts.
+// Built with libFuzzer (clang) or with standalone_driver.cc (its seeds are
+// in trace_reader_seeds.cc); either way a crash, a sanitizer report or a
+// broken promise of the API aborts.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <string>
 #include <string_view>
 
+#include "fuzz_target.h"
 #include "json.h"
 #include "mcap_reader.h"
 
@@ -18,11 +20,7 @@ namespace {
 // its size: a bound on messages keeps one input's work small.
 constexpr size_t kMaxMessages = 20000;
 
-void check(bool promise)
-{
-	if (!promise)
-		abort();
-}
+using tcs_fuzz::check;
 
 // Every string the parser returns is text json_append_string writes so
 // that it parses back unchanged.

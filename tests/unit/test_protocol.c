@@ -388,6 +388,10 @@ static void assert_invariants(const struct tcs_msg *m, const void *raw)
 		assert_int_equal(m->flags & ~TCS_DEV_FLAGS_ALL, 0);
 		assert_true(m->arg >= 0 && m->arg <= INT32_MAX && m->v >= 0 && m->cpu >= 0);
 		break;
+	case TCS_MSG_CHILD:
+		assert_true(m->arg > 0 && m->arg <= INT32_MAX && m->v >= 0 && m->cpu >= 0);
+		assert_int_equal(m->flags & ~(TCS_CHILD_V_KNOWN | TCS_CHILD_PARENT), 0);
+		break;
 	case TCS_MSG_TIMER:
 		assert_true(m->flags < TCS_MAX_TIMERS);
 		assert_true(m->kind >= 1 && m->kind <= 64);

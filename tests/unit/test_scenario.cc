@@ -247,7 +247,12 @@ void test_rates(void **)
 	expect_hz("1MHz", 1e6, 1000);
 	expect_hz("0.5Hz", 0.5, 2000000000LL);
 	expect_hz("1e3Hz", 1000, 1000000);
-	for (const char *bad : { "", "fast", "1000", "0Hz", "0kHz", "2000MHz", "1 GHz", "1khz", "-5Hz", "Hz" }) {
+	expect_hz("0.001Hz", 0.001, 1000000000000LL);
+	expect_hz("1e-6Hz", 1e-6, 1000000000000000LL);
+	// Positive but too slow: "11e-4000kHz" (found by scenario_fuzz) was 0 Hz
+	// once made a double, with a period of llround(inf).
+	for (const char *bad : { "", "fast", "1000", "0Hz", "0kHz", "2000MHz", "1 GHz", "1khz", "-5Hz", "Hz",
+				 "11e-4000kHz", "1e-12 Hz", "0.0000009Hz" }) {
 		auto r = tcs::parse_rate_hz(bad);
 		if (r.ok()) {
 			print_error("parse_rate_hz(\"%s\") = %g, expected an error\n", bad, *r);
@@ -341,6 +346,9 @@ void test_wrong_types(void **)
 	expect_error(kHead + "[[device]]\npath = \"/dev/s\"\nkind = \"sensor\"\nsignals = [\"pendulum.hinge.position\"]\n"
 			     "rate = \"fast\"\n",
 		     7, "rate: 'fast' is not a rate");
+	expect_error(kHead + "[[device]]\npath = \"/dev/s\"\nkind = \"sensor\"\nsignals = [\"pendulum.hinge.position\"]\n"
+			     "rate = \"11e-4000kHz\"\n",
+		     7, "rate: '11e-4000kHz' is too slow");
 	expect_error(kHead + "[[device]]\npath = \"/dev/s\"\nkind = \"sensor\"\nsignals = [\"pendulum.hinge.position\"]\n"
 			     "rate = 1000\n",
 		     7, "rate must be a string such as \"1kHz\", not an integer");

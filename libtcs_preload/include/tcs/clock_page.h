@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 #define TCS_PAGE_MAGIC 0x70736374u /* "tcsp" */
-#define TCS_PAGE_VERSION 4u
+#define TCS_PAGE_VERSION 5u
 #define TCS_PAGE_SIZE 4096
 
 enum tcs_mode {
@@ -63,7 +63,9 @@ struct tcs_clock_page {
 	int64_t tai_origin_ns;  /* CLOCK_TAI at V = 0 */
 	uint64_t tsc_mult;      /* TCS_PAGE_CPU_ESTIMATE: ns per TSC tick, times 2^32 */
 	uint64_t tsc_resync;    /* TSC ticks after which an estimate is read again */
-	uint64_t reserved1[2];
+	int64_t owner_pid;      /* the process this page is for: another one (a child
+				 * after exec) must register before it runs */
+	uint64_t reserved1[1];
 
 	/* Coordinator-written under the seqlock. */
 	uint32_t seq;

@@ -39,6 +39,21 @@ enum tcs_msg_type {
 	TCS_MSG_DEV_OPEN = 5, /* controller → coordinator: open device arg (flags: TCS_DEV_*) */
 	TCS_MSG_DEV_SYNC = 6, /* controller → coordinator: bring device handle arg up to v (kind: TCS_SYNC_*) */
 	TCS_MSG_TIMER = 7,    /* controller → coordinator: (re)arm signal timer flags (see below) */
+	TCS_MSG_CHILD = 8,    /* a new child → its parent's coordinator: register me (see below) */
+};
+
+/* A child process (fork, vfork, posix_spawn, system) registers before it
+ * runs on: it sends CHILD on its parent's channel with arg = its pid, v =
+ * its virtual time at the fork (flags TCS_CHILD_V_KNOWN; else its parent's
+ * time now counts) and one end of a new channel (SCM_RIGHTS); then waits on
+ * that channel for a WAKE carrying its own clock page (SCM_RIGHTS, arg = 0;
+ * arg < 0 and no fd: refused, it runs in real time). From then on it is a
+ * controller of its own, with its own virtual CPU. */
+enum tcs_child_flags {
+	TCS_CHILD_V_KNOWN = 1u << 0,
+	/* From the parent, right after fork (no fd): answer once child arg has
+	 * registered (or died), so that no time passes before it is counted. */
+	TCS_CHILD_PARENT = 1u << 1,
 };
 
 /* A signal timer (alarm, setitimer, timer_create): TIMER arms slot `flags`
@@ -171,6 +186,11 @@ static inline const char *tcs_msg_check(const void *buf, long len, struct tcs_ms
 			return "TIMER with a bad slot or signal";
 		if (out->deadline < 0 || out->arg < 0 || out->v < 0 || out->v > INT32_MAX || out->cpu < 0)
 			return "TIMER with a negative time or a bad thread";
+		return NULL;
+	case TCS_MSG_CHILD:
+		if (out->arg <= 0 || out->arg > INT32_MAX || out->v < 0 || out->cpu < 0 ||
+		    out->flags & ~(TCS_CHILD_V_KNOWN | TCS_CHILD_PARENT))
+			return "CHILD with an invalid pid, time or flags";
 		return NULL;
 	case TCS_MSG_WAKE:
 		return "WAKE is sent by the coordinator, not to it";

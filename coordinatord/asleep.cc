@@ -1,0 +1,117 @@
+// Controllers asleep in the kernel outside tcs's hooks: a parent reading a
+// pipe its child writes, a waitpid inside libc, a futex only another
+// process wakes. While one holds the core as "running", no one else would
+// ever run. A watchdog looks at the running controller when others are
+// waiting for the core: if it used no CPU since the last look and every
+// thread of it is asleep, it steps aside (its virtual time stands still),
+// and it is looked at again at each step, resuming once it is runnable.
+#include <dirent.h>
+
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <string>
+
+#include "coordinator.h"
+
+namespace tcs {
+
+namespace {
+
+// Whether every thread of pid is asleep (S or D, or gone); a thread stopped
+// by us or running counts as awake.
+bool all_threads_asleep(pid_t pid)
+{
+	std::string dir = "/proc/" + std::to_string(pid) + "/task";
+	DIR *d = opendir(dir.c_str());
+	if (!d)
+		return true; // gone
+	bool asleep = true;
+	while (struct dirent *e = readdir(d)) {
+		if (e->d_name[0] == '.')
+			continue;
+		std::ifstream f(dir + "/" + e->d_name + "/stat");
+		std::string stat((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+		size_t close = stat.rfind(')');
+		if (close == std::string::npos || close + 2 >= stat.size())
+			continue;
+		char state = stat[close + 2];
+		if (state != 'S' && state != 'D') {
+			asleep = false;
+			break;
+		}
+	}
+	closedir(d);
+	return asleep;
+}
+
+} // namespace
+
+void Coordinator::arm_watchdog(Controller &c)
+{
+	// Only worth it when someone else may be waiting for the core.
+	if (alive_controllers() < 2)
+		return;
+	c.watch_cpu = c.cpu_now();
+	c.asleep_looks = 0;
+	watchdog_timer_.arm(kWatchdog);
+}
+
+void Coordinator::on_watchdog()
+{
+	watchdog_timer_.consume();
+	if (!running_ || ending_)
+		return;
+	Controller &c = *running_;
+	int64_t cpu = c.cpu_now();
+	// Asleep twice in a row, and not in a request of ours (waiting for its
+	// child to register after a fork, it is asleep in our hands).
+	bool asleep = cpu - c.watch_cpu <= kWatchdog / 100 && c.awaiting_child == 0 && all_threads_asleep(c.pid);
+	c.asleep_looks = asleep ? c.asleep_looks + 1 : 0;
+	if (c.asleep_looks < 2) {
+		c.watch_cpu = cpu;
+		watchdog_timer_.arm(kWatchdog);
+		return;
+	}
+	// Asleep on something real: its time stands still, others go on.
+	c.asleep_looks = 0;
+	budget_timer_.disarm();
+	running_ = nullptr;
+	c.account(cpu, cfg_.mode);
+	c.publish_slice(cpu);
+	trace_slice_end(c, "blocked", cpu);
+	c.asleep = true;
+	c.state = CtlState::Blocked;
+	c.deadline = TCS_NEVER;
+	c.recheck = true;
+	c.rechecked_at = sim_ns_;
+	c.wants_devices = false;
+	c.in_block = false;
+	schedule();
+}
+
+// An asleep controller: still asleep (stay aside), or runnable again.
+bool Coordinator::still_asleep(Controller &c)
+{
+	if (!c.asleep)
+		return false;
+	if (all_threads_asleep(c.pid))
+		return true;
+	wake_from_asleep(c);
+	return false;
+}
+
+// It woke by itself (or made a request): what it used meanwhile is its, and
+// it is Ready as if it had been stopped.
+void Coordinator::wake_from_asleep(Controller &c)
+{
+	int64_t cpu = c.cpu_now();
+	c.account(cpu, cfg_.mode);
+	c.publish_slice(cpu);
+	c.asleep = false;
+	c.state = CtlState::Ready;
+	c.recheck = false;
+	c.wake_pending = false;
+}
+
+} // namespace tcs

@@ -1,0 +1,277 @@
+/* Child processes in virtual time. A child of a controller (fork, vfork,
+ * posix_spawn, system) registers with the coordinator before it runs on:
+ * a forked one in the fork's child handler, one started by vfork or
+ * posix_spawn when its new program loads (its clock page is then its
+ * parent's). It becomes a controller of its own, with its own virtual CPU,
+ * starting at its parent's virtual time. A parent waiting for a child
+ * (wait, waitpid, wait3, wait4, waitid) waits in virtual time: the
+ * coordinator wakes it when a child of its exits. */
+#include <dlfcn.h>
+#include <pthread.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/mman.h>
+#include <sys/resource.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+
+#include "raw_syscall.h"
+#include "timerfd.h"
+
+extern char **environ;
+
+static int64_t tcs_fork_v; /* the parent's virtual time at the fork */
+
+/* Sends CHILD on parent_channel and waits for the answer; on success the
+ * new channel and clock page are at fds channel_no and page_no. 0 or -1. */
+static int tcs_register_child(int parent_channel, int channel_no, int page_no, int64_t fork_v, int v_known)
+{
+	int sv[2];
+	if (tcs_sys4(SYS_socketpair, AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0, sv) < 0)
+		return -1;
+	struct tcs_msg m = tcs_msg_make(TCS_MSG_CHILD, 1);
+	m.arg = tcs_sys0(SYS_getpid);
+	m.v = v_known ? fork_v : 0;
+	m.flags = v_known ? TCS_CHILD_V_KNOWN : 0;
+	union {
+		struct cmsghdr align;
+		char buf[CMSG_SPACE(sizeof(int))];
+	} control;
+	struct iovec iov = { &m, sizeof m };
+	struct msghdr mh = { 0 };
+	mh.msg_iov = &iov;
+	mh.msg_iovlen = 1;
+	mh.msg_control = control.buf;
+	mh.msg_controllen = sizeof control.buf;
+	struct cmsghdr *c = CMSG_FIRSTHDR(&mh);
+	c->cmsg_level = SOL_SOCKET;
+	c->cmsg_type = SCM_RIGHTS;
+	c->cmsg_len = CMSG_LEN(sizeof(int));
+	__builtin_memcpy(CMSG_DATA(c), &sv[1], sizeof(int));
+	long r;
+	do
+		r = tcs_sys3(SYS_sendmsg, parent_channel, &mh, MSG_NOSIGNAL);
+	while (r == -EINTR);
+	tcs_sys1(SYS_close, sv[1]);
+	if (r != (long)sizeof m) {
+		tcs_sys1(SYS_close, sv[0]);
+		return -1;
+	}
+	struct tcs_msg w;
+	iov.iov_base = &w;
+	iov.iov_len = sizeof w;
+	mh.msg_controllen = sizeof control.buf;
+	do
+		r = tcs_sys3(SYS_recvmsg, sv[0], &mh, MSG_CMSG_CLOEXEC);
+	while (r == -EINTR);
+	int page = -1;
+	c = CMSG_FIRSTHDR(&mh);
+	if (r > 0 && c && c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_RIGHTS)
+		__builtin_memcpy(&page, CMSG_DATA(c), sizeof page);
+	if (r != (long)sizeof w || w.magic != TCS_PROTO_MAGIC || w.type != TCS_MSG_WAKE || w.arg != 0 || page < 0) {
+		if (page >= 0)
+			tcs_sys1(SYS_close, page);
+		tcs_sys1(SYS_close, sv[0]);
+		return -1;
+	}
+	/* Over the parent's channel and page in this process (not in the parent). */
+	tcs_sys3(SYS_dup3, sv[0], channel_no, 0);
+	tcs_sys1(SYS_close, sv[0]);
+	tcs_sys3(SYS_dup3, page, page_no, 0);
+	tcs_sys1(SYS_close, page);
+	return 0;
+}
+
+int tcs_become_child(int parent_channel, int64_t fork_v, int v_known)
+{
+	struct tcs_clock_page *old = tcs_rt.page;
+	if (tcs_register_child(parent_channel, tcs_rt.channel_fd, tcs_rt.page_fd, fork_v, v_known) < 0)
+		return -1;
+	if (old)
+		tcs_sys2(SYS_munmap, old, TCS_SHARED_SIZE);
+	tcs_rt.page = NULL;
+	long m = tcs_sys6(SYS_mmap, NULL, TCS_SHARED_SIZE, PROT_READ | PROT_WRITE, MAP_SHARED, tcs_rt.page_fd, 0);
+	if (m < 0 && m > -4096)
+		return -1;
+	tcs_rt.page = (struct tcs_clock_page *)m;
+	tcs_rt.devices = tcs_device_table_of(tcs_rt.page);
+	tcs_rt.pid = tcs_sys0(SYS_getpid);
+	tcs_rt.waiting = 0;
+	tcs_in_wait = 0;
+#if defined(__x86_64__)
+	tcs_anchor.valid = 0; /* a CPU clock of its own now */
+#endif
+	tcs_timers_forget_all(); /* POSIX: timers are not inherited */
+	return 0;
+}
+
+static void tcs_atfork_prepare(void)
+{
+	if (tcs_active())
+		tcs_fork_v = tcs_vnow();
+}
+
+static void tcs_atfork_child(void)
+{
+	if (tcs_rt.state != TCS_ON)
+		return;
+	if (tcs_become_child(tcs_rt.channel_fd, tcs_fork_v, 1) == 0)
+		return;
+	tcs_rt.state = TCS_DETACHED;
+	tcs_tell_detached(tcs_rt.page);
+	tcs_sys1(SYS_close, tcs_rt.channel_fd);
+	tcs_rt.channel_fd = -1;
+}
+
+void tcs_children_init(void)
+{
+	pthread_atfork(tcs_atfork_prepare, NULL, tcs_atfork_child);
+}
+
+/* fork: the parent waits until its child has registered (the child runs
+ * only once the parent waits, under SCHED_FIFO on their one core), so that
+ * no virtual time passes in which the child is not counted. */
+TCS_EXPORT pid_t fork(void)
+{
+	static pid_t (*real_fork)(void);
+	if (!real_fork)
+		real_fork = (pid_t(*)(void))dlsym(RTLD_NEXT, "fork");
+	if (!real_fork)
+		return (pid_t)tcs_errno_result(-ENOSYS);
+	pid_t pid = real_fork();
+	if (pid <= 0 || !tcs_active() || !tcs_wait_enter())
+		return pid;
+	struct tcs_msg m = tcs_msg_make(TCS_MSG_CHILD, 0), w;
+	m.arg = pid;
+	m.flags = TCS_CHILD_PARENT;
+	m.cpu = tcs_process_cpu_estimate();
+	tcs_roundtrip(&m, NULL, 0, NULL, &w, NULL);
+	tcs_wait_leave();
+	return pid;
+}
+
+/* ---- waiting for children -------------------------------------------------- */
+
+/* A wait for a child: tried without blocking; while none is there, waits in
+ * virtual time, re-checked at each step and woken when a child exits. */
+static long tcs_wait_child(idtype_t type, id_t id, siginfo_t *info, int options, struct rusage *ru, int *status,
+			   int as_wait4)
+{
+	for (;;) {
+		long r;
+		siginfo_t si;
+		if (as_wait4) {
+			r = tcs_sys4(SYS_wait4, type == P_PID ? (long)id : type == P_PGID ? -(long)id : -1, status,
+				     options | WNOHANG, ru);
+		} else {
+			__builtin_memset(&si, 0, sizeof si);
+			r = tcs_sys5(SYS_waitid, type, id, &si, options | WNOHANG, ru);
+			if (r == 0 && info)
+				*info = si;
+			if (r == 0 && si.si_pid != 0)
+				return 0;
+			if (r == 0 && (options & WNOHANG))
+				return 0;
+		}
+		if (r != 0 && (as_wait4 || r < 0))
+			return r;
+		if (as_wait4 && (options & WNOHANG))
+			return 0;
+		if (!tcs_wait_enter())
+			return as_wait4 ? tcs_sys4(SYS_wait4, type == P_PID ? (long)id : -1, status, options, ru)
+					: tcs_sys5(SYS_waitid, type, id, info, options, ru);
+		struct tcs_wait_time t = { TCS_NEVER, 0, 0, 0 };
+		long w = tcs_wait(&t, TCS_BLOCK_POLL, TCS_BLOCK_RECHECK, NULL, 0, NULL);
+		tcs_wait_leave();
+		if (w == -EINTR)
+			return -EINTR;
+	}
+}
+
+TCS_EXPORT pid_t wait4(pid_t pid, int *status, int options, struct rusage *ru)
+{
+	if (!tcs_active())
+		return (pid_t)tcs_errno_result(tcs_sys4(SYS_wait4, pid, status, options, ru));
+	idtype_t type = pid > 0 ? P_PID : pid < -1 ? P_PGID : P_ALL;
+	/* (pid 0, "my process group", is waited for as any child.) */
+	return (pid_t)tcs_errno_result(
+		tcs_wait_child(type, (id_t)(pid < -1 ? -pid : pid > 0 ? pid : 0), NULL, options, ru, status, 1));
+}
+
+TCS_EXPORT pid_t waitpid(pid_t pid, int *status, int options)
+{
+	return wait4(pid, status, options, NULL);
+}
+
+TCS_EXPORT pid_t wait(int *status)
+{
+	return wait4(-1, status, 0, NULL);
+}
+
+TCS_EXPORT pid_t wait3(int *status, int options, struct rusage *ru)
+{
+	return wait4(-1, status, options, ru);
+}
+
+TCS_EXPORT int waitid(idtype_t type, id_t id, siginfo_t *info, int options)
+{
+	if (!tcs_active())
+		return tcs_errno_result(tcs_sys5(SYS_waitid, type, id, info, options, NULL));
+	return tcs_errno_result(tcs_wait_child(type, id, info, options, NULL, NULL, 0));
+}
+
+/* system: glibc's waits for its shell with an internal call no preload sees
+ * (the parent would sleep in the kernel where tcs cannot tell it waits), so
+ * it is done here, as POSIX describes it: the shell started with
+ * posix_spawn, SIGINT and SIGQUIT ignored and SIGCHLD blocked meanwhile. */
+TCS_EXPORT int system(const char *command)
+{
+	if (!tcs_active()) {
+		static int (*real_system)(const char *);
+		if (!real_system)
+			real_system = (int (*)(const char *))dlsym(RTLD_NEXT, "system");
+		return real_system ? real_system(command) : tcs_errno_result(-ENOSYS);
+	}
+	if (!command)
+		return 1; /* a shell is there */
+	struct sigaction ignore, old_int, old_quit;
+	__builtin_memset(&ignore, 0, sizeof ignore);
+	ignore.sa_handler = SIG_IGN;
+	sigaction(SIGINT, &ignore, &old_int);
+	sigaction(SIGQUIT, &ignore, &old_quit);
+	sigset_t chld, old_mask;
+	sigemptyset(&chld);
+	sigaddset(&chld, SIGCHLD);
+	sigprocmask(SIG_BLOCK, &chld, &old_mask);
+
+	posix_spawnattr_t attr;
+	posix_spawnattr_init(&attr);
+	sigset_t defaults;
+	sigemptyset(&defaults);
+	if (old_int.sa_handler != SIG_IGN)
+		sigaddset(&defaults, SIGINT);
+	if (old_quit.sa_handler != SIG_IGN)
+		sigaddset(&defaults, SIGQUIT);
+	posix_spawnattr_setsigdefault(&attr, &defaults);
+	posix_spawnattr_setsigmask(&attr, &old_mask);
+	posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETSIGMASK);
+	char *argv[] = { (char *)"sh", (char *)"-c", (char *)command, NULL };
+	pid_t pid;
+	int status;
+	int err = posix_spawn(&pid, "/bin/sh", NULL, &attr, argv, environ);
+	posix_spawnattr_destroy(&attr);
+	if (err != 0) {
+		status = W_EXITCODE(127, 0);
+	} else {
+		long r;
+		do
+			r = tcs_wait_child(P_PID, (id_t)pid, NULL, 0, NULL, &status, 1);
+		while (r == -EINTR);
+		if (r < 0)
+			status = -1;
+	}
+	sigaction(SIGINT, &old_int, NULL);
+	sigaction(SIGQUIT, &old_quit, NULL);
+	sigprocmask(SIG_SETMASK, &old_mask, NULL);
+	return status;
+}

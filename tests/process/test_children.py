@@ -1,0 +1,55 @@
+"""Child processes in virtual time (issue 6): fork, vfork, posix_spawn,
+system and exec; each child a controller of its own, starting at its
+parent's virtual time; a parent waiting for a child (or reading a pipe it
+writes) wakes at the child's virtual time."""
+
+import re
+
+from harness import PYTHON, check, close_to, main, prog, tcs
+
+
+def test_a_shell_running_two_sleeps_takes_their_sum():
+    for mode in ("lockstep", "cpu"):
+        r = tcs("-m", mode, "--", "sh", "-c", "sleep 1; sleep 2", timeout=30)
+        check(r.returncode == 0, "%s: exit 0" % mode, r)
+        took = float(re.search(r"([0-9.]+) s virtual", r.stderr).group(1))
+        # cpu mode adds what the shell and sleep compute (milliseconds).
+        check(3.0 <= took <= (3.0 if mode == "lockstep" else 3.05),
+              "%s: sleep 1; sleep 2 takes 3 s of virtual time (%.3f)" % (mode, took), r)
+        check("2 child processes" in r.stderr, "%s: both children in virtual time" % mode, r)
+
+
+def test_every_way_of_starting_a_child():
+    for how in ("fork", "vfork", "spawn", "system"):
+        for mode in ("lockstep", "cpu"):
+            r = tcs("-q", "-m", mode, prog("children"), how, timeout=30)
+            v = r.values()
+            print("  %-6s %-8s parent saw %.6f s" % (how, mode, int(v["parent_ns"]) / 1e9))
+            check(r.returncode == 0, "%s/%s: exit 0" % (how, mode), r)
+            # The child sleeps 1 s (a forked one burns 200 ms of CPU first,
+            # free in lockstep); the parent, asleep 0.5 s, then waits for it.
+            expected = 1.2e9 if how == "fork" and mode == "cpu" else 1e9
+            close_to(int(v["parent_ns"]), expected, 0.001 if mode == "cpu" else 0,
+                     "%s/%s: the parent sees the child end at the child's time" % (how, mode), r)
+            check(v["child_status"] == ("7" if how == "fork" else "0"), "%s/%s: its exit status" % (how, mode), r)
+
+
+def test_pipes_and_python_subprocesses():
+    # Command substitution: the parent reads a pipe (outside the hooks)
+    # while its child sleeps and writes.
+    r = tcs("-m", "lockstep", "--", "sh", "-c", 'x=$(sleep 1; echo hi); echo "$x"; sleep 2', timeout=30)
+    check(r.returncode == 0 and r.stdout.strip() == "hi", "the output comes through the pipe", r)
+    check("3.000 s virtual" in r.stderr, "3 s of virtual time", r)
+    r = tcs("-q", "-m", "lockstep", "--", PYTHON, "-c",
+            "import os, subprocess, time\n"
+            "t = time.monotonic()\n"
+            "subprocess.run(['sleep', '2'], check=True)\n"
+            "out = subprocess.check_output(['sh', '-c', 'sleep 1; echo done'])\n"
+            "print('took=%.9f out=%s' % (time.monotonic() - t, out.decode().strip()))", timeout=30)
+    v = r.values()
+    check(r.returncode == 0 and v.get("out") == "done", "Python's subprocess works", r)
+    check(v.get("took") == "3.000000000", "and takes exactly 3 s of virtual time", r)
+
+
+if __name__ == "__main__":
+    main(globals())
