@@ -119,6 +119,7 @@ public:
 	uint32_t wait_seq = 0;  // the BLOCK being served
 	int64_t deadline = 0;   // when Blocked
 	bool recheck = false;   // Blocked with per-step re-checks
+	bool waits_for_child = false; // Blocked in wait/waitpid: a child's end wakes it
 	int64_t rechecked_at = -1;
 	bool wake_pending = false; // Ready after a wait: WAKE still to send
 	uint16_t wake_reason = 0;

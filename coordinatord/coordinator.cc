@@ -500,7 +500,7 @@ void Coordinator::on_exit(Controller &c, int wait_status)
 	// A parent waiting for its children learns of it at the child's
 	// virtual time.
 	for (auto &p : ctls_)
-		if (p->id == c.parent_id && p->state == CtlState::Blocked && p->recheck && !p->sync_pending)
+		if (p->id == c.parent_id && p->state == CtlState::Blocked && p->waits_for_child && !p->sync_pending)
 			wake(*p, std::max(p->v, c.v), TCS_WAKE_RECHECK);
 	loop_.remove(c.channel.get());
 	loop_.remove(c.pidfd.get());

@@ -398,6 +398,7 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m)
 	c.wait_requested_at = c.v;
 	c.wait_absolute = (m.flags & TCS_BLOCK_ABSOLUTE) != 0;
 	c.recheck = (m.flags & TCS_BLOCK_RECHECK) != 0;
+	c.waits_for_child = (m.flags & TCS_BLOCK_CHILD) != 0;
 	c.wants_devices = (m.flags & TCS_BLOCK_DEVICES) != 0;
 	c.rechecked_at = sim_ns_;
 	c.wake_pending = false;

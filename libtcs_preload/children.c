@@ -153,7 +153,7 @@ TCS_EXPORT pid_t fork(void)
 /* ---- waiting for children -------------------------------------------------- */
 
 /* A wait for a child: tried without blocking; while none is there, waits in
- * virtual time, re-checked at each step and woken when a child exits. */
+ * virtual time until a child ends (and looks again every 100 ms). */
 static long tcs_wait_child(idtype_t type, id_t id, siginfo_t *info, int options, struct rusage *ru, int *status,
 			   int as_wait4)
 {
@@ -180,8 +180,10 @@ static long tcs_wait_child(idtype_t type, id_t id, siginfo_t *info, int options,
 		if (!tcs_wait_enter())
 			return as_wait4 ? tcs_sys4(SYS_wait4, type == P_PID ? (long)id : -1, status, options, ru)
 					: tcs_sys5(SYS_waitid, type, id, info, options, ru);
-		struct tcs_wait_time t = { TCS_NEVER, 0, 0, 0 };
-		long w = tcs_wait(&t, TCS_BLOCK_POLL, TCS_BLOCK_RECHECK, NULL, 0, NULL);
+		/* Woken when a child ends; and every 100 ms all the same, for a
+		 * child the coordinator could not take on (it runs in real time). */
+		struct tcs_wait_time t = { 100 * TCS_NS_PER_MS, 1, 0, 0 };
+		long w = tcs_wait(&t, TCS_BLOCK_POLL, TCS_BLOCK_CHILD, NULL, 0, NULL);
 		tcs_wait_leave();
 		if (w == -EINTR)
 			return -EINTR;

@@ -89,7 +89,8 @@ enum tcs_block_flags {
 	TCS_BLOCK_ABSOLUTE = 1u << 0, /* the program asked for an absolute deadline */
 	TCS_BLOCK_RECHECK = 1u << 1,  /* wake at every step so real fds get re-checked */
 	TCS_BLOCK_DEVICES = 1u << 2,  /* also wake when a record is due on an open sensor */
-	TCS_BLOCK_FLAGS_ALL = TCS_BLOCK_ABSOLUTE | TCS_BLOCK_RECHECK | TCS_BLOCK_DEVICES,
+	TCS_BLOCK_CHILD = 1u << 3,    /* also wake when a child of the controller ends */
+	TCS_BLOCK_FLAGS_ALL = TCS_BLOCK_ABSOLUTE | TCS_BLOCK_RECHECK | TCS_BLOCK_DEVICES | TCS_BLOCK_CHILD,
 };
 
 enum tcs_early_reason {
