@@ -39,7 +39,10 @@ def test_pipes_and_python_subprocesses():
     # while its child sleeps and writes.
     r = tcs("-m", "lockstep", "--", "sh", "-c", 'x=$(sleep 1; echo hi); echo "$x"; sleep 2', timeout=30)
     check(r.returncode == 0 and r.stdout.strip() == "hi", "the output comes through the pipe", r)
-    check("3.000 s virtual" in r.stderr, "3 s of virtual time", r)
+    # The parent, asleep in read(2) where no hook sees it, is looked at
+    # once per step: it may learn of its child's output a step late.
+    took = float(re.search(r"([0-9.]+) s virtual", r.stderr).group(1))
+    check(3.0 <= took <= 3.002, "3 s of virtual time, give or take a step (%.3f)" % took, r)
     r = tcs("-q", "-m", "lockstep", "--", PYTHON, "-c",
             "import os, subprocess, time\n"
             "t = time.monotonic()\n"
