@@ -9,9 +9,11 @@
  * keeps an anchor — a real reading and the TSC at that moment — and
  * extrapolates from it with the TSC, taking a real reading again when gen
  * changed or the anchor is older than tsc_resync ticks (20 us). An estimate
- * is at most a system call's return below the truth, and at most tsc_resync
- * above it (the process slept in the kernel, or was throttled); tcs_vnow()
- * keeps the clock from going back when a new reading corrects it. */
+ * may be above the truth (the process slept in the kernel, or was
+ * throttled) or below it (an interrupt taken between the reading and the
+ * TSC read is charged to the process): so it serves clock reads only, which
+ * tcs_vnow() keeps from going back, never what is charged, which a program
+ * can compare with its CPU-time clock. */
 #include "preload.h"
 
 #if defined(__x86_64__)

@@ -155,9 +155,9 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 	     const sigset_t *mask)
 {
 	struct tcs_clock_page *p = tcs_rt.page;
-	/* The charge up to here (the coordinator bounds it by its own reading
-	 * of the CPU clock), and virtual time from it in cpu mode. */
-	int64_t cpu = tcs_process_cpu_estimate();
+	/* The charge up to here, exact (an estimate could fall short of a CPU
+	 * time the program has already read), and virtual time from it. */
+	int64_t cpu = tcs_process_cpu();
 	int64_t v = tcs_page_vnow(p, tcs_page_read_slice(p), cpu);
 	/* A relative wait counts from the latest time the program was told,
 	 * so it never sees a sleep end before it should have. */
