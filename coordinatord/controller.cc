@@ -162,12 +162,11 @@ void Controller::account(int64_t cpu, int mode)
 		v = std::max(v, tcs_ns_add(slice_.v_base, used));
 }
 
-int64_t Controller::next_timer() const
+void Controller::timers_changed()
 {
-	int64_t next = TCS_NEVER;
+	next_timer_ = TCS_NEVER;
 	for (const auto &t : timers)
-		next = std::min(next, t.next);
-	return next;
+		next_timer_ = std::min(next_timer_, t.next);
 }
 
 void Controller::coordinator_ran()

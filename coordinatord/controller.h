@@ -135,7 +135,10 @@ public:
 	int wake_fd = -1;           // an fd the next WAKE passes (owned until sent)
 
 	std::array<SignalTimer, TCS_MAX_TIMERS> timers;
-	int64_t next_timer() const; // the earliest expiry (TCS_NEVER: none)
+	// The earliest expiry (TCS_NEVER: none), kept as timers change: the
+	// scheduler asks on every decision.
+	int64_t next_timer() const { return next_timer_; }
+	void timers_changed();
 	bool budgeted = false;      // Running with a budget timer
 
 	int exit_status = -1;   // wait status when Exited
@@ -144,6 +147,7 @@ public:
 	LoopStats stats;
 
 	UniqueFd page_fd_for_child; // adopted: its page, until sent
+	int64_t next_timer_ = TCS_NEVER;
 	bool asleep = false;        // stepped aside, asleep in the kernel (asleep.cc)
 	int64_t watch_cpu = 0;      // its CPU at the watchdog's last look
 	int asleep_looks = 0;       // looks in a row that found it asleep

@@ -25,6 +25,7 @@ void Coordinator::on_timer(Controller &c, const ::tcs_msg &m)
 	t.tid = (int)m.v;
 	t.next = m.deadline;
 	t.interval = m.arg;
+	c.timers_changed();
 	deliver_due_timers(c);
 	reply_now(c, 0);
 	if (c.state == CtlState::Running)
@@ -43,6 +44,7 @@ uint64_t Coordinator::due_timer_signals(Controller &c)
 		bits |= 1ull << (t.signo - 1);
 		t.next = t.interval > 0 ? t.next + ((c.v - t.next) / t.interval + 1) * t.interval : TCS_NEVER;
 	}
+	c.timers_changed();
 	return bits;
 }
 
@@ -61,6 +63,7 @@ void Coordinator::deliver_due_timers(Controller &c)
 			kill(c.pid, t.signo);
 		t.next = t.interval > 0 ? t.next + ((c.v - t.next) / t.interval + 1) * t.interval : TCS_NEVER;
 	}
+	c.timers_changed();
 }
 
 // A running controller's budget ends no later than its next timer (cpu mode:
