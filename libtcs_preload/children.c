@@ -144,7 +144,7 @@ TCS_EXPORT pid_t fork(void)
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_CHILD, 0), w;
 	m.arg = pid;
 	m.flags = TCS_CHILD_PARENT;
-	m.cpu = tcs_process_cpu();
+	m.cpu = tcs_charge_point();
 	tcs_roundtrip(&m, NULL, 0, NULL, &w, NULL);
 	tcs_wait_leave();
 	return pid;

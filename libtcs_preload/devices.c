@@ -85,7 +85,7 @@ long tcs_device_open(int dev, int oflags)
 		return -EBUSY;
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_DEV_OPEN, 0), w;
 	m.arg = dev;
-	m.cpu = tcs_process_cpu();
+	m.cpu = tcs_charge_point();
 	m.v = tcs_page_vnow(tcs_rt.page, tcs_page_read_slice(tcs_rt.page), m.cpu);
 	m.flags = (uint16_t)((access == O_RDONLY ? TCS_DEV_READ : TCS_DEV_WRITE) |
 			     ((oflags & O_NONBLOCK) ? TCS_DEV_NONBLOCK : 0));
@@ -118,7 +118,7 @@ long tcs_device_sync_held(int handle, int fd, unsigned kind)
 {
 	long fl = fd >= 0 ? tcs_sys3(SYS_fcntl, fd, F_GETFL, 0) : 0;
 	struct tcs_clock_page *p = tcs_rt.page;
-	int64_t cpu = tcs_process_cpu();
+	int64_t cpu = tcs_charge_point();
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_DEV_SYNC, 0), w;
 	m.kind = (uint16_t)kind;
 	m.flags = (uint16_t)((fl > 0 && (fl & O_NONBLOCK)) ? TCS_DEV_NONBLOCK : 0);

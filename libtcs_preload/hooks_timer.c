@@ -80,7 +80,7 @@ static long tcs_stimer_sync(int slot, const struct tcs_stimer *t)
 	m.deadline = t->first;
 	m.arg = t->interval;
 	m.v = t->tid;
-	m.cpu = tcs_process_cpu();
+	m.cpu = tcs_charge_point();
 	tcs_roundtrip(&m, NULL, 0, NULL, &w, NULL);
 	tcs_wait_leave();
 	return w.arg < 0 ? w.arg : 0;

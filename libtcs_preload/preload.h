@@ -123,6 +123,8 @@ void tcs_timers_forget_all(void) TCS_HIDDEN;
 /* The thread a timer's signal signo goes to (hooks_timer.c); 0: the process. */
 int tcs_timer_signal_target(int signo) TCS_HIDDEN;
 
+/* The process CPU time up to which a request charges it (runtime.c). */
+int64_t tcs_charge_point(void) TCS_HIDDEN;
 /* The virtual CPU time charged to the controller so far. */
 int64_t tcs_charged_now(void) TCS_HIDDEN;
 

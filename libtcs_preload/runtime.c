@@ -66,6 +66,17 @@ int64_t tcs_v_seen;
  * what a wait charges is never less (see tcs_wait). */
 static int64_t tcs_cpu_seen;
 
+int64_t tcs_charge_point(void)
+{
+	/* Estimated (the coordinator bounds it by its own reading), but never
+	 * below a CPU time the program has already read: an estimate can fall
+	 * short by an interrupt charged to the process, and its CPU-time clock
+	 * would go back. */
+	int64_t cpu = tcs_process_cpu_estimate();
+	int64_t seen = __atomic_load_n(&tcs_cpu_seen, __ATOMIC_RELAXED);
+	return cpu < seen ? seen : cpu;
+}
+
 int64_t tcs_charged_now(void)
 {
 	const struct tcs_clock_page *p = tcs_rt.page;
@@ -161,14 +172,8 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 	     const sigset_t *mask)
 {
 	struct tcs_clock_page *p = tcs_rt.page;
-	/* The charge up to here (the coordinator bounds it by its own reading),
-	 * and virtual time from it in cpu mode: estimated, but never below a
-	 * CPU time the program has already read (an estimate can fall short
-	 * by an interrupt charged to the process) lest its clock go back. */
-	int64_t cpu = tcs_process_cpu_estimate();
-	int64_t seen = __atomic_load_n(&tcs_cpu_seen, __ATOMIC_RELAXED);
-	if (cpu < seen)
-		cpu = seen;
+	/* The charge up to here, and virtual time from it in cpu mode. */
+	int64_t cpu = tcs_charge_point();
 	int64_t v = tcs_page_vnow(p, tcs_page_read_slice(p), cpu);
 	/* A relative wait counts from the latest time the program was told,
 	 * so it never sees a sleep end before it should have. */
