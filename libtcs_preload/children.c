@@ -180,6 +180,10 @@ static long tcs_wait_child(idtype_t type, id_t id, siginfo_t *info, int options,
 		if (!tcs_wait_enter())
 			return as_wait4 ? tcs_sys4(SYS_wait4, type == P_PID ? (long)id : -1, status, options, ru)
 					: tcs_sys5(SYS_waitid, type, id, info, options, ru);
+		/* A child started by vfork or posix_spawn registers when its new
+		 * program loads; under SCHED_FIFO on our one core it runs only if
+		 * we step back (our answer may come without our ever blocking). */
+		tcs_sys0(SYS_sched_yield);
 		/* Woken when a child ends; and every 100 ms all the same, for a
 		 * child the coordinator could not take on (it runs in real time). */
 		struct tcs_wait_time t = { 100 * TCS_NS_PER_MS, 1, 0, 0 };
