@@ -1,10 +1,12 @@
 // Controllers asleep in the kernel outside tcs's hooks: a parent reading a
 // pipe its child writes, a waitpid inside libc, a futex only another
 // process wakes. While one holds the core as "running", no one else would
-// ever run. A watchdog looks at the running controller when others are
-// waiting for the core: if it used no CPU since the last look and every
-// thread of it is asleep, it steps aside (its virtual time stands still),
-// and it is looked at again at each step, resuming once it is runnable.
+// ever run. When others live, the running controller is looked at — by its
+// budget's own checks, or by a watchdog when it has no budget (lockstep):
+// if it used no CPU since the last look and every thread of it sleeps, it
+// steps aside (its virtual time stands still), and it is looked at again at
+// each step, resuming once it is runnable. The watchdog is slow (every
+// 2 ms) because each look interrupts the controller on its core.
 #include <dirent.h>
 
 #include <cstdio>
@@ -68,14 +70,22 @@ void Coordinator::on_watchdog()
 	// child to register after a fork, it is asleep in our hands).
 	bool asleep = cpu - c.watch_cpu <= kWatchdog / 100 && c.awaiting_child == 0 && all_threads_asleep(c.pid);
 	c.asleep_looks = asleep ? c.asleep_looks + 1 : 0;
-	if (c.asleep_looks < 2) {
-		c.watch_cpu = cpu;
+	c.watch_cpu = cpu;
+	if (c.asleep_looks < 2 || !step_aside_if_asleep(c))
 		watchdog_timer_.arm(kWatchdog);
-		return;
-	}
-	// Asleep on something real: its time stands still, others go on.
+}
+
+// The running controller, found making no progress: if every thread of it
+// sleeps (and others may want the core), its time stands still and others
+// go on. False if it is not asleep after all.
+bool Coordinator::step_aside_if_asleep(Controller &c)
+{
+	if (alive_controllers() < 2 || c.awaiting_child != 0 || !all_threads_asleep(c.pid))
+		return false;
+	int64_t cpu = c.cpu_now();
 	c.asleep_looks = 0;
 	budget_timer_.disarm();
+	watchdog_timer_.disarm();
 	running_ = nullptr;
 	c.account(cpu, cfg_.mode);
 	c.publish_slice(cpu);
@@ -88,6 +98,7 @@ void Coordinator::on_watchdog()
 	c.wants_devices = false;
 	c.in_block = false;
 	schedule();
+	return true;
 }
 
 // An asleep controller: still asleep (stay aside), or runnable again.

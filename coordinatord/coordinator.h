@@ -123,9 +123,10 @@ private:
 	void on_child(Controller &parent, const ::tcs_msg &m, UniqueFd channel);
 	void on_forked(Controller &c, const ::tcs_msg &m);
 	// Asleep in the kernel outside the hooks (asleep.cc).
-	static constexpr int64_t kWatchdog = 500 * TCS_NS_PER_US;
+	static constexpr int64_t kWatchdog = 2 * TCS_NS_PER_MS;
 	void arm_watchdog(Controller &c);
 	void on_watchdog();
+	bool step_aside_if_asleep(Controller &c);
 	bool still_asleep(Controller &c);
 	void wake_from_asleep(Controller &c);
 	int64_t alive_controllers() const;

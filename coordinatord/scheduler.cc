@@ -302,7 +302,8 @@ void Coordinator::resume(Controller &c, int64_t target)
 		budget_timer_.arm(c.check_interval);
 	}
 	budget_to_next_timer(c); // and no further than its own next signal
-	arm_watchdog(c);
+	if (!c.budgeted)
+		arm_watchdog(c); // (a budget's own checks look for sleep)
 	// Lockstep: computation is free, so no budget; it runs until it waits.
 	// Nor is there one when nothing else will ever need the core.
 }
@@ -320,7 +321,11 @@ void Coordinator::on_budget()
 	}
 	if (used < c.budget) {
 		// Short of its budget: it was asleep in the kernel, or the core
-		// was busy with something else. Give it the rest.
+		// was busy with something else. If it made no progress at all and
+		// sleeps still, others may have the core meanwhile (asleep.cc).
+		if (used == c.checked_used && step_aside_if_asleep(c))
+			return;
+		// Else give it the rest.
 		int64_t rest = std::max(c.budget - used, kMinSlice);
 		c.check_interval = used > std::max<int64_t>(c.checked_used, 0)
 					   ? rest
