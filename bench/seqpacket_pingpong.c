@@ -14,16 +14,7 @@ int main(int argc, char **argv)
 	long n = argc > 1 ? atol(argv[1]) : 100000;
 	int sv[2];
 	char msg[48] = { 0 };
-	cpu_set_t one;
-	CPU_ZERO(&one);
-	sched_getaffinity(0, sizeof one, &one);
-	for (int c = CPU_SETSIZE - 1; c >= 0; c--)
-		if (CPU_ISSET(c, &one)) {
-			CPU_ZERO(&one);
-			CPU_SET(c, &one);
-			break;
-		}
-	sched_setaffinity(0, sizeof one, &one);
+	bench_pin_to_last_cpu();
 	if (socketpair(AF_UNIX, SOCK_SEQPACKET, 0, sv) != 0)
 		return 1;
 	pid_t pid = fork();

@@ -24,16 +24,7 @@ static int cmp(const void *a, const void *b)
 int main(int argc, char **argv)
 {
 	long n = argc > 1 ? atol(argv[1]) : 2000;
-	cpu_set_t one;
-	CPU_ZERO(&one);
-	sched_getaffinity(0, sizeof one, &one);
-	for (int c = CPU_SETSIZE - 1; c >= 0; c--)
-		if (CPU_ISSET(c, &one)) {
-			CPU_ZERO(&one);
-			CPU_SET(c, &one);
-			break;
-		}
-	sched_setaffinity(0, sizeof one, &one);
+	bench_pin_to_last_cpu();
 	struct sched_param sp = { .sched_priority = 3 };
 	int fifo = sched_setscheduler(0, SCHED_FIFO, &sp) == 0;
 	if (!fifo)

@@ -7,54 +7,17 @@
 // steps aside (its virtual time stands still), and it is looked at again at
 // each step, resuming once it is runnable. The watchdog is slow (every
 // 2 ms) because each look interrupts the controller on its core.
-#include <dirent.h>
-
-#include <cstdio>
-#include <cstring>
-#include <fstream>
-#include <string>
-
 #include "coordinator.h"
+#include "proc_info.h"
 
 namespace tcs {
-
-namespace {
-
-// Whether every thread of pid is asleep (S or D, or gone); a thread stopped
-// by us or running counts as awake.
-bool all_threads_asleep(pid_t pid)
-{
-	std::string dir = "/proc/" + std::to_string(pid) + "/task";
-	DIR *d = opendir(dir.c_str());
-	if (!d)
-		return true; // gone
-	bool asleep = true;
-	while (struct dirent *e = readdir(d)) {
-		if (e->d_name[0] == '.')
-			continue;
-		std::ifstream f(dir + "/" + e->d_name + "/stat");
-		std::string stat((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-		size_t close = stat.rfind(')');
-		if (close == std::string::npos || close + 2 >= stat.size())
-			continue;
-		char state = stat[close + 2];
-		if (state != 'S' && state != 'D') {
-			asleep = false;
-			break;
-		}
-	}
-	closedir(d);
-	return asleep;
-}
-
-} // namespace
 
 void Coordinator::arm_watchdog(Controller &c)
 {
 	// Only worth it when someone else may be waiting for the core.
 	if (alive_controllers() < 2)
 		return;
-	c.watch_cpu = c.cpu_now();
+	c.watch_cpu = c.slice().cpu_base; // read when its slice began: no extra system call
 	c.asleep_looks = 0;
 	watchdog_timer_.arm(kWatchdog);
 }
@@ -68,7 +31,7 @@ void Coordinator::on_watchdog()
 	int64_t cpu = c.cpu_now();
 	// Asleep twice in a row, and not in a request of ours (waiting for its
 	// child to register after a fork, it is asleep in our hands).
-	bool asleep = cpu - c.watch_cpu <= kWatchdog / 100 && c.awaiting_child == 0 && all_threads_asleep(c.pid);
+	bool asleep = cpu - c.watch_cpu <= kWatchdog / 100 && c.awaiting_child == 0 && proc_all_threads_asleep(c.pid);
 	c.asleep_looks = asleep ? c.asleep_looks + 1 : 0;
 	c.watch_cpu = cpu;
 	if (c.asleep_looks < 2 || !step_aside_if_asleep(c))
@@ -80,7 +43,7 @@ void Coordinator::on_watchdog()
 // go on. False if it is not asleep after all.
 bool Coordinator::step_aside_if_asleep(Controller &c)
 {
-	if (alive_controllers() < 2 || c.awaiting_child != 0 || !all_threads_asleep(c.pid))
+	if (alive_controllers() < 2 || c.awaiting_child != 0 || !proc_all_threads_asleep(c.pid))
 		return false;
 	int64_t cpu = c.cpu_now();
 	c.asleep_looks = 0;
@@ -106,7 +69,7 @@ bool Coordinator::still_asleep(Controller &c)
 {
 	if (!c.asleep)
 		return false;
-	if (all_threads_asleep(c.pid))
+	if (proc_all_threads_asleep(c.pid))
 		return true;
 	wake_from_asleep(c);
 	return false;

@@ -11,56 +11,14 @@
 
 #include <algorithm>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 
+#include "proc_info.h"
+#include "tcs/msg_io.h"
 #include "tcs/protocol.h"
 
 namespace tcs {
 
 namespace {
-
-// What pid runs now (its comm), or fallback.
-std::string program_name(pid_t pid, const std::string &fallback)
-{
-	std::ifstream f("/proc/" + std::to_string(pid) + "/comm");
-	std::string name;
-	return std::getline(f, name) && !name.empty() ? name : fallback;
-}
-
-// The parent pid of pid, from /proc (0 if it is gone).
-pid_t parent_of(pid_t pid)
-{
-	std::ifstream f("/proc/" + std::to_string(pid) + "/stat");
-	std::string stat((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-	size_t close = stat.rfind(')');
-	if (close == std::string::npos)
-		return 0;
-	char state = 0;
-	int ppid = 0;
-	if (sscanf(stat.c_str() + close + 1, " %c %d", &state, &ppid) != 2)
-		return 0;
-	return ppid;
-}
-
-// The wait status of a zombie that is not our child, from /proc (field 52,
-// exit_code); 0 if it is gone already.
-int zombie_status(pid_t pid)
-{
-	std::ifstream f("/proc/" + std::to_string(pid) + "/stat");
-	std::string stat((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-	size_t close = stat.rfind(')');
-	if (close == std::string::npos)
-		return 0;
-	std::istringstream fields(stat.substr(close + 2));
-	std::string field;
-	int status = 0;
-	// Fields from 3 (state) on; exit_code is the 52nd.
-	for (int i = 3; i <= 52 && fields >> field; i++)
-		if (i == 52)
-			status = atoi(field.c_str());
-	return status;
-}
 
 int64_t clock_ns(clockid_t id)
 {
@@ -279,7 +237,7 @@ void Coordinator::on_child(Controller &parent, const ::tcs_msg &m, UniqueFd chan
 	if (!channel)
 		return refuse("it sent no channel");
 	// Only a child of this controller may register through its channel.
-	if (parent_of(pid) != parent.pid)
+	if (proc_parent(pid) != parent.pid)
 		return refuse("pid " + std::to_string(pid) + " is not its child");
 	for (auto &o : ctls_)
 		if (o->pid == pid && o->state != CtlState::Exited)
@@ -334,7 +292,7 @@ void Coordinator::on_forked(Controller &c, const ::tcs_msg &m)
 			return;
 		}
 	UniqueFd fd((int)syscall(SYS_pidfd_open, pid, 0));
-	if (!fd || parent_of(pid) != c.pid) {
+	if (!fd || proc_parent(pid) != c.pid) {
 		reply_now(c, -ESRCH);
 		return;
 	}
@@ -360,34 +318,14 @@ void Coordinator::on_channel(Controller &c)
 {
 	for (;;) {
 		alignas(8) unsigned char buf[sizeof(struct tcs_msg) + 1];
-		// A child registering passes its channel (SCM_RIGHTS); any other
-		// fd that comes along is closed.
-		union {
-			struct cmsghdr align;
-			char space[CMSG_SPACE(sizeof(int))];
-		} control;
-		struct iovec iov = { buf, sizeof buf };
-		struct msghdr mh = {};
-		mh.msg_iov = &iov;
-		mh.msg_iovlen = 1;
-		mh.msg_control = control.space;
-		mh.msg_controllen = sizeof control.space;
-		ssize_t n = recvmsg(c.channel.get(), &mh, MSG_DONTWAIT | MSG_CMSG_CLOEXEC);
+		// A child registering passes its channel (SCM_RIGHTS); an fd that
+		// comes with any other message is closed.
+		struct tcs_msg_io io;
+		tcs_msg_io_recv(&io, buf, sizeof buf);
+		ssize_t n = recvmsg(c.channel.get(), &io.mh, MSG_DONTWAIT | MSG_CMSG_CLOEXEC);
 		if (n < 0 && (errno == EAGAIN || errno == EINTR))
 			return;
-		UniqueFd passed;
-		for (struct cmsghdr *cm = CMSG_FIRSTHDR(&mh); cm; cm = CMSG_NXTHDR(&mh, cm))
-			if (cm->cmsg_level == SOL_SOCKET && cm->cmsg_type == SCM_RIGHTS) {
-				size_t count = (cm->cmsg_len - CMSG_LEN(0)) / sizeof(int);
-				for (size_t i = 0; i < count; i++) {
-					int fd;
-					memcpy(&fd, CMSG_DATA(cm) + i * sizeof(int), sizeof fd);
-					if (!passed)
-						passed.reset(fd);
-					else
-						close(fd);
-				}
-			}
+		UniqueFd passed(n > 0 ? tcs_msg_io_fd(&io) : -1);
 		if (n == 0 || (n < 0 && errno == ECONNRESET)) {
 			// Every copy of the controller's end is closed: it is exiting
 			// (its pidfd tells when). Nothing more will come.
@@ -436,7 +374,7 @@ void Coordinator::on_message(Controller &c, const ::tcs_msg &m)
 		c.attached = true;
 		c.hello_nonce = m.v;
 		if (c.parent_id != 0)
-			c.name = program_name(c.pid, c.name); // a child after its exec
+			c.name = proc_name(c.pid, c.name); // a child after its exec
 		c.unanswered = 0; // a new image owes nothing yet
 		return;
 	case TCS_MSG_BLOCK:
@@ -473,7 +411,7 @@ void Coordinator::on_pidfd(Controller &c)
 			c.account(cpu, cfg_.mode);
 		if (running_ == &c)
 			trace_slice_end(c, "exited", std::max<int64_t>(cpu, 0));
-		on_exit(c, zombie_status(c.pid));
+		on_exit(c, proc_exit_status(c.pid));
 		return;
 	}
 	siginfo_t si = {};

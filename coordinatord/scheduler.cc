@@ -23,6 +23,7 @@
 #include <cstring>
 
 #include "coordinator.h"
+#include "tcs/msg_io.h"
 #include "tcs/protocol.h"
 
 namespace tcs {
@@ -234,26 +235,11 @@ void Coordinator::send_wake(Controller &c)
 	m.kind = c.wake_reason;
 	m.v = c.v;
 	m.arg = c.wake_arg;
-	struct iovec iov = { &m, sizeof m };
-	struct msghdr mh = {};
-	mh.msg_iov = &iov;
-	mh.msg_iovlen = 1;
-	union {
-		struct cmsghdr align;
-		char buf[CMSG_SPACE(sizeof(int))];
-	} control;
-	if (c.wake_fd >= 0) {
-		mh.msg_control = control.buf;
-		mh.msg_controllen = sizeof control.buf;
-		struct cmsghdr *cm = CMSG_FIRSTHDR(&mh);
-		cm->cmsg_level = SOL_SOCKET;
-		cm->cmsg_type = SCM_RIGHTS;
-		cm->cmsg_len = CMSG_LEN(sizeof(int));
-		memcpy(CMSG_DATA(cm), &c.wake_fd, sizeof(int));
-	}
+	struct tcs_msg_io io;
+	tcs_msg_io_send(&io, &m, sizeof m, c.wake_fd);
 	// A full or closed channel means the controller is gone or hostile;
 	// its pidfd or its next message will tell.
-	(void)sendmsg(c.channel.get(), &mh, MSG_DONTWAIT | MSG_NOSIGNAL);
+	(void)sendmsg(c.channel.get(), &io.mh, MSG_DONTWAIT | MSG_NOSIGNAL);
 	if (c.wake_fd >= 0) {
 		close(c.wake_fd);
 		c.wake_fd = -1;

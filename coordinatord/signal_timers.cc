@@ -32,19 +32,29 @@ void Coordinator::on_timer(Controller &c, const ::tcs_msg &m)
 		budget_to_next_timer(c);
 }
 
-// Advances the timers due by c.v past it; returns the signals they owe as
-// bits (n - 1 for signal n). Expirations that fell together are one signal,
-// as pending signals of one kind are.
-uint64_t Coordinator::due_timer_signals(Controller &c)
+namespace {
+
+// Calls f with each timer due by c.v, then moves it past c.v: expirations
+// that fell together are one signal, as pending signals of one kind are.
+template <class F> void advance_due(Controller &c, F f)
 {
-	uint64_t bits = 0;
 	for (SignalTimer &t : c.timers) {
 		if (t.next == TCS_NEVER || t.next > c.v)
 			continue;
-		bits |= 1ull << (t.signo - 1);
+		f(t);
 		t.next = t.interval > 0 ? t.next + ((c.v - t.next) / t.interval + 1) * t.interval : TCS_NEVER;
 	}
 	c.timers_changed();
+}
+
+} // namespace
+
+// The signals the timers due owe, as bits (n - 1 for signal n): a waiting
+// controller raises them itself, each to its timer's thread.
+uint64_t Coordinator::due_timer_signals(Controller &c)
+{
+	uint64_t bits = 0;
+	advance_due(c, [&](const SignalTimer &t) { bits |= 1ull << (t.signo - 1); });
 	return bits;
 }
 
@@ -54,16 +64,12 @@ void Coordinator::deliver_due_timers(Controller &c)
 {
 	if (ending_)
 		return;
-	for (SignalTimer &t : c.timers) {
-		if (t.next == TCS_NEVER || t.next > c.v)
-			continue;
+	advance_due(c, [&](const SignalTimer &t) {
 		if (t.tid > 0)
 			syscall(SYS_tgkill, c.pid, t.tid, t.signo);
 		else
 			kill(c.pid, t.signo);
-		t.next = t.interval > 0 ? t.next + ((c.v - t.next) / t.interval + 1) * t.interval : TCS_NEVER;
-	}
-	c.timers_changed();
+	});
 }
 
 // A running controller's budget ends no later than its next timer (cpu mode:

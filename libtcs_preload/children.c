@@ -33,24 +33,11 @@ static int tcs_register_child(int parent_channel, int channel_no, int page_no, i
 	m.arg = tcs_sys0(SYS_getpid);
 	m.v = v_known ? fork_v : 0;
 	m.flags = v_known ? TCS_CHILD_V_KNOWN : 0;
-	union {
-		struct cmsghdr align;
-		char buf[CMSG_SPACE(sizeof(int))];
-	} control;
-	struct iovec iov = { &m, sizeof m };
-	struct msghdr mh = { 0 };
-	mh.msg_iov = &iov;
-	mh.msg_iovlen = 1;
-	mh.msg_control = control.buf;
-	mh.msg_controllen = sizeof control.buf;
-	struct cmsghdr *c = CMSG_FIRSTHDR(&mh);
-	c->cmsg_level = SOL_SOCKET;
-	c->cmsg_type = SCM_RIGHTS;
-	c->cmsg_len = CMSG_LEN(sizeof(int));
-	__builtin_memcpy(CMSG_DATA(c), &sv[1], sizeof(int));
+	struct tcs_msg_io io;
+	tcs_msg_io_send(&io, &m, sizeof m, sv[1]);
 	long r;
 	do
-		r = tcs_sys3(SYS_sendmsg, parent_channel, &mh, MSG_NOSIGNAL);
+		r = tcs_sys3(SYS_sendmsg, parent_channel, &io.mh, MSG_NOSIGNAL);
 	while (r == -EINTR);
 	tcs_sys1(SYS_close, sv[1]);
 	if (r != (long)sizeof m) {
@@ -58,16 +45,11 @@ static int tcs_register_child(int parent_channel, int channel_no, int page_no, i
 		return -1;
 	}
 	struct tcs_msg w;
-	iov.iov_base = &w;
-	iov.iov_len = sizeof w;
-	mh.msg_controllen = sizeof control.buf;
+	tcs_msg_io_recv(&io, &w, sizeof w);
 	do
-		r = tcs_sys3(SYS_recvmsg, sv[0], &mh, MSG_CMSG_CLOEXEC);
+		r = tcs_sys3(SYS_recvmsg, sv[0], &io.mh, MSG_CMSG_CLOEXEC);
 	while (r == -EINTR);
-	int page = -1;
-	c = CMSG_FIRSTHDR(&mh);
-	if (r > 0 && c && c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_RIGHTS)
-		__builtin_memcpy(&page, CMSG_DATA(c), sizeof page);
+	int page = r > 0 ? tcs_msg_io_fd(&io) : -1;
 	if (r != (long)sizeof w || w.magic != TCS_PROTO_MAGIC || w.type != TCS_MSG_WAKE || w.arg != 0 || page < 0) {
 		if (page >= 0)
 			tcs_sys1(SYS_close, page);

@@ -36,17 +36,6 @@ struct tcs_stimer {
 static struct tcs_stimer tcs_stimers[TCS_MAX_TIMERS];
 static int tcs_stimer_lock;
 
-static void tcs_lock(void)
-{
-	while (__atomic_exchange_n(&tcs_stimer_lock, 1, __ATOMIC_ACQUIRE))
-		tcs_cpu_relax();
-}
-
-static void tcs_unlock(void)
-{
-	__atomic_store_n(&tcs_stimer_lock, 0, __ATOMIC_RELEASE);
-}
-
 /* The next expiry after virtual time v (TCS_NEVER: none). */
 static int64_t tcs_stimer_next(const struct tcs_stimer *t, int64_t v)
 {
@@ -92,7 +81,7 @@ static long tcs_stimer_set(int slot, int64_t value, int64_t interval, int abs, s
 {
 	struct tcs_stimer *t = &tcs_stimers[slot];
 	int64_t v = tcs_vnow();
-	tcs_lock();
+	tcs_spin_lock(&tcs_stimer_lock);
 	if (old)
 		*old = tcs_stimer_value(t, v);
 	if (value <= 0)
@@ -101,7 +90,7 @@ static long tcs_stimer_set(int slot, int64_t value, int64_t interval, int abs, s
 		t->first = abs ? value - tcs_sleep_clock_origin(t->clock) : tcs_ns_add(v, value);
 	t->interval = t->first == TCS_NEVER ? 0 : interval;
 	struct tcs_stimer copy = *t;
-	tcs_unlock();
+	tcs_spin_unlock(&tcs_stimer_lock);
 	return tcs_stimer_sync(slot, &copy);
 }
 
@@ -155,9 +144,9 @@ TCS_EXPORT int getitimer(__itimer_which_t which, struct itimerval *cur)
 {
 	if (which != ITIMER_REAL || !tcs_active())
 		return tcs_errno_result(tcs_sys2(SYS_getitimer, which, cur));
-	tcs_lock();
+	tcs_spin_lock(&tcs_stimer_lock);
 	struct itimerspec v = tcs_stimer_value(&tcs_stimers[0], tcs_vnow());
-	tcs_unlock();
+	tcs_spin_unlock(&tcs_stimer_lock);
 	cur->it_value = tcs_ts_to_tv(v.it_value);
 	cur->it_interval = tcs_ts_to_tv(v.it_interval);
 	return 0;
@@ -204,18 +193,18 @@ TCS_EXPORT int timer_create(clockid_t clock, struct sigevent *sev, timer_t *id)
 	int signo = notify == SIGEV_NONE ? 0 : sev ? sev->sigev_signo : SIGALRM;
 	if (notify != SIGEV_NONE && (signo < 1 || signo > 64))
 		return tcs_errno_result(-EINVAL);
-	tcs_lock();
+	tcs_spin_lock(&tcs_stimer_lock);
 	int slot = -1;
 	for (int i = 1; i < TCS_MAX_TIMERS && slot < 0; i++)
 		if (!tcs_stimers[i].used)
 			slot = i;
 	if (slot < 0) {
-		tcs_unlock();
+		tcs_spin_unlock(&tcs_stimer_lock);
 		return tcs_errno_result(-EAGAIN);
 	}
 	tcs_stimers[slot] = (struct tcs_stimer){ 1, signo, notify == SIGEV_THREAD_ID ? sev->_sigev_un._tid : 0, clock,
 						  TCS_NEVER, 0 };
-	tcs_unlock();
+	tcs_spin_unlock(&tcs_stimer_lock);
 	*id = (timer_t)(uintptr_t)(TCS_TIMER_TAG | (unsigned)slot);
 	return 0;
 }
@@ -248,9 +237,9 @@ TCS_EXPORT int timer_gettime(timer_t id, struct itimerspec *cur)
 		int (*real)(timer_t, struct itimerspec *) = TCS_REAL(timer_gettime, int (*)(timer_t, struct itimerspec *));
 		return real ? real(id, cur) : tcs_errno_result(-EINVAL);
 	}
-	tcs_lock();
+	tcs_spin_lock(&tcs_stimer_lock);
 	*cur = tcs_stimer_value(&tcs_stimers[slot], tcs_vnow());
-	tcs_unlock();
+	tcs_spin_unlock(&tcs_stimer_lock);
 	return 0;
 }
 

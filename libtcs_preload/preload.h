@@ -22,6 +22,7 @@ struct termios;
 
 #include "tcs/clock_page.h"
 #include "tcs/device_table.h"
+#include "tcs/msg_io.h"
 #include "tcs/protocol.h"
 
 #define TCS_EXPORT __attribute__((visibility("default")))
@@ -61,6 +62,19 @@ extern __thread int tcs_in_wait TCS_HIDDEN __attribute__((tls_model("initial-exe
 static inline int tcs_active(void)
 {
 	return __atomic_load_n(&tcs_rt.state, __ATOMIC_RELAXED) == TCS_ON;
+}
+
+/* A spin lock for the runtime's small tables (held for a few loads and
+ * stores; threads of a controller share one core, so it is rarely seen). */
+static inline void tcs_spin_lock(int *lock)
+{
+	while (__atomic_exchange_n(lock, 1, __ATOMIC_ACQUIRE))
+		tcs_cpu_relax();
+}
+
+static inline void tcs_spin_unlock(int *lock)
+{
+	__atomic_store_n(lock, 0, __ATOMIC_RELEASE);
 }
 
 /* The process's real CPU time in ns (all threads). */

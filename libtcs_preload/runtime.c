@@ -260,17 +260,9 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 				tcs_lost("ppoll on the channel failed");
 		}
 		/* recvmsg: a reply to DEV_OPEN carries the device's fd. */
-		union {
-			struct cmsghdr align;
-			char buf[CMSG_SPACE(sizeof(int))];
-		} control;
-		struct iovec iov = { reply, sizeof *reply };
-		struct msghdr mh = { 0 };
-		mh.msg_iov = &iov;
-		mh.msg_iovlen = 1;
-		mh.msg_control = control.buf;
-		mh.msg_controllen = sizeof control.buf;
-		long r = tcs_sys3(SYS_recvmsg, tcs_rt.channel_fd, &mh, MSG_CMSG_CLOEXEC | (look_first ? MSG_DONTWAIT : 0));
+		struct tcs_msg_io io;
+		tcs_msg_io_recv(&io, reply, sizeof *reply);
+		long r = tcs_sys3(SYS_recvmsg, tcs_rt.channel_fd, &io.mh, MSG_CMSG_CLOEXEC | (look_first ? MSG_DONTWAIT : 0));
 		if (look_first) {
 			look_first = 0;
 			if (r == -EAGAIN)
@@ -285,10 +277,7 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 		}
 		if (r != (long)sizeof *reply || reply->magic != TCS_PROTO_MAGIC || reply->type != TCS_MSG_WAKE)
 			tcs_lost(r == 0 ? "the channel is closed" : "unexpected message");
-		struct cmsghdr *c = CMSG_FIRSTHDR(&mh);
-		int fd = -1;
-		if (c && c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_RIGHTS)
-			__builtin_memcpy(&fd, CMSG_DATA(c), sizeof fd);
+		int fd = tcs_msg_io_fd(&io);
 		if (reply->seq != seq) {
 			if (fd >= 0)
 				tcs_sys1(SYS_close, fd);

@@ -30,17 +30,6 @@ static uint8_t tcs_fd_vtimer[TCS_DEVICE_FD_MAX]; /* slot + 1, or 0 */
 static int tcs_vtimer_lock;
 static int tcs_vtimers_count; /* armed */
 
-static void tcs_lock(void)
-{
-	while (__atomic_exchange_n(&tcs_vtimer_lock, 1, __ATOMIC_ACQUIRE))
-		tcs_cpu_relax();
-}
-
-static void tcs_unlock(void)
-{
-	__atomic_store_n(&tcs_vtimer_lock, 0, __ATOMIC_RELEASE);
-}
-
 static struct tcs_vtimer *tcs_slot(int fd)
 {
 	if (fd < 0 || fd >= TCS_DEVICE_FD_MAX || !tcs_fd_vtimer[fd])
@@ -70,7 +59,7 @@ int64_t tcs_vtimers_fire(int64_t v)
 	int64_t soonest = TCS_NEVER;
 	if (!tcs_vtimers_armed())
 		return soonest;
-	tcs_lock();
+	tcs_spin_lock(&tcs_vtimer_lock);
 	for (int i = 0; i < TCS_VTIMERS_MAX; i++) {
 		struct tcs_vtimer *t = &tcs_vtimers[i];
 		if (!t->refs || t->next == TCS_NEVER)
@@ -85,7 +74,7 @@ int64_t tcs_vtimers_fire(int64_t v)
 		if (t->next < soonest)
 			soonest = t->next;
 	}
-	tcs_unlock();
+	tcs_spin_unlock(&tcs_vtimer_lock);
 	return soonest;
 }
 
@@ -134,7 +123,7 @@ void tcs_vtimer_forget(int fd)
 	struct tcs_vtimer *t = tcs_slot(fd);
 	if (!t)
 		return;
-	tcs_lock();
+	tcs_spin_lock(&tcs_vtimer_lock);
 	tcs_fd_vtimer[fd] = 0;
 	if (--t->refs == 0) {
 		tcs_set_next(t, TCS_NEVER);
@@ -145,7 +134,7 @@ void tcs_vtimer_forget(int fd)
 				break;
 			}
 	}
-	tcs_unlock();
+	tcs_spin_unlock(&tcs_vtimer_lock);
 }
 
 void tcs_vtimer_copy(int from, int to)
@@ -153,10 +142,10 @@ void tcs_vtimer_copy(int from, int to)
 	struct tcs_vtimer *t = tcs_slot(from);
 	if (!t || to < 0 || to >= TCS_DEVICE_FD_MAX)
 		return;
-	tcs_lock();
+	tcs_spin_lock(&tcs_vtimer_lock);
 	t->refs++;
 	tcs_fd_vtimer[to] = tcs_fd_vtimer[from];
-	tcs_unlock();
+	tcs_spin_unlock(&tcs_vtimer_lock);
 }
 
 static int tcs_timer_clock_ok(clockid_t id)
@@ -179,13 +168,13 @@ TCS_EXPORT int timerfd_create(int clockid, int flags)
 		tcs_sys1(SYS_close, fd);
 		return tcs_errno_result(-EMFILE);
 	}
-	tcs_lock();
+	tcs_spin_lock(&tcs_vtimer_lock);
 	int slot = -1;
 	for (int i = 0; i < TCS_VTIMERS_MAX && slot < 0; i++)
 		if (!tcs_vtimers[i].refs)
 			slot = i;
 	if (slot < 0) {
-		tcs_unlock();
+		tcs_spin_unlock(&tcs_vtimer_lock);
 		tcs_sys1(SYS_close, fd);
 		static int once;
 		tcs_report_once(&once, "more than 64 timerfds: the 65th is refused (EMFILE)");
@@ -193,7 +182,7 @@ TCS_EXPORT int timerfd_create(int clockid, int flags)
 	}
 	tcs_vtimers[slot] = (struct tcs_vtimer){ 1, (int)fd, clockid, TCS_NEVER, 0 };
 	tcs_fd_vtimer[fd] = (uint8_t)(slot + 1);
-	tcs_unlock();
+	tcs_spin_unlock(&tcs_vtimer_lock);
 	return (int)fd;
 }
 
@@ -213,9 +202,9 @@ TCS_EXPORT int timerfd_gettime(int fd, struct itimerspec *cur)
 		return tcs_errno_result(tcs_sys2(SYS_timerfd_gettime, fd, cur));
 	int64_t now = tcs_vnow();
 	tcs_vtimers_fire(now);
-	tcs_lock();
+	tcs_spin_lock(&tcs_vtimer_lock);
 	*cur = tcs_timer_value(t, now);
-	tcs_unlock();
+	tcs_spin_unlock(&tcs_vtimer_lock);
 	return 0;
 }
 
@@ -235,11 +224,11 @@ TCS_EXPORT int timerfd_settime(int fd, int flags, const struct itimerspec *val, 
 	int64_t next = TCS_NEVER;
 	if (value > 0)
 		next = (flags & TFD_TIMER_ABSTIME) ? value - tcs_sleep_clock_origin(t->clock) : tcs_ns_add(now, value);
-	tcs_lock();
+	tcs_spin_lock(&tcs_vtimer_lock);
 	if (old)
 		*old = tcs_timer_value(t, now);
 	t->interval = next == TCS_NEVER ? 0 : tcs_ts_to_ns(&val->it_interval);
 	tcs_set_next(t, next);
-	tcs_unlock();
+	tcs_spin_unlock(&tcs_vtimer_lock);
 	return 0;
 }

@@ -120,7 +120,7 @@ def test_summary_of_preempted_controllers():
 step = "1ms"
 model = "pendulum"
 [[controller]]
-command = "%s 1000 1 700us"
+command = "%s 1000 1 500us"
 [[controller]]
 command = "%s 250 1 2000us"
 cpu_scale = 2.0

@@ -1,0 +1,21 @@
+// What /proc says of a process that is not ours to wait for: its parent,
+// its program's name, its exit status while a zombie, whether it sleeps.
+#pragma once
+
+#include <sys/types.h>
+
+#include <string>
+
+namespace tcs {
+
+// 0 if it is gone.
+pid_t proc_parent(pid_t pid);
+// Its comm (the program it runs), or fallback.
+std::string proc_name(pid_t pid, const std::string &fallback);
+// A zombie's wait status (stat field 52, exit_code); 0 if it is gone.
+int proc_exit_status(pid_t pid);
+// Whether every thread of it is asleep in the kernel (state S or D), or it
+// is gone; a running or stopped thread counts as awake.
+bool proc_all_threads_asleep(pid_t pid);
+
+} // namespace tcs
