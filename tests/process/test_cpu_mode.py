@@ -24,10 +24,10 @@ def test_virtual_time_is_the_cpu_burned():
         ratio = min(virtual) / (min(native_cpu) * float(scale))
         print("  cpu-scale %s: virtual time %.1f ms for %.1f ms of native CPU: ratio %.4f" %
               (scale, min(virtual) / 1e6, min(native_cpu) / 1e6, ratio))
-        # The same work's CPU time scatters by about 3 % between runs on
+        # The same work's CPU time scatters by 3 % (here) to 15 % (CI) between runs on
         # this shared VM (measured, native and under tcs alike); the exact
         # part, virtual time = virtual CPU clock, is checked to 0.5 % above.
-        close_to(ratio, 1.0, 0.04, "virtual time vs CPU burned x %s" % scale)
+        close_to(ratio, 1.0, 0.1, "virtual time vs CPU burned x %s" % scale)
 
 
 def test_periodic_loop_with_30_percent_work_keeps_its_rate():
@@ -57,8 +57,17 @@ def test_overloaded_loop_fails_as_on_hardware_but_not_in_lockstep():
     print("  1 kHz loop, 150%% work: natively %.1f Hz in real time; tcs cpu mode %s Hz, lockstep %s Hz" %
           (native_rate, cpu["rate_hz"], lockstep["rate_hz"]))
     print("  (tcs/native ratios: %s)" % " ".join("%.3f" % x for x in ratios))
-    close_to(ratio, 1.0, 0.03, "cpu-mode rate vs native real-time rate")
+    # Native runs on a shared machine scatter by up to 15 % between
+    # neighbouring runs (measured on CI: 0.92 to 1.15): this comparison
+    # shows the loop fails as it does natively, far from lockstep's 1 kHz;
+    # the exact rate is checked below with work measured in CPU time.
+    close_to(ratio, 1.0, 0.2, "cpu-mode rate vs native real-time rate")
     check(int(cpu["misses"]) > 0.9 * int(cpu["loops"]), "cpu mode: nearly every deadline missed")
+    exact = tcs("-q", prog("periodic"), 1000, 2, "1500us", timeout=120).values()
+    print("  1500 us of CPU per 1 ms period: %s Hz in cpu mode, %s misses in %s loops" %
+          (exact["rate_hz"], exact["misses"], exact["loops"]))
+    close_to(float(exact["rate_hz"]), 1000 / 1.5, 0.01, "cpu mode runs at 1/(CPU per loop)")
+    check(exact["misses"] == exact["loops"], "every deadline missed")
     close_to(float(lockstep["rate_hz"]), 1000, 0.01, "lockstep (wrongly) reports the full 1 kHz")
     check(lockstep["misses"] == "0", "lockstep (wrongly) reports no missed deadline")
     check(cpu["sleep_failures"] == "0", "no sleep failed under preemption")
