@@ -14,8 +14,9 @@ namespace tcs {
 
 void Coordinator::arm_watchdog(Controller &c)
 {
-	// Only worth it when someone else may be waiting for the core.
-	if (alive_controllers() < 2)
+	// Only worth it when someone else may be waiting for the core, or
+	// when its threads may all be waiting.
+	if (alive_controllers() < 2 && c.side.empty())
 		return;
 	c.watch_cpu = c.slice().cpu_base; // read when its slice began: no extra system call
 	c.asleep_looks = 0;
@@ -34,7 +35,7 @@ void Coordinator::on_watchdog()
 	bool asleep = cpu - c.watch_cpu <= kWatchdog / 100 && c.awaiting_child == 0 && proc_all_threads_asleep(c.pid);
 	c.asleep_looks = asleep ? c.asleep_looks + 1 : 0;
 	c.watch_cpu = cpu;
-	if (c.asleep_looks < 2 || !step_aside_if_asleep(c))
+	if (c.asleep_looks < 2 || !(block_if_all_waiting(c) || step_aside_if_asleep(c)))
 		watchdog_timer_.arm(kWatchdog);
 }
 

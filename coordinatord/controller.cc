@@ -174,6 +174,11 @@ void Controller::coordinator_ran()
 	tcs_page_bump_gen(page_);
 }
 
+bool Controller::multithreaded() const
+{
+	return !threads.empty() || __atomic_load_n(&page_->threads_started, __ATOMIC_RELAXED) != 0;
+}
+
 uint64_t Controller::quick_waits() const
 {
 	return __atomic_load_n(&page_->quick_returns, __ATOMIC_RELAXED);

@@ -50,6 +50,42 @@ struct SignalTimer {
 	int64_t interval = 0;
 };
 
+// What the coordinator keeps of one channel of a controller: the main one,
+// or a thread's (protocol.h, Threads).
+struct ChannelState {
+	int unanswered = 0;   // messages since the last WAKE sent on it
+	uint32_t early_ahead = 0; // an EARLY whose BLOCK has not come yet
+};
+
+// A thread other than the main one: its own channel.
+struct ThreadChannel {
+	pid_t tid = 0;
+	UniqueFd fd;
+	ChannelState state;
+};
+
+// A thread's wait that is not the controller's own: another thread ran on
+// when it began, or the controller waits in another thread's wait. It ends
+// at its deadline (or a re-check, or an EARLY), when the controller is
+// resumed there; the controller's virtual time passes only while no thread
+// can run (scheduler.cc).
+struct SideWait {
+	int fd = -1; // the channel to answer on
+	uint32_t seq = 0;
+	int64_t deadline = TCS_NEVER;
+	uint16_t flags = 0; // TCS_BLOCK_*
+	const char *kind = "";
+	int64_t requested_at = 0;
+	int64_t rechecked_at = 0;
+	uint16_t wake_reason = 0; // set when it is to end
+};
+
+// The trace's name for a wait of kind TCS_BLOCK_*.
+inline const char *block_kind_name(uint16_t kind)
+{
+	return kind == TCS_BLOCK_SLEEP ? "sleep" : kind == TCS_BLOCK_POLL ? "poll" : "sync";
+}
+
 struct LoopStats {
 	uint64_t waits = 0;          // BLOCK messages
 	uint64_t absolute_waits = 0; // of which absolute deadlines (periodic loops)
@@ -100,7 +136,6 @@ public:
 	CtlState state = CtlState::Ready;
 	bool stopped = true;    // held by SIGSTOP
 	bool attached = false;  // the preload said HELLO
-	int unanswered = 0;     // messages since the last WAKE sent
 	int64_t hello_nonce = 0; // the current image's HELLO
 	int64_t v = 0;          // virtual time (exact whenever not Running)
 	int64_t charged = 0;    // virtual CPU charged
@@ -117,6 +152,18 @@ public:
 	int64_t lag_ns = 0;         // learnt wall-versus-CPU lag of a slice
 	int64_t check_interval = 0; // wall time until the next check
 	uint32_t wait_seq = 0;  // the BLOCK being served
+	int wait_fd = -1;       // the channel it came on (-1: the main one)
+	uint16_t wait_flags = 0; // its TCS_BLOCK_* flags
+	// Threads: their channels, the waits of threads beside the controller's
+	// own, and whether it is blocked with threads asleep outside the hooks.
+	ChannelState main_state;
+	std::vector<std::unique_ptr<ThreadChannel>> threads;
+	std::vector<SideWait> side;
+	bool others_asleep = false;
+	uint32_t thread_registrations = 0;
+	// It has started threads (or has thread channels): each wait looks at
+	// them all.
+	bool multithreaded() const;
 	int64_t deadline = 0;   // when Blocked
 	bool recheck = false;   // Blocked with per-step re-checks
 	bool waits_for_child = false; // Blocked in wait/waitpid: a child's end wakes it

@@ -29,7 +29,7 @@ int64_t clock_ns(clockid_t id)
 
 constexpr int64_t kProgressPeriod = 250 * TCS_NS_PER_MS;
 // Messages a controller may send without an answer (see on_channel).
-constexpr int kMaxUnanswered = 3;
+constexpr int kMaxUnanswered = 4;
 // How long controllers get to act on SIGTERM at the end before SIGKILL.
 constexpr int64_t kEndGrace = 2 * TCS_NS_PER_S;
 
@@ -50,7 +50,7 @@ Status Coordinator::init()
 		return Error{ "the simulation step must be positive" };
 	if (auto s = loop_.init(); !s)
 		return s;
-	for (Timer *t : { &budget_timer_, &progress_timer_, &kill_timer_, &idle_timer_, &continue_timer_, &watchdog_timer_ })
+	for (Timer *t : { &budget_timer_, &progress_timer_, &kill_timer_, &idle_timer_, &continue_timer_, &watchdog_timer_, &exit_timer_ })
 		if (auto s = t->init(); !s)
 			return s;
 
@@ -119,6 +119,13 @@ Status Coordinator::init()
 	watch(progress_timer_.fd(), [this](uint32_t) { on_progress(); });
 	watch(idle_timer_.fd(), [this](uint32_t) { on_idle(); });
 	watch(watchdog_timer_.fd(), [this](uint32_t) { on_watchdog(); });
+	watch(exit_timer_.fd(), [this](uint32_t) {
+		exit_timer_.consume();
+		auto again = std::move(exiting_);
+		exiting_.clear();
+		for (Controller *c : again)
+			on_pidfd(*c);
+	});
 	watch(continue_timer_.fd(), [this](uint32_t) {
 		continue_timer_.consume();
 		schedule();
@@ -152,7 +159,7 @@ Status Coordinator::add_controller(const ControllerSpec &spec)
 	if (trace_.is_open())
 		trace_.controller(raw->id, raw->name, raw->pid, raw->scale, cfg_.mode, cfg_.step_ns);
 	ctls_.push_back(std::move(*c));
-	if (auto s = loop_.add(raw->channel.get(), [this, raw](uint32_t) { on_channel(*raw); }); !s)
+	if (auto s = loop_.add(raw->channel.get(), [this, raw](uint32_t) { on_channel(*raw, nullptr); }); !s)
 		return s;
 	return loop_.add(raw->pidfd.get(), [this, raw](uint32_t) { on_pidfd(*raw); });
 }
@@ -266,7 +273,7 @@ void Coordinator::on_child(Controller &parent, const ::tcs_msg &m, UniqueFd chan
 	Controller *raw = ctls_.back().get();
 	if (trace_.is_open())
 		trace_.controller(raw->id, raw->name, raw->pid, raw->scale, cfg_.mode, cfg_.step_ns);
-	if (auto s = loop_.add(raw->channel.get(), [this, raw](uint32_t) { on_channel(*raw); }); !s) {
+	if (auto s = loop_.add(raw->channel.get(), [this, raw](uint32_t) { on_channel(*raw, nullptr); }); !s) {
 		fatal_ = s;
 		return;
 	}
@@ -314,22 +321,28 @@ void Coordinator::child_settled(Controller &parent)
 		reply_now(parent, 0);
 }
 
-void Coordinator::on_channel(Controller &c)
+void Coordinator::on_channel(Controller &c, ThreadChannel *t)
 {
+	const int fd = t ? t->fd.get() : c.channel.get();
+	const pid_t tid = t ? t->tid : c.pid;
+	ChannelState &st = t ? t->state : c.main_state;
 	for (;;) {
 		alignas(8) unsigned char buf[sizeof(struct tcs_msg) + 1];
-		// A child registering passes its channel (SCM_RIGHTS); an fd that
-		// comes with any other message is closed.
+		// A child or a thread registering passes its channel
+		// (SCM_RIGHTS); an fd that comes with any other message is closed.
 		struct tcs_msg_io io;
 		tcs_msg_io_recv(&io, buf, sizeof buf);
-		ssize_t n = recvmsg(c.channel.get(), &io.mh, MSG_DONTWAIT | MSG_CMSG_CLOEXEC);
+		ssize_t n = recvmsg(fd, &io.mh, MSG_DONTWAIT | MSG_CMSG_CLOEXEC);
 		if (n < 0 && (errno == EAGAIN || errno == EINTR))
 			return;
 		UniqueFd passed(n > 0 ? tcs_msg_io_fd(&io) : -1);
 		if (n == 0 || (n < 0 && errno == ECONNRESET)) {
-			// Every copy of the controller's end is closed: it is exiting
-			// (its pidfd tells when). Nothing more will come.
-			loop_.remove(c.channel.get());
+			// Every copy of this end is closed: the thread has ended, or
+			// the controller is exiting (its pidfd tells when).
+			if (t)
+				thread_gone(c, t);
+			else
+				loop_.remove(c.channel.get());
 			return;
 		}
 		struct tcs_msg m;
@@ -337,31 +350,44 @@ void Coordinator::on_channel(Controller &c)
 			drop(c, std::string("bad message on its channel: ") + why);
 			return;
 		}
-		if (m.type == TCS_MSG_CHILD && !(m.flags & TCS_CHILD_PARENT)) {
+		if (!t && m.type == TCS_MSG_CHILD && !(m.flags & TCS_CHILD_PARENT)) {
 			// From a new child, not from c: it waits on its own channel.
 			on_child(c, m, std::move(passed));
 			continue;
 		}
+		if (!t && m.type == TCS_MSG_THREAD) {
+			on_thread(c, m, std::move(passed));
+			if (c.state == CtlState::Exited || !c.dropped.empty())
+				return;
+			continue;
+		}
 		// The preload waits for the answer to each request: its HELLO, one
-		// request and the EARLY that may cross the answer are all it can
-		// have outstanding. More is a flood.
-		if (++c.unanswered > kMaxUnanswered) {
-			drop(c, "it floods its channel (" + std::to_string(c.unanswered) +
+		// request and the EARLY that may cross the answer (and one from
+		// another thread ending its wait) are all it can have outstanding.
+		// More is a flood.
+		if (++st.unanswered > kMaxUnanswered) {
+			drop(c, "it floods its channel (" + std::to_string(st.unanswered) +
 					" messages without waiting for an answer)");
 			return;
 		}
-		on_message(c, m);
-		if (c.state == CtlState::Exited)
+		on_message(c, m, fd, tid);
+		if (c.state == CtlState::Exited || !c.dropped.empty())
 			return;
 	}
 }
 
-void Coordinator::on_message(Controller &c, const ::tcs_msg &m)
+void Coordinator::on_message(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 {
 	if (c.asleep)
 		wake_from_asleep(c); // it woke by itself and asks something
+	if (m.type != TCS_MSG_BLOCK && m.type != TCS_MSG_EARLY)
+		c.wait_fd = fd; // a request answered at once, on its thread's channel
 	switch (m.type) {
 	case TCS_MSG_HELLO:
+		if (fd != c.channel.get()) {
+			drop(c, "HELLO on a thread's channel");
+			return;
+		}
 		if (m.arg != c.pid) {
 			drop(c, "HELLO from pid " + std::to_string(m.arg) + " on pid " + std::to_string(c.pid) + "'s channel");
 			return;
@@ -375,13 +401,13 @@ void Coordinator::on_message(Controller &c, const ::tcs_msg &m)
 		c.hello_nonce = m.v;
 		if (c.parent_id != 0)
 			c.name = proc_name(c.pid, c.name); // a child after its exec
-		c.unanswered = 0; // a new image owes nothing yet
+		c.main_state = ChannelState{}; // a new image owes nothing yet
 		return;
 	case TCS_MSG_BLOCK:
-		on_block(c, m);
+		on_block(c, m, fd, tid);
 		return;
 	case TCS_MSG_EARLY:
-		on_early(c, m);
+		on_early(c, m, fd);
 		return;
 	case TCS_MSG_DEV_OPEN:
 		on_dev_open(c, m);
@@ -394,6 +420,9 @@ void Coordinator::on_message(Controller &c, const ::tcs_msg &m)
 		return;
 	case TCS_MSG_CHILD:
 		on_forked(c, m);
+		return;
+	case TCS_MSG_THREAD:
+		drop(c, "THREAD on a thread's channel");
 		return;
 	}
 }
@@ -416,15 +445,26 @@ void Coordinator::on_pidfd(Controller &c)
 	}
 	siginfo_t si = {};
 	// Peek first: a zombie's CPU clock still reads, so its last slice counts.
-	if (waitid(P_PIDFD, (id_t)c.pidfd.get(), &si, WEXITED | WNOHANG | WNOWAIT) < 0 || si.si_pid == 0)
+	if (waitid(P_PIDFD, (id_t)c.pidfd.get(), &si, WEXITED | WNOHANG | WNOWAIT) < 0)
 		return;
+	// Its main thread has ended, not yet all of it: look again soon.
+	auto later = [&] {
+		loop_.remove(c.pidfd.get());
+		if (std::find(exiting_.begin(), exiting_.end(), &c) == exiting_.end())
+			exiting_.push_back(&c);
+		exit_timer_.arm(100 * TCS_NS_PER_US);
+	};
+	if (si.si_pid == 0)
+		return later();
 	int64_t cpu = c.cpu_now();
 	c.account(cpu, cfg_.mode);
 	if (running_ == &c)
 		trace_slice_end(c, "exited", cpu);
 	si = {};
-	if (waitid(P_PIDFD, (id_t)c.pidfd.get(), &si, WEXITED | WNOHANG) < 0 || si.si_pid == 0)
+	if (waitid(P_PIDFD, (id_t)c.pidfd.get(), &si, WEXITED | WNOHANG) < 0)
 		return;
+	if (si.si_pid == 0)
+		return later();
 	int status = si.si_code == CLD_EXITED ? W_EXITCODE(si.si_status, 0) : si.si_status & 0x7f;
 	if (si.si_code == CLD_DUMPED)
 		status |= WCOREFLAG;
@@ -437,10 +477,22 @@ void Coordinator::on_exit(Controller &c, int wait_status)
 	c.exit_status = wait_status;
 	// A parent waiting for its children learns of it at the child's
 	// virtual time.
-	for (auto &p : ctls_)
-		if (p->id == c.parent_id && p->state == CtlState::Blocked && p->waits_for_child && !p->sync_pending)
+	for (auto &p : ctls_) {
+		if (p->id != c.parent_id)
+			continue;
+		for (SideWait &w : p->side)
+			if (w.flags & TCS_BLOCK_CHILD)
+				w.wake_reason = TCS_WAKE_RECHECK;
+		if (p->state == CtlState::Blocked && p->waits_for_child && !p->sync_pending)
 			wake(*p, std::max(p->v, c.v), TCS_WAKE_RECHECK);
+		else if (p->state == CtlState::Blocked && !p->side.empty())
+			wake_threads(*p, std::max(p->v, c.v));
+	}
 	loop_.remove(c.channel.get());
+	for (auto &t : c.threads)
+		loop_.remove(t->fd.get());
+	c.threads.clear();
+	c.side.clear();
 	loop_.remove(c.pidfd.get());
 	if (running_ == &c) {
 		running_ = nullptr;
@@ -460,6 +512,10 @@ void Coordinator::drop(Controller &c, const std::string &why)
 		budget_timer_.disarm();
 	}
 	loop_.remove(c.channel.get());
+	for (auto &t : c.threads)
+		loop_.remove(t->fd.get());
+	c.threads.clear();
+	c.side.clear();
 	c.state = CtlState::Blocked;
 	c.deadline = TCS_NEVER;
 	c.recheck = false;
@@ -541,6 +597,7 @@ void Coordinator::begin_end(EndReason reason, int signo)
 			complete_sync(*c); // the world has stopped: a read gets its last state
 		if (c->wake_pending)
 			send_wake(*c);
+		end_all_side_waits(*c);
 		if (c->stopped) {
 			kill(c->pid, SIGCONT);
 			c->stopped = false;

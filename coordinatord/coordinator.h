@@ -91,8 +91,9 @@ private:
 	Status init();
 
 	// Events (coordinator.cc).
-	void on_channel(Controller &c);
-	void on_message(Controller &c, const ::tcs_msg &m);
+	// A message on the main channel (t == nullptr) or a thread's.
+	void on_channel(Controller &c, ThreadChannel *t);
+	void on_message(Controller &c, const ::tcs_msg &m, int fd, pid_t tid);
 	void on_pidfd(Controller &c);
 	void on_exit(Controller &c, int wait_status);
 	void on_signal();
@@ -110,8 +111,21 @@ private:
 	void resume(Controller &c, int64_t target);
 	void on_budget();
 	void preempt(Controller &c);
-	void on_block(Controller &c, const ::tcs_msg &m);
-	void on_early(Controller &c, const ::tcs_msg &m);
+	void on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid);
+	void on_early(Controller &c, const ::tcs_msg &m, int fd);
+	// Threads (threads.cc).
+	void on_thread(Controller &c, const ::tcs_msg &m, UniqueFd channel);
+	void thread_gone(Controller &c, ThreadChannel *t);
+	ChannelState &channel_state(Controller &c, int fd);
+	bool side_wait(Controller &c, const ::tcs_msg &m, int fd, pid_t tid);
+	void demote_wait(Controller &c);
+	bool side_due(const Controller &c, const SideWait &w, int64_t v) const;
+	int64_t side_next(const Controller &c) const;
+	bool wake_threads(Controller &c, int64_t at);
+	void end_side_waits(Controller &c);
+	void answer_side(Controller &c, const SideWait &w);
+	bool block_if_all_waiting(Controller &c);
+	void end_all_side_waits(Controller &c);
 	// The shortest slice worth a timer. A timer cycle (interrupt, wake-up,
 	// CPU-clock read, re-arm) costs a few microseconds of the same core, so a
 	// shorter slice would leave the controller almost nothing of it: with
@@ -134,6 +148,7 @@ private:
 	void deliver_due_timers(Controller &c);
 	uint64_t due_timer_signals(Controller &c);
 	void budget_to_next_timer(Controller &c);
+	void budget_to(Controller &c, int64_t at);
 	void wake(Controller &c, int64_t v, uint16_t reason);
 	void send_wake(Controller &c);
 	void begin_end(EndReason reason, int signo = 0);
@@ -170,6 +185,12 @@ private:
 	// of wall time, with the event loop (signals, deaths) served between.
 	Timer continue_timer_;
 	Timer watchdog_timer_; // looks at a running controller that may be asleep
+	// A multi-threaded controller whose main thread has ended reads as
+	// ended on its pidfd before its other threads have: looked at again
+	// from this timer (not in a loop: on our core, at our priority, they
+	// would never get to end).
+	Timer exit_timer_;
+	std::vector<Controller *> exiting_;
 	UniqueFd signal_fd_;
 	std::vector<std::unique_ptr<Controller>> ctls_;
 	std::unique_ptr<SimWorld> world_;

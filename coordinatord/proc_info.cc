@@ -3,8 +3,12 @@
 #include "proc_info.h"
 
 #include <dirent.h>
+#include <fcntl.h>
+#include <unistd.h>
 
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -72,6 +76,58 @@ bool proc_all_threads_asleep(pid_t pid)
 	}
 	closedir(d);
 	return asleep;
+}
+
+namespace {
+
+// A thread's state letter (stat field 3), read without allocating: this is
+// on the path of every wait of a multi-threaded controller. 0 if gone.
+char task_state(int dir_fd, const char *tid)
+{
+	char path[48];
+	snprintf(path, sizeof path, "%s/stat", tid);
+	int fd = openat(dir_fd, path, O_RDONLY | O_CLOEXEC);
+	if (fd < 0)
+		return 0;
+	char buf[512];
+	ssize_t n = read(fd, buf, sizeof buf - 1);
+	close(fd);
+	if (n <= 0)
+		return 0;
+	buf[n] = '\0';
+	const char *close_paren = strrchr(buf, ')');
+	return close_paren && close_paren[1] == ' ' ? close_paren[2] : 0;
+}
+
+} // namespace
+
+ThreadCensus proc_threads(pid_t pid, pid_t except)
+{
+	ThreadCensus census;
+	char dir[40];
+	snprintf(dir, sizeof dir, "/proc/%d/task", (int)pid);
+	DIR *d = opendir(dir);
+	if (!d)
+		return census;
+	while (struct dirent *e = readdir(d)) {
+		if (e->d_name[0] == '.')
+			continue;
+		char state = task_state(dirfd(d), e->d_name);
+		if (state == 0 || state == 'Z' || state == 'X')
+			continue;
+		census.threads++;
+		if (state == 'R' && atoi(e->d_name) != except)
+			census.runnable++;
+	}
+	closedir(d);
+	return census;
+}
+
+bool proc_has_thread(pid_t pid, pid_t tid)
+{
+	char path[64];
+	snprintf(path, sizeof path, "/proc/%d/task/%d", (int)pid, (int)tid);
+	return access(path, F_OK) == 0;
 }
 
 } // namespace tcs

@@ -23,6 +23,7 @@
 #include <cstring>
 
 #include "coordinator.h"
+#include "proc_info.h"
 #include "tcs/msg_io.h"
 #include "tcs/protocol.h"
 
@@ -58,7 +59,10 @@ void Coordinator::schedule()
 				return;
 			int64_t at = next_run_at(c);
 			any = true;
-			recheck |= c.state == CtlState::Blocked && c.recheck;
+			recheck |= c.state == CtlState::Blocked && (c.recheck || c.others_asleep ||
+								    std::any_of(c.side.begin(), c.side.end(), [](const SideWait &w) {
+									    return (w.flags & TCS_BLOCK_RECHECK) != 0;
+								    }));
 			if (at < target && at < best_at) {
 				best = &c;
 				best_at = at;
@@ -74,7 +78,15 @@ void Coordinator::schedule()
 			continue;
 		}
 		if (best) {
-			if (best->state == CtlState::Blocked && best->next_timer() <= best_at && best->next_timer() < best->deadline) {
+			if (best->state == CtlState::Blocked && (!best->side.empty() || best->others_asleep)) {
+				// Several threads wait: end those due (threads.cc).
+				if (!wake_threads(*best, best_at)) {
+					best->rechecked_at = sim_ns_;
+					for (SideWait &w : best->side)
+						w.rechecked_at = sim_ns_;
+					continue;
+				}
+			} else if (best->state == CtlState::Blocked && best->next_timer() <= best_at && best->next_timer() < best->deadline) {
 				// A signal timer is due in its wait: send it, and wake it to
 				// re-check (its wait ends with EINTR if a handler ran).
 				best->v = std::max(best->v, best_at);
@@ -112,10 +124,17 @@ int64_t Coordinator::next_run_at(const Controller &c) const
 {
 	if (c.state == CtlState::Ready || c.state == CtlState::Running)
 		return c.v;
-	if (c.recheck && c.rechecked_at < sim_ns_)
+	bool side_recheck = false, side_devices = false;
+	for (const SideWait &w : c.side) {
+		side_recheck |= (w.flags & TCS_BLOCK_RECHECK) && w.rechecked_at < sim_ns_;
+		side_devices |= (w.flags & TCS_BLOCK_DEVICES) != 0;
+		if (w.wake_reason)
+			return c.v;
+	}
+	if (((c.recheck || c.others_asleep) && c.rechecked_at < sim_ns_) || side_recheck)
 		return std::max(c.v, sim_ns_);
-	int64_t until = std::min(c.deadline, c.next_timer());
-	if (c.wants_devices)
+	int64_t until = std::min({ c.deadline, c.next_timer(), side_next(c) });
+	if (c.wants_devices || side_devices)
 		until = std::min(until, next_record_due(c));
 	return until == TCS_NEVER ? TCS_NEVER : std::max(c.v, until);
 }
@@ -230,16 +249,18 @@ void Coordinator::wake(Controller &c, int64_t v, uint16_t reason)
 
 void Coordinator::send_wake(Controller &c)
 {
-	c.unanswered = 0;
+	int fd = c.wait_fd >= 0 ? c.wait_fd : c.channel.get();
+	channel_state(c, fd).unanswered = 0;
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_WAKE, c.wait_seq);
 	m.kind = c.wake_reason;
+	m.flags = TCS_WAKE_STARTS_SLICE;
 	m.v = c.v;
 	m.arg = c.wake_arg;
 	struct tcs_msg_io io;
 	tcs_msg_io_send(&io, &m, sizeof m, c.wake_fd);
 	// A full or closed channel means the controller is gone or hostile;
 	// its pidfd or its next message will tell.
-	(void)sendmsg(c.channel.get(), &io.mh, MSG_DONTWAIT | MSG_NOSIGNAL);
+	(void)sendmsg(fd, &io.mh, MSG_DONTWAIT | MSG_NOSIGNAL);
 	if (c.wake_fd >= 0) {
 		close(c.wake_fd);
 		c.wake_fd = -1;
@@ -269,6 +290,7 @@ void Coordinator::resume(Controller &c, int64_t target)
 	deliver(c); // what its sensors have due by now is in their fds
 	if (c.wake_pending)
 		send_wake(c);
+	end_side_waits(c); // other threads' waits due by now
 	if (c.stopped) {
 		kill(c.pid, SIGCONT);
 		c.stopped = false;
@@ -309,7 +331,7 @@ void Coordinator::on_budget()
 		// Short of its budget: it was asleep in the kernel, or the core
 		// was busy with something else. If it made no progress at all and
 		// sleeps still, others may have the core meanwhile (asleep.cc).
-		if (used == c.checked_used && step_aside_if_asleep(c))
+		if (used == c.checked_used && (block_if_all_waiting(c) || step_aside_if_asleep(c)))
 			return;
 		// Else give it the rest.
 		int64_t rest = std::max(c.budget - used, kMinSlice);
@@ -350,10 +372,33 @@ void Coordinator::preempt(Controller &c)
 	deliver_due_timers(c); // pending until it continues
 }
 
-void Coordinator::on_block(Controller &c, const ::tcs_msg &m)
+void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 {
+	ChannelState &st = channel_state(c, fd);
+	if (!ending_ && st.early_ahead != 0 && st.early_ahead == m.seq) {
+		// Another thread ended this wait before it began.
+		st.early_ahead = 0;
+		c.stats.waits++;
+		SideWait w;
+		w.fd = fd;
+		w.seq = m.seq;
+		w.deadline = m.deadline;
+		w.kind = block_kind_name(m.kind);
+		w.requested_at = c.v;
+		w.wake_reason = TCS_WAKE_EARLY;
+		answer_side(c, w);
+		if (c.state == CtlState::Blocked) {
+			// (It was asleep outside the hooks: it runs again.)
+			demote_wait(c);
+			c.state = CtlState::Ready;
+			c.wake_pending = false;
+			schedule();
+		}
+		return;
+	}
 	if (ending_) {
 		// The run is over: every wait ends at once so SIGTERM can act.
+		c.wait_fd = fd;
 		c.wait_seq = m.seq;
 		if (m.deadline != TCS_NEVER)
 			c.v = std::max(c.v, m.deadline);
@@ -362,7 +407,31 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m)
 		return;
 	}
 	if (c.state == CtlState::Blocked) {
-		drop(c, "it asked to wait while already waiting");
+		if (c.in_block && fd == (c.wait_fd >= 0 ? c.wait_fd : c.channel.get())) {
+			drop(c, "it asked to wait while already waiting");
+			return;
+		}
+		// A thread that was asleep outside the hooks woke and waits now.
+		SideWait w;
+		w.fd = fd;
+		w.seq = m.seq;
+		w.deadline = m.deadline;
+		w.flags = m.flags;
+		w.kind = block_kind_name(m.kind);
+		w.requested_at = c.v;
+		w.rechecked_at = sim_ns_;
+		c.side.push_back(w);
+		c.stats.waits++;
+		schedule();
+		return;
+	}
+	if (c.multithreaded() && side_wait(c, m, fd, tid)) {
+		c.stats.waits++;
+		if (m.flags & TCS_BLOCK_ABSOLUTE) {
+			c.stats.absolute_waits++;
+			if (m.deadline <= c.v)
+				c.stats.reported_misses++;
+		}
 		return;
 	}
 	if (c.state == CtlState::Running) {
@@ -383,9 +452,11 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m)
 			c.stats.reported_misses++; // TCS_PAGE_REPORT_MISSES
 	}
 	c.wait_seq = m.seq;
+	c.wait_fd = fd;
+	c.wait_flags = m.flags;
 	c.deadline = m.deadline;
 	c.in_block = true;
-	c.wait_kind = m.kind == TCS_BLOCK_SLEEP ? "sleep" : "poll";
+	c.wait_kind = block_kind_name(m.kind);
 	c.wait_requested_at = c.v;
 	c.wait_absolute = (m.flags & TCS_BLOCK_ABSOLUTE) != 0;
 	c.recheck = (m.flags & TCS_BLOCK_RECHECK) != 0;
@@ -394,15 +465,43 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m)
 	c.rechecked_at = sim_ns_;
 	c.wake_pending = false;
 	c.state = CtlState::Blocked;
+	// Threads asleep outside the hooks: looked at each step (threads.cc).
+	c.others_asleep = c.multithreaded() && proc_threads(c.pid, 0).threads > 1 + (int)c.side.size();
 	schedule();
 }
 
-void Coordinator::on_early(Controller &c, const ::tcs_msg &m)
+void Coordinator::on_early(Controller &c, const ::tcs_msg &m, int fd)
 {
-	if (ending_ || c.state != CtlState::Blocked || m.seq != c.wait_seq)
-		return; // already answered: the WAKE crossed the EARLY
-	wake(c, std::max(c.v, sim_ns_), TCS_WAKE_EARLY);
-	schedule();
+	if (ending_)
+		return;
+	if (c.state == CtlState::Blocked && c.in_block && m.seq == c.wait_seq &&
+	    fd == (c.wait_fd >= 0 ? c.wait_fd : c.channel.get())) {
+		wake(c, std::max(c.v, sim_ns_), TCS_WAKE_EARLY);
+		schedule();
+		return;
+	}
+	for (size_t i = 0; i < c.side.size(); i++) {
+		SideWait &w = c.side[i];
+		if (w.fd != fd || w.seq != m.seq)
+			continue;
+		w.wake_reason = TCS_WAKE_EARLY;
+		if (c.state == CtlState::Running) {
+			SideWait done = w;
+			c.side.erase(c.side.begin() + (long)i);
+			answer_side(c, done);
+		} else if (c.state == CtlState::Blocked && wake_threads(c, std::max(c.v, sim_ns_))) {
+			schedule();
+		}
+		return; // (Ready: answered as it resumes)
+	}
+	// Not waiting (yet): another thread ended the wait this seq will be,
+	// or the answer crossed it. Either way it is owed nothing.
+	// (One such is not counted against a flood: a thread may be woken
+	// just as its wait returns without asking.)
+	ChannelState &st = channel_state(c, fd);
+	if (st.early_ahead == 0)
+		st.unanswered = std::max(0, st.unanswered - 1);
+	st.early_ahead = m.seq;
 }
 
 } // namespace tcs

@@ -76,7 +76,7 @@ void Coordinator::deliver_due_timers(Controller &c)
 // in lockstep it reaches it only by waiting).
 void Coordinator::budget_to_next_timer(Controller &c)
 {
-	int64_t at = c.next_timer();
+	int64_t at = std::min(c.next_timer(), side_next(c));
 	if (cfg_.mode != TCS_MODE_CPU || at == TCS_NEVER)
 		return;
 	int64_t need = std::max<int64_t>((int64_t)std::ceil((double)(at - c.v) / c.scale), 1);

@@ -78,8 +78,8 @@ int tcs_become_child(int parent_channel, int64_t fork_v, int v_known)
 	tcs_rt.page = (struct tcs_clock_page *)m;
 	tcs_rt.devices = tcs_device_table_of(tcs_rt.page);
 	tcs_rt.pid = tcs_sys0(SYS_getpid);
-	tcs_rt.waiting = 0;
 	tcs_in_wait = 0;
+	tcs_threads_after_fork();
 #if defined(__x86_64__)
 	tcs_anchor.valid = 0; /* a CPU clock of its own now */
 #endif
@@ -168,7 +168,7 @@ static long tcs_wait_child(idtype_t type, id_t id, siginfo_t *info, int options,
 		tcs_sys0(SYS_sched_yield);
 		/* Woken when a child ends; and every 100 ms all the same, for a
 		 * child the coordinator could not take on (it runs in real time). */
-		struct tcs_wait_time t = { 100 * TCS_NS_PER_MS, 1, 0, 0 };
+		struct tcs_wait_time t = { 100 * TCS_NS_PER_MS, 1, 0, 0, 0 };
 		long w = tcs_wait(&t, TCS_BLOCK_POLL, TCS_BLOCK_CHILD, NULL, 0, NULL);
 		tcs_wait_leave();
 		if (w == -EINTR)

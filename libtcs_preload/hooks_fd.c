@@ -22,13 +22,17 @@ TCS_EXPORT int close(int fd)
  * fds it closes are forgotten as close() forgets them). */
 static long tcs_close_range(unsigned first, unsigned last, unsigned flags)
 {
-	int mine[2] = { tcs_rt.channel_fd, tcs_rt.page_fd };
-	if (mine[0] > mine[1]) {
-		int t = mine[0];
-		mine[0] = mine[1];
-		mine[1] = t;
-	}
-	for (int i = 0; i < 2 && first <= last; i++) {
+	int mine[2 + 256];
+	mine[0] = tcs_rt.channel_fd;
+	mine[1] = tcs_rt.page_fd;
+	int n = 2 + tcs_thread_channels(mine + 2, 256);
+	for (int i = 1; i < n; i++) /* a handful: insertion sort */
+		for (int j = i; j > 0 && mine[j - 1] > mine[j]; j--) {
+			int t = mine[j];
+			mine[j] = mine[j - 1];
+			mine[j - 1] = t;
+		}
+	for (int i = 0; i < n && first <= last; i++) {
 		if (mine[i] < 0 || (unsigned)mine[i] < first || (unsigned)mine[i] > last)
 			continue;
 		if ((unsigned)mine[i] > first) {

@@ -53,7 +53,7 @@ static long tcs_multiplex(int64_t timeout_ns, tcs_check_fn check, void *ctx, str
 		return r;
 	/* Relative on the first wait; absolute (the same deadline) on any
 	 * that follow a wake-up with nothing ready after all. */
-	struct tcs_wait_time t = { until, timeout_ns >= 0 && !timers, 0, 0 };
+	struct tcs_wait_time t = { until, timeout_ns >= 0 && !timers, 0, 0, 0 };
 	unsigned flags = (mirror ? 0 : TCS_BLOCK_RECHECK) | (devices ? TCS_BLOCK_DEVICES : 0);
 	for (;;) {
 		/* Wake at the next timer expiry if it comes first. */

@@ -42,7 +42,6 @@ struct tcs_runtime {
 	struct tcs_clock_page *page;
 	const struct tcs_device_table *devices; /* beside the page, constant */
 	uint32_t next_seq;
-	int waiting; /* a thread is inside tcs_wait() (one at a time for now) */
 
 	/* The real libc entry points we still need, resolved once at load. */
 	int (*real_clock_gettime)(clockid_t, struct timespec *);
@@ -158,6 +157,7 @@ struct tcs_wait_time {
 	int relative;     /* in: deadline is a timeout from the start of the wait */
 	int64_t start;    /* out: when the wait began */
 	int64_t end;      /* out: when it ended */
+	uint32_t seq;     /* in: a sequence number reserved for it (parking.c), or 0 */
 };
 
 /* Waits until the virtual deadline (TCS_NEVER: forever). With fds, the wait
@@ -180,7 +180,7 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 
 /* Enter/leave a blocking hook. tcs_wait_enter() returns 0 when the caller
  * must pass through to the real call (not a controller, a nested call from
- * a signal handler, or another thread already waiting). */
+ * a signal handler, or no channel for this thread). */
 int tcs_wait_enter(void) TCS_HIDDEN;
 void tcs_wait_leave(void) TCS_HIDDEN;
 
@@ -211,10 +211,19 @@ static inline int tcs_errno_result(long r)
 	return (int)r;
 }
 
+/* Threads (threads.c): this thread's channel (made at its first wait), or
+ * -errno; the channels of threads other than the main one. */
+int tcs_my_channel(void) TCS_HIDDEN;
+int tcs_is_thread_channel(int fd) TCS_HIDDEN;
+int tcs_thread_channels(int *out, int max) TCS_HIDDEN;
+void tcs_threads_init(void) TCS_HIDDEN;
+/* In a forked child: the other threads' channels are not its own. */
+void tcs_threads_after_fork(void) TCS_HIDDEN;
+
 /* The fds the runtime owns: a program may not close or replace them. */
 static inline int tcs_is_runtime_fd(int fd)
 {
-	return fd >= 0 && (fd == tcs_rt.channel_fd || fd == tcs_rt.page_fd);
+	return fd >= 0 && (fd == tcs_rt.channel_fd || fd == tcs_rt.page_fd || tcs_is_thread_channel(fd));
 }
 
 /* The controller's virtual time now: inline, as clock reads are hot. */

@@ -108,10 +108,10 @@ int tcs_wait_enter(void)
 {
 	if (!tcs_active() || tcs_in_wait)
 		return 0;
-	if (__atomic_exchange_n(&tcs_rt.waiting, 1, __ATOMIC_ACQUIRE) != 0) {
+	if (tcs_my_channel() < 0) {
 		static int once;
-		tcs_report_once(&once, "two threads waited at the same time; the second wait ran in real time "
-				       "(concurrent waits in threads are not virtualised yet)");
+		tcs_report_once(&once, "a thread could not get a channel to the coordinator (out of file descriptors?); "
+				       "its waits run in real time");
 		return 0;
 	}
 	tcs_in_wait = 1;
@@ -121,24 +121,23 @@ int tcs_wait_enter(void)
 void tcs_wait_leave(void)
 {
 	tcs_in_wait = 0;
-	__atomic_store_n(&tcs_rt.waiting, 0, __ATOMIC_RELEASE);
 }
 
-static void tcs_send(const struct tcs_msg *m)
+static void tcs_send(int fd, const struct tcs_msg *m)
 {
 	long r;
 	do
-		r = tcs_sys6(SYS_sendto, tcs_rt.channel_fd, (long)m, sizeof *m, MSG_NOSIGNAL, 0, 0);
+		r = tcs_sys6(SYS_sendto, fd, (long)m, sizeof *m, MSG_NOSIGNAL, 0, 0);
 	while (r == -EINTR);
 	if (r != (long)sizeof *m)
 		tcs_lost("the channel is closed");
 }
 
-static void tcs_send_early(uint32_t seq, unsigned reason)
+static void tcs_send_early(int fd, uint32_t seq, unsigned reason)
 {
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_EARLY, seq);
 	m.kind = (uint16_t)reason;
-	tcs_send(&m);
+	tcs_send(fd, &m);
 }
 
 /* Timer signals due during a wait: raised here, inside the wait, so that
@@ -201,7 +200,7 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 		}
 	}
 
-	struct tcs_msg m = tcs_msg_make(TCS_MSG_BLOCK, 0);
+	struct tcs_msg m = tcs_msg_make(TCS_MSG_BLOCK, t->seq);
 	m.kind = (uint16_t)kind;
 	m.flags = (uint16_t)flags;
 	m.deadline = deadline;
@@ -226,9 +225,12 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, const sigset_t *mask,
 		       struct tcs_msg *reply, int *fd_out)
 {
-	uint32_t seq = __atomic_add_fetch(&tcs_rt.next_seq, 1, __ATOMIC_RELAXED);
+	uint32_t seq = m->seq ? m->seq : __atomic_add_fetch(&tcs_rt.next_seq, 1, __ATOMIC_RELAXED);
 	m->seq = seq;
-	tcs_send(m);
+	int channel = tcs_my_channel();
+	if (channel < 0)
+		tcs_lost("this thread has no channel");
+	tcs_send(channel, m);
 	if (fd_out)
 		*fd_out = -1;
 
@@ -247,13 +249,13 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 	int look_first = (tcs_rt.page->flags & TCS_PAGE_FIFO) != 0;
 	for (;;) {
 		if (!early && !look_first) {
-			fds[0].fd = tcs_rt.channel_fd;
+			fds[0].fd = channel;
 			fds[0].events = POLLIN;
 			fds[0].revents = 0;
 			long r = tcs_sys5(SYS_ppoll, fds, nfds, NULL, mask, TCS_KERNEL_SIGSET_SIZE);
 			if (r == -EINTR || (r >= 0 && fds[0].revents == 0)) {
 				early = r == -EINTR ? TCS_EARLY_SIGNAL : TCS_EARLY_FD;
-				tcs_send_early(seq, early);
+				tcs_send_early(channel, seq, early);
 				continue;
 			}
 			if (r < 0)
@@ -262,7 +264,7 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 		/* recvmsg: a reply to DEV_OPEN carries the device's fd. */
 		struct tcs_msg_io io;
 		tcs_msg_io_recv(&io, reply, sizeof *reply);
-		long r = tcs_sys3(SYS_recvmsg, tcs_rt.channel_fd, &io.mh, MSG_CMSG_CLOEXEC | (look_first ? MSG_DONTWAIT : 0));
+		long r = tcs_sys3(SYS_recvmsg, channel, &io.mh, MSG_CMSG_CLOEXEC | (look_first ? MSG_DONTWAIT : 0));
 		if (look_first) {
 			look_first = 0;
 			if (r == -EAGAIN)
@@ -271,7 +273,7 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 		if (r == -EINTR) {
 			if (!early) {
 				early = TCS_EARLY_SIGNAL;
-				tcs_send_early(seq, early);
+				tcs_send_early(channel, seq, early);
 			}
 			continue;
 		}
@@ -289,8 +291,10 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 			tcs_sys1(SYS_close, fd);
 		break;
 	}
-	/* From here on the hook's own cost is not charged to the program. */
-	__atomic_store_n(&tcs_rt.page->exit_cpu, tcs_process_cpu(), __ATOMIC_RELAXED);
+	/* From here on the hook's own cost is not charged to the program (but
+	 * for a thread woken while others run: their CPU is theirs). */
+	if (reply->flags & TCS_WAKE_STARTS_SLICE)
+		__atomic_store_n(&tcs_rt.page->exit_cpu, tcs_process_cpu(), __ATOMIC_RELAXED);
 	return early;
 }
 
@@ -396,7 +400,7 @@ static void tcs_say_hello(void)
 	/* Tells this program image from the one before an exec: a HELLO with
 	 * the same value again is a misbehaving program, not a new image. */
 	m.v = tcs_kernel_clock(CLOCK_MONOTONIC);
-	tcs_send(&m);
+	tcs_send(tcs_rt.channel_fd, &m);
 }
 
 __attribute__((constructor)) static void tcs_init(void)
@@ -405,6 +409,7 @@ __attribute__((constructor)) static void tcs_init(void)
 	int saved_errno = errno;
 
 	tcs_resolve_real_symbols();
+	tcs_threads_init();
 	if (tcs_read_environment(&channel, &page, &controller) < 0) {
 		tcs_write_stderr("libtcs_preload.so loaded outside tcs-run; this program runs in real time", NULL, NULL);
 		goto out;

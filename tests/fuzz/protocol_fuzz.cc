@@ -40,9 +40,9 @@ void check_accepted(const tcs_msg &m)
 		check(m.arg > 0 && m.arg <= INT32_MAX);
 		break;
 	case TCS_MSG_BLOCK:
-		// The wait's kind is "sleep" unless POLL; times are added and
+		// The wait's kind names it in the trace; times are added and
 		// compared as non-negative virtual ns (TCS_NEVER included).
-		check(m.kind == TCS_BLOCK_SLEEP || m.kind == TCS_BLOCK_POLL);
+		check(m.kind == TCS_BLOCK_SLEEP || m.kind == TCS_BLOCK_POLL || m.kind == TCS_BLOCK_SYNC);
 		check((m.flags & ~TCS_BLOCK_FLAGS_ALL) == 0);
 		check(m.deadline >= 0 && m.v >= 0 && m.cpu >= 0);
 		check(tcs_ns_add(m.v, m.deadline) >= m.deadline);
@@ -72,6 +72,10 @@ void check_accepted(const tcs_msg &m)
 		// A pid, a virtual time, and flags the coordinator knows.
 		check(m.arg > 0 && m.arg <= INT32_MAX && m.v >= 0 && m.cpu >= 0);
 		check((m.flags & ~(TCS_CHILD_V_KNOWN | TCS_CHILD_PARENT)) == 0);
+		break;
+	case TCS_MSG_THREAD:
+		// A thread id, compared with /proc's.
+		check(m.arg > 0 && m.arg <= INT32_MAX);
 		break;
 	default:
 		check(false); // WAKE and unknown types are never accepted

@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 #define TCS_PAGE_MAGIC 0x70736374u /* "tcsp" */
-#define TCS_PAGE_VERSION 5u
+#define TCS_PAGE_VERSION 6u
 #define TCS_PAGE_SIZE 4096
 
 enum tcs_mode {
@@ -78,6 +78,8 @@ struct tcs_clock_page {
 	uint64_t past_deadlines; /* absolute sleeps whose deadline had passed */
 	uint64_t quick_returns;  /* waits that returned without a round trip */
 	int64_t detached_pid;    /* last descendant told it runs in real time */
+	uint64_t threads_started; /* pthread_create calls: non-zero, the coordinator
+				   * looks at every thread before time passes */
 };
 
 #if defined(__cplusplus)

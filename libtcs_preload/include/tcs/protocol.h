@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 #define TCS_PROTO_MAGIC 0x31736374u /* "tcs1" */
-#define TCS_PROTO_VERSION 2u
+#define TCS_PROTO_VERSION 3u
 
 /* Environment through which tcs-run hands the channel to the preload. */
 #define TCS_ENV_CHANNEL_FD "TCS_CHANNEL_FD"
@@ -40,7 +40,17 @@ enum tcs_msg_type {
 	TCS_MSG_DEV_SYNC = 6, /* controller → coordinator: bring device handle arg up to v (kind: TCS_SYNC_*) */
 	TCS_MSG_TIMER = 7,    /* controller → coordinator: (re)arm signal timer flags (see below) */
 	TCS_MSG_CHILD = 8,    /* a new child → its parent's coordinator: register me (see below) */
+	TCS_MSG_THREAD = 9,   /* controller → coordinator: thread arg's own channel (SCM_RIGHTS) */
 };
+
+/* Threads. The main thread waits on the controller's channel; every other
+ * thread, at its first wait, makes a channel of its own and hands one end
+ * over with THREAD (arg = its tid; no answer). Its requests and their WAKEs
+ * go on that channel, so each thread has at most one wait outstanding, and
+ * the coordinator lets virtual time pass only when no thread can run.
+ * Another thread may send EARLY on a waiting thread's channel (it signalled
+ * the condition variable, semaphore or futex that thread waits on); an
+ * EARLY that arrives before its BLOCK ends that wait as soon as it begins. */
 
 /* A child process (fork, vfork, posix_spawn, system) registers before it
  * runs on: it sends CHILD on its parent's channel with arg = its pid, v =
@@ -83,6 +93,7 @@ enum tcs_sync_kind {
 enum tcs_block_kind {
 	TCS_BLOCK_SLEEP = 1, /* nanosleep and friends */
 	TCS_BLOCK_POLL = 2,  /* select/poll/epoll: real fds may end it early */
+	TCS_BLOCK_SYNC = 3,  /* a thread waits for another (condition variable, semaphore, mutex, futex) */
 };
 
 enum tcs_block_flags {
@@ -103,6 +114,14 @@ enum tcs_wake_reason {
 	TCS_WAKE_EARLY = 2,    /* answered an EARLY */
 	TCS_WAKE_RECHECK = 3,  /* a step passed: re-check real fds and block again */
 	TCS_WAKE_SIGNAL = 4,   /* timer signals are due (arg: bit n-1 for signal n): raise them */
+};
+
+/* WAKE flags. */
+enum tcs_wake_flags {
+	/* The controller's slice starts with this WAKE (not another thread's
+	 * wait ending while the controller runs): what the hook spends from
+	 * here on is not charged (clock page: exit_cpu). */
+	TCS_WAKE_STARTS_SLICE = 1u << 0,
 };
 
 struct tcs_msg {
@@ -157,7 +176,7 @@ static inline const char *tcs_msg_check(const void *buf, long len, struct tcs_ms
 			return "HELLO with an invalid pid";
 		return NULL;
 	case TCS_MSG_BLOCK:
-		if (out->kind != TCS_BLOCK_SLEEP && out->kind != TCS_BLOCK_POLL)
+		if (out->kind != TCS_BLOCK_SLEEP && out->kind != TCS_BLOCK_POLL && out->kind != TCS_BLOCK_SYNC)
 			return "BLOCK of unknown kind";
 		if (out->flags & ~TCS_BLOCK_FLAGS_ALL)
 			return "BLOCK with unknown flags";
@@ -192,6 +211,10 @@ static inline const char *tcs_msg_check(const void *buf, long len, struct tcs_ms
 		if (out->arg <= 0 || out->arg > INT32_MAX || out->v < 0 || out->cpu < 0 ||
 		    out->flags & ~(TCS_CHILD_V_KNOWN | TCS_CHILD_PARENT))
 			return "CHILD with an invalid pid, time or flags";
+		return NULL;
+	case TCS_MSG_THREAD:
+		if (out->arg <= 0 || out->arg > INT32_MAX)
+			return "THREAD with an invalid tid";
 		return NULL;
 	case TCS_MSG_WAKE:
 		return "WAKE is sent by the coordinator, not to it";

@@ -1,0 +1,255 @@
+// Threads of a controller (protocol.h, Threads). One controller is one
+// virtual CPU whatever its threads: its virtual time advances only while
+// none of them can run. Each thread waits on a channel of its own; a wait
+// that begins while another thread can still run is a side wait, and the
+// controller runs on. When the last runnable thread waits, the controller
+// is Blocked in that wait (its "own" wait, served as a single thread's
+// always was) with the side waits beside it; it is woken at the earliest of
+// them all, and only the waits due then end. Threads asleep in the kernel
+// outside tcs's hooks (a mutex, a pipe) count as waiting for something
+// only another thread (or the outside world) can end: a Blocked controller
+// with such threads is looked at each step, and runs again when one wakes.
+#include <algorithm>
+
+#include "coordinator.h"
+#include "proc_info.h"
+#include "tcs/msg_io.h"
+
+namespace tcs {
+
+namespace {
+// Threads with a channel of their own, at once, per controller.
+constexpr size_t kMaxThreads = 1024;
+} // namespace
+
+void Coordinator::on_thread(Controller &c, const ::tcs_msg &m, UniqueFd channel)
+{
+	pid_t tid = (pid_t)m.arg;
+	if (!channel) {
+		drop(c, "THREAD without a channel");
+		return;
+	}
+	if (!proc_has_thread(c.pid, tid)) {
+		drop(c, "THREAD for " + std::to_string(tid) + ", not one of its threads");
+		return;
+	}
+	for (auto &t : c.threads)
+		if (t->tid == tid) {
+			thread_gone(c, t.get()); // a tid used again: the old one has ended
+			break;
+		}
+	if (c.threads.size() >= kMaxThreads) {
+		drop(c, "more than " + std::to_string(kMaxThreads) + " of its threads wait at once");
+		return;
+	}
+	auto t = std::make_unique<ThreadChannel>();
+	t->tid = tid;
+	t->fd = std::move(channel);
+	ThreadChannel *raw = t.get();
+	Controller *cp = &c;
+	c.threads.push_back(std::move(t));
+	if (auto s = loop_.add(raw->fd.get(), [this, cp, raw](uint32_t) { on_channel(*cp, raw); }); !s)
+		fatal_ = s;
+}
+
+void Coordinator::thread_gone(Controller &c, ThreadChannel *t)
+{
+	int fd = t->fd.get();
+	loop_.remove(fd);
+	c.side.erase(std::remove_if(c.side.begin(), c.side.end(), [fd](const SideWait &w) { return w.fd == fd; }),
+		     c.side.end());
+	if (c.wait_fd == fd) {
+		c.wait_fd = -1;
+		c.in_block = false;
+	}
+	c.threads.erase(std::remove_if(c.threads.begin(), c.threads.end(), [t](const auto &p) { return p.get() == t; }),
+			c.threads.end());
+}
+
+ChannelState &Coordinator::channel_state(Controller &c, int fd)
+{
+	for (auto &t : c.threads)
+		if (t->fd.get() == fd)
+			return t->state;
+	return c.main_state;
+}
+
+// A thread's BLOCK while another thread of c can still run: it waits beside
+// the controller, which goes on. False if no other thread can run (the
+// controller then blocks in this wait).
+bool Coordinator::side_wait(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
+{
+	// Stopped (preempted as this thread began its wait), its threads cannot
+	// be told apart: assume the others run; if they do not, its budget's
+	// check finds them all waiting (block_if_all_waiting).
+	if (c.state == CtlState::Running && proc_threads(c.pid, tid).runnable == 0)
+		return false;
+	SideWait w;
+	w.fd = fd;
+	w.seq = m.seq;
+	w.deadline = m.deadline;
+	w.flags = m.flags;
+	w.kind = block_kind_name(m.kind);
+	w.requested_at = c.v;
+	w.rechecked_at = sim_ns_;
+	c.side.push_back(w);
+	if (c.state == CtlState::Running) {
+		budget_to_next_timer(c); // (and to the earliest side wait)
+		if (!c.budgeted)
+			arm_watchdog(c);
+	}
+	return true;
+}
+
+int64_t Coordinator::side_next(const Controller &c) const
+{
+	int64_t next = TCS_NEVER;
+	for (const SideWait &w : c.side)
+		next = std::min(next, w.deadline);
+	return next;
+}
+
+bool Coordinator::side_due(const Controller &c, const SideWait &w, int64_t v) const
+{
+	return w.wake_reason != 0 || w.deadline <= v || ((w.flags & TCS_BLOCK_RECHECK) && w.rechecked_at < sim_ns_) ||
+	       ((w.flags & TCS_BLOCK_DEVICES) && next_record_due(c) <= v);
+}
+
+// The controller's own wait becomes a side wait: it goes on waiting while
+// other threads run.
+void Coordinator::demote_wait(Controller &c)
+{
+	if (c.in_block) {
+		SideWait w;
+		w.fd = c.wait_fd >= 0 ? c.wait_fd : c.channel.get();
+		w.seq = c.wait_seq;
+		w.deadline = c.deadline;
+		w.flags = c.wait_flags;
+		w.kind = c.wait_kind;
+		w.requested_at = c.wait_requested_at;
+		w.rechecked_at = c.rechecked_at;
+		c.side.push_back(w);
+		c.in_block = false;
+	}
+	c.deadline = TCS_NEVER;
+	c.recheck = false;
+	c.wants_devices = false;
+	c.waits_for_child = false;
+}
+
+// c is Blocked with several waiting threads (or threads asleep outside the
+// hooks): ends what is due at `at`, after which it is Ready. False when
+// nothing is due and no thread woke by itself: it stays Blocked.
+bool Coordinator::wake_threads(Controller &c, int64_t at)
+{
+	int64_t v = std::max(c.v, at);
+	bool woke_alone = c.others_asleep && proc_threads(c.pid, 0).runnable > 0;
+	bool timer = c.next_timer() <= v;
+	bool own = c.in_block && !c.sync_pending &&
+		   (c.deadline <= v || (c.recheck && c.rechecked_at < sim_ns_) ||
+		    (c.wants_devices && next_record_due(c) <= v));
+	bool side = std::any_of(c.side.begin(), c.side.end(), [&](const SideWait &w) { return side_due(c, w, v); });
+	if (!woke_alone && !timer && !own && !side)
+		return false;
+	c.others_asleep = false;
+	if (timer && !c.in_block && !c.sync_pending && !c.side.empty()) {
+		// Someone must raise the timer's signals inside a wait: the first
+		// waiting thread.
+		const SideWait w = c.side.front();
+		c.side.erase(c.side.begin());
+		c.wait_fd = w.fd;
+		c.wait_seq = w.seq;
+		c.deadline = w.deadline;
+		c.wait_flags = w.flags;
+		c.wait_kind = w.kind;
+		c.wait_requested_at = w.requested_at;
+		c.in_block = true;
+	}
+	if (timer && c.in_block && !c.sync_pending) {
+		c.v = v;
+		c.wake_arg = (int64_t)due_timer_signals(c);
+		wake(c, v, TCS_WAKE_SIGNAL);
+	} else if (own) {
+		bool due = c.deadline <= v;
+		wake(c, v, due || c.wants_devices ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK);
+	} else if (!c.sync_pending) {
+		demote_wait(c);
+		c.v = v;
+		c.state = CtlState::Ready;
+		c.wake_pending = false;
+	} else {
+		c.v = v;
+		c.state = CtlState::Ready; // a device read: complete_sync decides
+	}
+	c.rechecked_at = sim_ns_;
+	return true;
+}
+
+void Coordinator::answer_side(Controller &c, const SideWait &w)
+{
+	channel_state(c, w.fd).unanswered = 0;
+	struct tcs_msg m = tcs_msg_make(TCS_MSG_WAKE, w.seq);
+	m.kind = w.wake_reason;
+	m.v = c.v;
+	(void)send(w.fd, &m, sizeof m, MSG_DONTWAIT | MSG_NOSIGNAL);
+	if (trace_.is_open())
+		trace_.wait(c.id, w.kind, w.requested_at, w.deadline, c.v, (w.flags & TCS_BLOCK_ABSOLUTE) != 0);
+}
+
+// Ends the side waits due at c's time (as it is resumed, its sensors'
+// records delivered).
+void Coordinator::end_side_waits(Controller &c)
+{
+	for (size_t i = 0; i < c.side.size();) {
+		SideWait &w = c.side[i];
+		if (!side_due(c, w, c.v)) {
+			if (w.flags & TCS_BLOCK_RECHECK)
+				w.rechecked_at = sim_ns_;
+			i++;
+			continue;
+		}
+		if (w.wake_reason == 0)
+			w.wake_reason = w.deadline <= c.v || (w.flags & TCS_BLOCK_DEVICES) ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK;
+		if (w.deadline != TCS_NEVER && w.deadline <= c.v)
+			w.wake_reason = TCS_WAKE_DEADLINE;
+		SideWait done = w;
+		c.side.erase(c.side.begin() + (long)i);
+		answer_side(c, done);
+	}
+}
+
+// At the end of the run every wait ends at once.
+void Coordinator::end_all_side_waits(Controller &c)
+{
+	for (SideWait &w : c.side) {
+		w.wake_reason = TCS_WAKE_DEADLINE;
+		answer_side(c, w);
+	}
+	c.side.clear();
+}
+
+// A running controller with waiting threads, found making no progress: if
+// none of its threads can run, it is Blocked beside their waits.
+bool Coordinator::block_if_all_waiting(Controller &c)
+{
+	if (c.side.empty() || c.awaiting_child != 0 || proc_threads(c.pid, 0).runnable > 0)
+		return false;
+	int64_t cpu = c.cpu_now();
+	budget_timer_.disarm();
+	watchdog_timer_.disarm();
+	if (running_ == &c)
+		running_ = nullptr;
+	c.account(cpu, cfg_.mode);
+	c.publish_slice(cpu);
+	trace_slice_end(c, "blocked", cpu);
+	c.cpu_at_block = cpu;
+	c.state = CtlState::Blocked;
+	c.in_block = false;
+	demote_wait(c);
+	c.others_asleep = proc_threads(c.pid, 0).threads > (int)c.side.size();
+	c.rechecked_at = sim_ns_;
+	schedule();
+	return true;
+}
+
+} // namespace tcs

@@ -1,0 +1,315 @@
+/* threads MODE: multi-threaded controllers, each mode one scenario whose
+ * figures (key=value lines, times in virtual ns from CLOCK_MONOTONIC) a
+ * test checks against what virtual time must give.
+ *   loops        two threads, 1 kHz and 300 Hz periodic loops (200 us and
+ *                1 ms of their own CPU per cycle) for 1 s: cycles, misses
+ *   compute      main sleeps 10 ms while a worker computes 20 ms of CPU:
+ *                how much the worker had computed when main woke
+ *   cond         condition variables: signalled at 1 ms (timedwait, both
+ *                glibc versions, clockwait, a monotonic condattr), and
+ *                timing out at 3 ms while another thread sleeps
+ *   mutex        pthread_mutex_timedlock: times out at 2 ms, gets the lock
+ *                when its holder unlocks at 5 ms
+ *   sem          sem_timedwait times out at 3 ms; sem_clockwait is posted
+ *                at 4 ms
+ *   asleep       a worker blocked in read() on a pipe (outside the hooks)
+ *                while main sleeps 5 ms, then writes to it */
+#include <errno.h>
+#include <pthread.h>
+#include <semaphore.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "work.h"
+
+#define MS 1000000LL
+
+static long long t0;
+static long long now(void)
+{
+	return clock_ns(CLOCK_MONOTONIC) - t0;
+}
+
+static void burn_cpu(long long ns) /* of this thread's own CPU */
+{
+	long long c0 = clock_ns(CLOCK_THREAD_CPUTIME_ID);
+	while (clock_ns(CLOCK_THREAD_CPUTIME_ID) - c0 < ns)
+		work(100);
+}
+
+static void sleep_until(long long at)
+{
+	long long abs = t0 + at;
+	struct timespec ts = { abs / 1000000000LL, abs % 1000000000LL };
+	while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR)
+		;
+}
+
+static struct timespec abs_on(clockid_t clock, long long from_now)
+{
+	long long t = clock_ns(clock) + from_now;
+	struct timespec ts = { t / 1000000000LL, t % 1000000000LL };
+	return ts;
+}
+
+/* ---- loops ---- */
+struct loop {
+	long long period, work, cycles, misses;
+};
+
+static void *run_loop(void *arg)
+{
+	struct loop *l = arg;
+	long long next = 0;
+	while (next < 1000 * MS) {
+		burn_cpu(l->work);
+		l->cycles++;
+		next += l->period;
+		if (now() > next)
+			l->misses++;
+		sleep_until(next);
+	}
+	return NULL;
+}
+
+static int mode_loops(void)
+{
+	struct loop fast = { 1 * MS, 200000, 0, 0 }, slow = { 3333333, 1 * MS, 0, 0 };
+	pthread_t a, b;
+	pthread_create(&a, NULL, run_loop, &fast);
+	pthread_create(&b, NULL, run_loop, &slow);
+	pthread_join(a, NULL);
+	pthread_join(b, NULL);
+	printf("fast_cycles=%lld fast_misses=%lld slow_cycles=%lld slow_misses=%lld elapsed_ns=%lld\n", fast.cycles,
+	       fast.misses, slow.cycles, slow.misses, now());
+	return 0;
+}
+
+/* ---- compute ---- */
+static volatile long long worker_done_ns; /* the worker's CPU so far */
+
+static void *compute(void *arg)
+{
+	(void)arg;
+	long long c0 = clock_ns(CLOCK_THREAD_CPUTIME_ID);
+	while (worker_done_ns < 20 * MS) {
+		work(1000);
+		worker_done_ns = clock_ns(CLOCK_THREAD_CPUTIME_ID) - c0;
+	}
+	return NULL;
+}
+
+static int mode_compute(void)
+{
+	pthread_t w;
+	pthread_create(&w, NULL, compute, NULL);
+	struct timespec ten = { 0, 10 * MS };
+	nanosleep(&ten, NULL);
+	long long woke = now(), seen = worker_done_ns;
+	pthread_join(w, NULL);
+	printf("main_woke_ns=%lld worker_cpu_at_wake_ns=%lld end_ns=%lld\n", woke, seen, now());
+	return 0;
+}
+
+/* ---- cond ---- */
+static pthread_mutex_t mu = PTHREAD_MUTEX_INITIALIZER;
+static pthread_cond_t cv = PTHREAD_COND_INITIALIZER;
+static int flag;
+
+/* The condition-variable ABI of glibc before 2.3.2, as old binaries call it. */
+extern int old_cond_timedwait(void *c, pthread_mutex_t *m, const struct timespec *t);
+extern int old_cond_signal(void *c);
+__asm__(".symver old_cond_timedwait, pthread_cond_timedwait@GLIBC_2.2.5");
+__asm__(".symver old_cond_signal, pthread_cond_signal@GLIBC_2.2.5");
+static void *old_cv[8]; /* an old condition variable: a pointer, zero to start */
+
+static int variant;
+static pthread_cond_t *signalled; /* the one the waiter waits on */
+static void *signal_at_1ms(void *arg)
+{
+	(void)arg;
+	sleep_until(now() + 1 * MS);
+	pthread_mutex_lock(&mu);
+	flag = 1;
+	if (variant == 1)
+		old_cond_signal(old_cv);
+	else
+		pthread_cond_signal(signalled);
+	pthread_mutex_unlock(&mu);
+	return NULL;
+}
+
+static int cond_wait_variant(int v, pthread_cond_t *c)
+{
+	variant = v;
+	signalled = c;
+	flag = 0;
+	pthread_t s;
+	pthread_mutex_lock(&mu);
+	long long start = now();
+	pthread_create(&s, NULL, signal_at_1ms, NULL);
+	int r = 0;
+	while (!flag && r == 0) {
+		if (v == 1) {
+			struct timespec at = abs_on(CLOCK_REALTIME, 10 * MS);
+			r = old_cond_timedwait(old_cv, &mu, &at);
+		} else if (v == 2) {
+			struct timespec at = abs_on(CLOCK_MONOTONIC, 10 * MS);
+			r = pthread_cond_clockwait(c, &mu, CLOCK_MONOTONIC, &at);
+		} else if (v == 3) {
+			struct timespec at = abs_on(CLOCK_MONOTONIC, 10 * MS); /* c has a monotonic condattr */
+			r = pthread_cond_timedwait(c, &mu, &at);
+		} else {
+			struct timespec at = abs_on(CLOCK_REALTIME, 10 * MS);
+			r = pthread_cond_timedwait(c, &mu, &at);
+		}
+	}
+	long long took = now() - start;
+	pthread_mutex_unlock(&mu);
+	pthread_join(s, NULL);
+	printf("variant=%d result=%d signalled_after_ns=%lld\n", v, r, took);
+	return 0;
+}
+
+static void *sleeper(void *arg)
+{
+	(void)arg;
+	struct timespec d = { 0, 50 * MS };
+	nanosleep(&d, NULL);
+	return NULL;
+}
+
+static int mode_cond(void)
+{
+	pthread_condattr_t a;
+	pthread_cond_t mono;
+	pthread_condattr_init(&a);
+	pthread_condattr_setclock(&a, CLOCK_MONOTONIC);
+	pthread_cond_init(&mono, &a);
+	cond_wait_variant(0, &cv);
+	cond_wait_variant(1, &cv);
+	cond_wait_variant(2, &cv);
+	cond_wait_variant(3, &mono);
+	/* Nobody signals; another thread sleeps meanwhile. */
+	pthread_t s;
+	pthread_create(&s, NULL, sleeper, NULL);
+	pthread_mutex_lock(&mu);
+	long long start = now();
+	struct timespec at = abs_on(CLOCK_REALTIME, 3 * MS);
+	int r = pthread_cond_timedwait(&cv, &mu, &at);
+	long long took = now() - start;
+	pthread_mutex_unlock(&mu);
+	pthread_join(s, NULL);
+	printf("timeout_result=%d timed_out_after_ns=%lld sleeper_done_ns=%lld\n", r, took, now());
+	return 0;
+}
+
+/* ---- mutex ---- */
+static void *lock_then_unlock_at_5ms(void *arg)
+{
+	(void)arg;
+	pthread_mutex_lock(&mu);
+	flag = 1;
+	sleep_until(5 * MS);
+	pthread_mutex_unlock(&mu);
+	return NULL;
+}
+
+static int mode_mutex(void)
+{
+	pthread_t h;
+	pthread_create(&h, NULL, lock_then_unlock_at_5ms, NULL);
+	while (!__atomic_load_n(&flag, __ATOMIC_ACQUIRE))
+		sched_yield();
+	long long start = now();
+	struct timespec at = abs_on(CLOCK_REALTIME, 2 * MS);
+	int r1 = pthread_mutex_timedlock(&mu, &at);
+	long long t1 = now() - start;
+	at = abs_on(CLOCK_REALTIME, 10 * MS);
+	int r2 = pthread_mutex_timedlock(&mu, &at);
+	long long t2 = now();
+	if (r2 == 0)
+		pthread_mutex_unlock(&mu);
+	pthread_join(h, NULL);
+	printf("first_result=%d first_after_ns=%lld second_result=%d second_at_ns=%lld\n", r1, t1, r2, t2);
+	return 0;
+}
+
+/* ---- sem ---- */
+static sem_t sem;
+static void *post_at_4ms(void *arg)
+{
+	(void)arg;
+	sleep_until(4 * MS);
+	sem_post(&sem);
+	return NULL;
+}
+
+static int mode_sem(void)
+{
+	sem_init(&sem, 0, 0);
+	long long start = now();
+	struct timespec at = abs_on(CLOCK_REALTIME, 3 * MS);
+	int r1 = sem_timedwait(&sem, &at);
+	int e1 = r1 ? errno : 0;
+	long long t1 = now() - start;
+	pthread_t p;
+	pthread_create(&p, NULL, post_at_4ms, NULL);
+	at = abs_on(CLOCK_MONOTONIC, 50 * MS);
+	int r2 = sem_clockwait(&sem, CLOCK_MONOTONIC, &at);
+	long long t2 = now();
+	pthread_join(p, NULL);
+	printf("timedwait_errno=%s timedwait_after_ns=%lld clockwait_result=%d clockwait_at_ns=%lld\n",
+	       e1 == ETIMEDOUT ? "ETIMEDOUT" : strerror(e1), t1, r2, t2);
+	return 0;
+}
+
+/* ---- asleep ---- */
+static int pipefd[2];
+static long long got_at;
+static void *reader(void *arg)
+{
+	(void)arg;
+	char c;
+	if (read(pipefd[0], &c, 1) == 1)
+		got_at = now();
+	return NULL;
+}
+
+static int mode_asleep(void)
+{
+	if (pipe(pipefd) < 0)
+		return 1;
+	pthread_t r;
+	pthread_create(&r, NULL, reader, NULL);
+	struct timespec five = { 0, 5 * MS };
+	nanosleep(&five, NULL);
+	long long woke = now();
+	if (write(pipefd[1], "x", 1) != 1)
+		return 1;
+	pthread_join(r, NULL);
+	printf("main_woke_ns=%lld reader_got_ns=%lld\n", woke, got_at);
+	return 0;
+}
+
+int main(int argc, char **argv)
+{
+	t0 = clock_ns(CLOCK_MONOTONIC);
+	const char *mode = argc > 1 ? argv[1] : "";
+	if (!strcmp(mode, "loops"))
+		return mode_loops();
+	if (!strcmp(mode, "compute"))
+		return mode_compute();
+	if (!strcmp(mode, "cond"))
+		return mode_cond();
+	if (!strcmp(mode, "mutex"))
+		return mode_mutex();
+	if (!strcmp(mode, "sem"))
+		return mode_sem();
+	if (!strcmp(mode, "asleep"))
+		return mode_asleep();
+	fprintf(stderr, "usage: threads loops|compute|cond|mutex|sem|asleep\n");
+	return 2;
+}
