@@ -4,9 +4,10 @@
 // ever run. When others live, the running controller is looked at — by its
 // budget's own checks, or by a watchdog when it has no budget (lockstep):
 // if it used no CPU since the last look and every thread of it sleeps, it
-// steps aside (its virtual time stands still), and it is looked at again at
-// each step, resuming once it is runnable. The watchdog is slow (every
-// 2 ms) because each look interrupts the controller on its core.
+// steps aside (others go on meanwhile), and it is looked at again at each
+// step, resuming once it is runnable, at the world's time then. The
+// watchdog is slow (every 2 ms) because each look interrupts the controller
+// on its core.
 #include "coordinator.h"
 #include "proc_info.h"
 
@@ -55,11 +56,13 @@ bool Coordinator::step_aside_if_asleep(Controller &c)
 	c.publish_slice(cpu);
 	trace_slice_end(c, "blocked", cpu);
 	c.asleep = true;
+	c.set_page_flag(TCS_PAGE_ASLEEP, true);
 	c.state = CtlState::Blocked;
 	c.deadline = TCS_NEVER;
 	c.recheck = true;
 	c.rechecked_at = sim_ns_;
 	c.wants_devices = false;
+	c.waits_for_child = false; // its last wait's: it is in none of ours now
 	c.in_block = false;
 	schedule();
 	return true;
@@ -77,13 +80,18 @@ bool Coordinator::still_asleep(Controller &c)
 }
 
 // It woke by itself (or made a request): what it used meanwhile is its, and
-// it is Ready as if it had been stopped.
+// it is Ready as if it had been stopped. It was waiting all along, as in
+// any wait: its time is at least the world's now (a reader of a pipe sees
+// the data no earlier than it was written; TCS_PAGE_ASLEEP makes it ask
+// before it looks at its clock).
 void Coordinator::wake_from_asleep(Controller &c)
 {
 	int64_t cpu = c.cpu_now();
 	c.account(cpu, cfg_.mode);
+	c.v = std::max(c.v, sim_ns_);
 	c.publish_slice(cpu);
 	c.asleep = false;
+	c.set_page_flag(TCS_PAGE_ASLEEP, false);
 	c.state = CtlState::Ready;
 	c.recheck = false;
 	c.wake_pending = false;

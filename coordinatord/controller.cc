@@ -143,6 +143,14 @@ int64_t Controller::cpu_now() const
 	return tcs_ts_to_ns(&ts);
 }
 
+void Controller::set_page_flag(uint32_t flag, bool on)
+{
+	if (on)
+		__atomic_fetch_or(&page_->flags, flag, __ATOMIC_RELEASE);
+	else
+		__atomic_fetch_and(&page_->flags, ~flag, __ATOMIC_RELEASE);
+}
+
 void Controller::publish_slice(int64_t cpu_base)
 {
 	slice_ = tcs_slice{ v, cpu_base, charged };

@@ -121,6 +121,7 @@ public:
 	int64_t cpu_now() const;
 	// Starts a new slice at the controller's current v and charge.
 	void publish_slice(int64_t cpu_base);
+	void set_page_flag(uint32_t flag, bool on);
 	const tcs_slice &slice() const { return slice_; }
 	// Real CPU the current slice has used up to cpu (hooks' own cost excluded).
 	int64_t slice_cpu(int64_t cpu) const;

@@ -244,8 +244,9 @@ void Coordinator::on_child(Controller &parent, const ::tcs_msg &m, UniqueFd chan
 	if (!channel)
 		return refuse("it sent no channel");
 	// Only a child of this controller may register through its channel.
-	if (proc_parent(pid) != parent.pid)
-		return refuse("pid " + std::to_string(pid) + " is not its child");
+	if (pid_t pp = proc_parent(pid); pp != parent.pid)
+		return refuse("pid " + std::to_string(pid) + " is not its child (its parent is " + std::to_string(pp) +
+			      ", not " + std::to_string(parent.pid) + ")");
 	for (auto &o : ctls_)
 		if (o->pid == pid && o->state != CtlState::Exited)
 			return refuse("pid " + std::to_string(pid) + " is registered already");
@@ -427,6 +428,19 @@ void Coordinator::on_message(Controller &c, const ::tcs_msg &m, int fd, pid_t ti
 	}
 }
 
+// The CPU clock of a controller that has just ended. The kernel's sum over
+// its threads waits for a thread still on its way out, which our wake-up
+// may have preempted on our core: at SCHED_FIFO we would spin in that
+// clock_gettime forever (seen with every multi-threaded controller), so we
+// step down to let it finish.
+int64_t Coordinator::exited_cpu(const Controller &c)
+{
+	coordinator_fifo(rt_, false);
+	int64_t cpu = c.cpu_now();
+	coordinator_fifo(rt_, true);
+	return cpu;
+}
+
 void Coordinator::on_pidfd(Controller &c)
 {
 	if (c.state == CtlState::Exited)
@@ -435,7 +449,7 @@ void Coordinator::on_pidfd(Controller &c)
 		// A child of a controller: its parent reaps it, not us. Its pidfd
 		// being readable says it has ended; its zombie (if the parent has
 		// not reaped it yet) still tells its CPU and exit status.
-		int64_t cpu = c.cpu_now();
+		int64_t cpu = exited_cpu(c);
 		if (cpu > 0)
 			c.account(cpu, cfg_.mode);
 		if (running_ == &c)
@@ -456,7 +470,7 @@ void Coordinator::on_pidfd(Controller &c)
 	};
 	if (si.si_pid == 0)
 		return later();
-	int64_t cpu = c.cpu_now();
+	int64_t cpu = exited_cpu(c);
 	c.account(cpu, cfg_.mode);
 	if (running_ == &c)
 		trace_slice_end(c, "exited", cpu);

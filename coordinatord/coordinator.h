@@ -94,6 +94,7 @@ private:
 	// A message on the main channel (t == nullptr) or a thread's.
 	void on_channel(Controller &c, ThreadChannel *t);
 	void on_message(Controller &c, const ::tcs_msg &m, int fd, pid_t tid);
+	int64_t exited_cpu(const Controller &c);
 	void on_pidfd(Controller &c);
 	void on_exit(Controller &c, int wait_status);
 	void on_signal();

@@ -1,5 +1,6 @@
 // setup_realtime(): SCHED_FIFO and core pinning, with a clear fallback.
 #include "realtime.h"
+#include "tcs/protocol.h"
 
 #include <sched.h>
 #include <time.h>
@@ -16,8 +17,8 @@ namespace tcs {
 namespace {
 // Low real-time priorities: above every normal task, below the kernel's
 // own threaded interrupt handlers (50), which must keep running.
-constexpr int kCoordinatorPrio = 3;
-constexpr int kControllerPrio = 2;
+constexpr int kCoordinatorPrio = TCS_CONTROLLER_FIFO_PRIO + 1;
+constexpr int kControllerPrio = TCS_CONTROLLER_FIFO_PRIO;
 
 // The TSC rate against CLOCK_MONOTONIC_RAW over 2 ms, where the CPU says
 // its TSC is invariant (constant rate, running in every C-state) and the

@@ -106,9 +106,11 @@ void Coordinator::schedule()
 		}
 
 		// Nobody can run before target: the world steps.
-		if (!recheck && next_event == TCS_NEVER) {
+		if (next_event == TCS_NEVER) {
 			// Every controller waits for something only the real world
-			// can end: let virtual time pass at real-time speed.
+			// can end (some looked at each step: asleep outside the hooks,
+			// or in a wait only a re-check can see end): let virtual time
+			// pass at real-time speed, and hear their channels meanwhile.
 			idle_timer_.arm(cfg_.step_ns);
 			return;
 		}

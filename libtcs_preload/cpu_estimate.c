@@ -2,7 +2,7 @@
  *
  * Reading CLOCK_PROCESS_CPUTIME_ID is a system call (~240 ns here, 12x a
  * native vDSO clock read). Where the coordinator pins a controller to one
- * core under SCHED_FIFO (TCS_PAGE_CPU_ESTIMATE), the process uses CPU at
+ * core under SCHED_FIFO (TCS_PAGE_CPU_ESTIMATE) and it has one thread, it uses CPU at
  * exactly the rate the TSC advances, except while the coordinator runs on
  * that core (it bumps the page's gen each time, and with each new slice) or
  * while the process sleeps in the kernel outside tcs's hooks. So each thread
@@ -24,7 +24,8 @@ int64_t tcs_process_cpu_resync(void)
 {
 	const struct tcs_clock_page *p = tcs_rt.page;
 	struct tcs_anchor *a = &tcs_anchor;
-	if (!(p->flags & TCS_PAGE_CPU_ESTIMATE) || a->busy)
+	if (!(p->flags & TCS_PAGE_CPU_ESTIMATE) || a->busy ||
+	    __atomic_load_n(&p->threads_started, __ATOMIC_RELAXED) != 0) /* no longer FIFO */
 		return tcs_process_cpu();
 	/* gen read before the real reading: a coordinator run after it makes
 	 * the next read take a real reading again. */

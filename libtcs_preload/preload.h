@@ -227,9 +227,13 @@ static inline int tcs_is_runtime_fd(int fd)
 }
 
 /* The controller's virtual time now: inline, as clock reads are hot. */
+void tcs_catch_up(void);
+
 static inline int64_t tcs_vnow(void)
 {
 	const struct tcs_clock_page *p = tcs_rt.page;
+	if (__builtin_expect(__atomic_load_n(&p->flags, __ATOMIC_RELAXED) & TCS_PAGE_ASLEEP, 0))
+		tcs_catch_up();
 	/* Lockstep needs no CPU reading: the cheapest path of all. */
 	if (p->mode == TCS_MODE_LOCKSTEP)
 		return tcs_page_read_slice(p).v_base;

@@ -167,10 +167,34 @@ static int tcs_raise_timer_signals(uint64_t bits, const sigset_t *mask)
 	return r == -EINTR ? -EINTR : TCS_WAIT_RECHECK;
 }
 
+/* Awake after the coordinator stepped us aside (TCS_PAGE_ASLEEP): a wait
+ * of 1 ns, which the coordinator ends at the world's time. */
+static __thread int tcs_catching_up;
+
+static void tcs_catch_up_in_wait(void)
+{
+	if (tcs_catching_up)
+		return;
+	tcs_catching_up = 1;
+	struct tcs_wait_time t = { 1, 1, 0, 0, 0 };
+	(void)tcs_wait(&t, TCS_BLOCK_SLEEP, 0, NULL, 0, NULL);
+	tcs_catching_up = 0;
+}
+
+void tcs_catch_up(void)
+{
+	if (!tcs_wait_enter())
+		return; /* inside a hook (a signal handler's clock read): it asks itself */
+	tcs_catch_up_in_wait();
+	tcs_wait_leave();
+}
+
 int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct pollfd *fds, unsigned nfds,
 	     const sigset_t *mask)
 {
 	struct tcs_clock_page *p = tcs_rt.page;
+	if (__builtin_expect(__atomic_load_n(&p->flags, __ATOMIC_RELAXED) & TCS_PAGE_ASLEEP, 0))
+		tcs_catch_up_in_wait();
 	/* The charge up to here, and virtual time from it in cpu mode. */
 	int64_t cpu = tcs_charge_point();
 	int64_t v = tcs_page_vnow(p, tcs_page_read_slice(p), cpu);

@@ -8,6 +8,7 @@
 #include <dlfcn.h>
 #include <fcntl.h>
 #include <pthread.h>
+#include <sched.h>
 #include <sys/socket.h>
 
 #include "preload.h"
@@ -131,10 +132,27 @@ void tcs_threads_init(void)
 		RTLD_NEXT, "pthread_create");
 }
 
+/* tcs runs a controller SCHED_FIFO so that nothing else takes its core while
+ * it computes. Its threads, though, must share that core the way the kernel
+ * shares one between the threads of an ordinary program: at one FIFO
+ * priority a thread woken while another computes would wait until that one
+ * blocked. So before its first thread the process steps down to
+ * SCHED_OTHER, which new threads inherit; the coordinator stays above it.
+ * A policy the program chose itself is left alone. */
+static void tcs_threads_share_core(void)
+{
+	struct sched_param sp;
+	if (sched_getscheduler(0) != SCHED_FIFO || sched_getparam(0, &sp) != 0 ||
+	    sp.sched_priority != TCS_CONTROLLER_FIFO_PRIO)
+		return;
+	sp.sched_priority = 0;
+	sched_setscheduler(0, SCHED_OTHER, &sp);
+}
+
 TCS_EXPORT int pthread_create(pthread_t *thread, const pthread_attr_t *attr, void *(*start)(void *), void *arg)
 {
-	if (tcs_active())
-		__atomic_add_fetch(&tcs_rt.page->threads_started, 1, __ATOMIC_RELAXED);
+	if (tcs_active() && __atomic_fetch_add(&tcs_rt.page->threads_started, 1, __ATOMIC_RELAXED) == 0)
+		tcs_threads_share_core();
 	if (!tcs_real_pthread_create) /* a library's constructor, before ours */
 		tcs_threads_init();
 	return tcs_real_pthread_create(thread, attr, start, arg);

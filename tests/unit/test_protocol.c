@@ -136,6 +136,21 @@ static void test_valid_block(void **state)
 	assert_accepted(m);
 	m.seq = UINT32_MAX;
 	assert_accepted(m);
+	m.kind = TCS_BLOCK_SYNC; /* a thread waiting for another */
+	assert_accepted(m);
+}
+
+/* A thread hands over its own channel: the tid must be one. */
+static void test_thread_message(void **state)
+{
+	struct tcs_msg m = tcs_msg_make(TCS_MSG_THREAD, 0);
+	m.arg = 4242;
+	assert_accepted(m);
+	static const int64_t bad[] = { 0, -1, (int64_t)INT32_MAX + 1, INT64_MIN };
+	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+		m.arg = bad[i];
+		assert_rejected(m);
+	}
 }
 
 static void test_valid_early(void **state)
@@ -215,7 +230,7 @@ static void test_wrong_version(void **state)
 
 static void test_unknown_type(void **state)
 {
-	static const uint16_t types[] = { 0, 7, 8, 100, 0xffff, 0x0101 };
+	static const uint16_t types[] = { 0, 7, 8, 10, 100, 0xffff, 0x0101 };
 	for (size_t i = 0; i < sizeof types / sizeof types[0]; i++) {
 		struct tcs_msg m = valid_block();
 		m.type = types[i];
@@ -273,7 +288,7 @@ static void test_wake_to_coordinator(void **state)
 
 static void test_block_bad_kind(void **state)
 {
-	static const uint16_t kinds[] = { 0, 3, 4, 0xffff, 0x0101 };
+	static const uint16_t kinds[] = { 0, 4, 5, 0xffff, 0x0101 };
 	for (size_t i = 0; i < sizeof kinds / sizeof kinds[0]; i++) {
 		struct tcs_msg m = valid_block();
 		m.kind = kinds[i];
@@ -369,7 +384,7 @@ static void assert_invariants(const struct tcs_msg *m, const void *raw)
 		assert_true(m->arg > 0 && m->arg <= INT32_MAX);
 		break;
 	case TCS_MSG_BLOCK:
-		assert_true(m->kind == TCS_BLOCK_SLEEP || m->kind == TCS_BLOCK_POLL);
+		assert_true(m->kind == TCS_BLOCK_SLEEP || m->kind == TCS_BLOCK_POLL || m->kind == TCS_BLOCK_SYNC);
 		assert_int_equal(m->flags & ~TCS_BLOCK_FLAGS_ALL, 0);
 		assert_true(m->deadline >= 0);
 		assert_true(m->v >= 0);
@@ -397,6 +412,9 @@ static void assert_invariants(const struct tcs_msg *m, const void *raw)
 		assert_true(m->kind >= 1 && m->kind <= 64);
 		assert_true(m->deadline >= 0 && m->arg >= 0 && m->cpu >= 0);
 		assert_true(m->v >= 0 && m->v <= INT32_MAX);
+		break;
+	case TCS_MSG_THREAD:
+		assert_true(m->arg > 0 && m->arg <= INT32_MAX);
 		break;
 	default:
 		print_error("accepted a message of type %u\n", m->type);
@@ -527,6 +545,7 @@ int main(void)
 		cmocka_unit_test(test_unknown_type),
 		cmocka_unit_test(test_device_messages),
 		cmocka_unit_test(test_wake_to_coordinator),
+		cmocka_unit_test(test_thread_message),
 		cmocka_unit_test(test_block_bad_kind),
 		cmocka_unit_test(test_block_bad_flags),
 		cmocka_unit_test(test_block_negative_times),

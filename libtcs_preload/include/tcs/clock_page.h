@@ -43,6 +43,12 @@ enum tcs_mode {
  * by the time the controller's send returns: look for the reply before
  * waiting for it. */
 #define TCS_PAGE_FIFO 4u
+/* flags, set and cleared by the coordinator while the controller runs: it
+ * was found asleep outside the hooks (reading a pipe, say) and stepped
+ * aside while others went on. Awake again by itself, before it looks at
+ * its clock or waits, it asks for the world's time: what woke it may have
+ * been written then, never earlier. */
+#define TCS_PAGE_ASLEEP 8u
 
 /* The seqlock-protected part: where the current slice started. */
 struct tcs_slice {

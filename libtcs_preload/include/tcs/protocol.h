@@ -28,6 +28,9 @@ extern "C" {
 #define TCS_ENV_CONTROLLER_PID "TCS_CONTROLLER_PID"
 /* Where the preload moves its own descriptors, out of the program's way. */
 #define TCS_RUNTIME_FD_FLOOR 900
+/* The SCHED_FIFO priority tcs gives controllers where it may (the
+ * coordinator's is one above): the preload recognises it. */
+#define TCS_CONTROLLER_FIFO_PRIO 2
 /* Virtual devices a scenario may declare (see tcs_device_table). */
 #define TCS_MAX_DEVICES 64
 
