@@ -1,0 +1,115 @@
+"""Multi-threaded controllers (issue 6): virtual time passes only when every
+thread of a controller waits; the CPU charged is the process's; the timed
+waits of C (pthread, semaphores), C++ (condition_variable, future) and
+Python (Event, Lock, queue) end in virtual time. Lockstep figures are exact;
+cpu mode adds the CPU the program itself uses (tens of microseconds)."""
+
+import os
+
+from harness import PYTHON, check, close_to, main, prog, tcs
+
+MS = 1000000
+SRC = os.environ["TCS_PROGRAMS_SRC"]
+
+
+def run(mode, *argv):
+    r = tcs("-q", "-m", mode, "--", *argv, timeout=60)
+    check(r.returncode == 0, "%s under %s: exit 0" % (argv[0], mode), r)
+    return r.values(), r
+
+
+def within(value, at, mode, what, r, cpu_slack=0.3 * MS):
+    """Exactly `at` in lockstep; in cpu mode no earlier, and late by no more
+    than the program's own computing."""
+    v = int(value)
+    hi = at if mode == "lockstep" else at + cpu_slack
+    check(at <= v <= hi, "%s: %s at %.3f ms, expected %.3f ms%s" %
+          (mode, what, v / MS, at / MS, "" if mode == "lockstep" else " (+ its CPU)"), r)
+
+
+def test_two_loops_in_threads_keep_their_rates():
+    for mode in ("lockstep", "cpu"):
+        v, r = run(mode, prog("threads"), "loops")
+        print("  %-8s 1 kHz thread: %s cycles, %s misses; 300 Hz thread: %s cycles, %s misses" %
+              (mode, v["fast_cycles"], v["fast_misses"], v["slow_cycles"], v["slow_misses"]))
+        check(v["fast_cycles"] == "1000" and v["slow_cycles"] == "301", "%s: both loops keep their rates" % mode, r)
+        close_to(int(v["elapsed_ns"]), 1.0033e9, 0.001, "%s: 1 s of virtual time" % mode, r)
+        if mode == "lockstep":
+            check(v["fast_misses"] == v["slow_misses"] == "0", "lockstep: computing is free, nothing missed", r)
+        else:
+            # One core, 50 % load: the 1 kHz thread waits now and then for
+            # the other's 1 ms bursts, as it would on a one-core target.
+            check(int(v["fast_misses"]) < 150 and v["slow_misses"] == "0", "cpu: misses only as one core makes them", r)
+
+
+def test_time_passes_only_when_every_thread_waits():
+    # main sleeps 10 ms while a worker computes 20 ms of CPU.
+    v, r = run("lockstep", prog("threads"), "compute")
+    check(int(v["main_woke_ns"]) == 10 * MS, "lockstep: main wakes at 10 ms", r)
+    check(int(v["worker_cpu_at_wake_ns"]) >= 20 * MS,
+          "lockstep: computation is free, so the worker had finished before any time passed", r)
+    v, r = run("cpu", prog("threads"), "compute")
+    woke, worker = int(v["main_woke_ns"]), int(v["worker_cpu_at_wake_ns"])
+    print("  cpu: main woke at %.3f ms; the worker had computed %.3f ms" % (woke / MS, worker / MS))
+    # One virtual CPU: time passes as the worker computes, and main's 10 ms
+    # sleep ends when the worker's CPU has brought the process there. When
+    # main then gets the core is the kernel's choice between two threads on
+    # one core (seen: 10.2 to 12.4 ms, once 20 ms), as on a one-core target.
+    check(woke >= 10 * MS, "cpu: main's 10 ms sleep lasts 10 ms at least", r)
+    check(woke - 1 * MS <= worker <= woke, "cpu: the time that passed is the worker's CPU", r)
+    check(int(v["end_ns"]) >= 20 * MS, "cpu: the worker's 20 ms of CPU are 20 ms of virtual time", r)
+
+
+def test_pthread_timed_waits():
+    for mode in ("lockstep", "cpu"):
+        v, r = run(mode, prog("threads"), "cond")
+        for line in r.stdout.splitlines():
+            if line.startswith("variant="):
+                f = dict(kv.split("=") for kv in line.split())
+                check(f["result"] == "0", "%s: cond variant %s signalled" % (mode, f["variant"]), r)
+                within(f["signalled_after_ns"], 1 * MS, mode, "cond variant %s signalled" % f["variant"], r)
+        check(v["timeout_result"] == "110", "%s: pthread_cond_timedwait times out (ETIMEDOUT)" % mode, r)
+        within(v["timed_out_after_ns"], 3 * MS, mode, "cond timeout", r)
+        v, r = run(mode, prog("threads"), "mutex")
+        check(v["first_result"] == "110" and v["second_result"] == "0", "%s: timedlock times out, then gets it" % mode, r)
+        within(v["first_after_ns"], 2 * MS, mode, "pthread_mutex_timedlock timeout", r)
+        within(v["second_at_ns"], 5 * MS, mode, "pthread_mutex_timedlock got the lock", r)
+        v, r = run(mode, prog("threads"), "sem")
+        check(v["timedwait_errno"] == "ETIMEDOUT" and v["clockwait_result"] == "0", "%s: semaphores" % mode, r)
+        within(v["timedwait_after_ns"], 3 * MS, mode, "sem_timedwait timeout", r)
+        within(v["clockwait_at_ns"], 4 * MS, mode, "sem_clockwait posted", r)
+        v, r = run(mode, prog("threads"), "asleep")
+        within(v["main_woke_ns"], 5 * MS, mode, "main's sleep beside a thread asleep in read()", r)
+        check(int(v["reader_got_ns"]) >= int(v["main_woke_ns"]), "%s: the reader gets the data after it was written" % mode, r)
+
+
+def test_cxx_timed_waits():
+    for mode in ("lockstep", "cpu"):
+        v, r = run(mode, prog("threads_cxx"))
+        check(v["cv_timeout_result"] == "0" and v["cv_notified_result"] == "1", "%s: condition_variable" % mode, r)
+        within(v["cv_timeout_ns"], 2 * MS, mode, "condition_variable::wait_for timeout", r)
+        within(v["cv_notified_ns"], 1 * MS, mode, "condition_variable::wait_until notified", r)
+        check(v["future_status"] == "timeout" and v["future_value"] == "7", "%s: future" % mode, r)
+        within(v["future_timeout_ns"], 3 * MS, mode, "future::wait_for timeout", r)
+        within(v["future_ready_ns"], 5 * MS, mode, "future ready", r)
+
+
+def test_python_timed_waits():
+    for mode in ("lockstep", "cpu"):
+        v, r = run(mode, PYTHON, os.path.join(SRC, "timed_waits.py"))
+        check(v["event_timeout_result"] == "0" and v["event_set_result"] == "1", "%s: Event" % mode, r)
+        check(v["lock_timeout_result"] == "0" and v["lock_released_result"] == "1", "%s: Lock" % mode, r)
+        check(v["queue_timeout_result"] == "empty" and v["queue_put_result"] == "item", "%s: queue" % mode, r)
+        slack = 0.5 * MS  # the interpreter's own computing
+        within(v["event_timeout_ns"], 2 * MS, mode, "Event.wait(0.002) timeout", r, slack)
+        within(v["event_set_ns"], 1 * MS, mode, "Event set by another thread", r, slack)
+        within(v["lock_timeout_ns"], 3 * MS, mode, "Lock.acquire(timeout=0.003)", r, slack)
+        within(v["lock_released_ns"], 2 * MS, mode, "Lock released by another thread", r, slack)
+        # queue.get re-computes its remaining time with microsecond rounding.
+        check(4 * MS <= int(v["queue_timeout_ns"]) <= 4 * MS + (0.01 * MS if mode == "lockstep" else slack),
+              "%s: queue.get(timeout=0.004) at %.3f ms" % (mode, int(v["queue_timeout_ns"]) / MS), r)
+        within(v["queue_put_ns"], 1 * MS, mode, "queue item put by another thread", r, slack)
+
+
+if __name__ == "__main__":
+    main(globals())

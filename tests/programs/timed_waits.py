@@ -1,0 +1,45 @@
+"""Python's timed waits, each against a known virtual-time answer: Event.wait,
+Lock.acquire(timeout=), queue.Queue.get(timeout=), timing out or ended by
+another thread. Prints key=value lines (times in ns of time.monotonic)."""
+import queue, threading, time
+
+def timed(fn):
+    s = time.monotonic_ns()
+    r = fn()
+    return r, time.monotonic_ns() - s
+
+def later(ms, fn):
+    def run():
+        time.sleep(ms / 1000)
+        fn()
+    t = threading.Thread(target=run)
+    t.start()
+    return t
+
+ev = threading.Event()
+r, ns = timed(lambda: ev.wait(0.002))
+print("event_timeout_result=%d event_timeout_ns=%d" % (r, ns))
+t = later(1, ev.set)
+r, ns = timed(lambda: ev.wait(1))
+t.join()
+print("event_set_result=%d event_set_ns=%d" % (r, ns))
+lock = threading.Lock()
+lock.acquire()
+r, ns = timed(lambda: lock.acquire(timeout=0.003))
+print("lock_timeout_result=%d lock_timeout_ns=%d" % (r, ns))
+t = later(2, lock.release)
+r, ns = timed(lambda: lock.acquire(timeout=1))
+t.join()
+print("lock_released_result=%d lock_released_ns=%d" % (r, ns))
+q = queue.Queue()
+def get(timeout):
+    try:
+        return q.get(timeout=timeout)
+    except queue.Empty:
+        return "empty"
+r, ns = timed(lambda: get(0.004))
+print("queue_timeout_result=%s queue_timeout_ns=%d" % (r, ns))
+t = later(1, lambda: q.put("item"))
+r, ns = timed(lambda: get(1))
+t.join()
+print("queue_put_result=%s queue_put_ns=%d" % (r, ns))
