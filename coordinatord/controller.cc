@@ -143,6 +143,30 @@ int64_t Controller::cpu_now() const
 	return tcs_ts_to_ns(&ts);
 }
 
+SideWait Controller::own_wait() const
+{
+	SideWait w;
+	w.fd = wait_fd >= 0 ? wait_fd : channel.get();
+	w.seq = wait_seq;
+	w.deadline = deadline;
+	w.flags = wait_flags;
+	w.kind = wait_kind;
+	w.requested_at = wait_requested_at;
+	w.rechecked_at = rechecked_at;
+	return w;
+}
+
+void Controller::take_wait(const SideWait &w)
+{
+	wait_fd = w.fd;
+	wait_seq = w.seq;
+	deadline = w.deadline;
+	wait_flags = w.flags;
+	wait_kind = w.kind;
+	wait_requested_at = w.requested_at;
+	in_block = true;
+}
+
 void Controller::set_page_flag(uint32_t flag, bool on)
 {
 	if (on)

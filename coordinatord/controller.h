@@ -86,6 +86,21 @@ inline const char *block_kind_name(uint16_t kind)
 	return kind == TCS_BLOCK_SLEEP ? "sleep" : kind == TCS_BLOCK_POLL ? "poll" : "sync";
 }
 
+// A thread's BLOCK m on channel fd, waiting beside the controller, asked at
+// virtual time v and last looked at when the world was at `now`.
+inline SideWait side_wait_of(const ::tcs_msg &m, int fd, int64_t v, int64_t now)
+{
+	SideWait w;
+	w.fd = fd;
+	w.seq = m.seq;
+	w.deadline = m.deadline;
+	w.flags = m.flags;
+	w.kind = block_kind_name(m.kind);
+	w.requested_at = v;
+	w.rechecked_at = now;
+	return w;
+}
+
 struct LoopStats {
 	uint64_t waits = 0;          // BLOCK messages
 	uint64_t absolute_waits = 0; // of which absolute deadlines (periodic loops)
@@ -122,6 +137,9 @@ public:
 	// Starts a new slice at the controller's current v and charge.
 	void publish_slice(int64_t cpu_base);
 	void set_page_flag(uint32_t flag, bool on);
+	// Its own wait (in_block) as a side wait, and a side wait made its own.
+	SideWait own_wait() const;
+	void take_wait(const SideWait &w);
 	const tcs_slice &slice() const { return slice_; }
 	// Real CPU the current slice has used up to cpu (hooks' own cost excluded).
 	int64_t slice_cpu(int64_t cpu) const;

@@ -381,12 +381,7 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		// Another thread ended this wait before it began.
 		st.early_ahead = 0;
 		c.stats.waits++;
-		SideWait w;
-		w.fd = fd;
-		w.seq = m.seq;
-		w.deadline = m.deadline;
-		w.kind = block_kind_name(m.kind);
-		w.requested_at = c.v;
+		SideWait w = side_wait_of(m, fd, c.v, sim_ns_);
 		w.wake_reason = TCS_WAKE_EARLY;
 		answer_side(c, w);
 		if (c.state == CtlState::Blocked) {
@@ -414,15 +409,7 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 			return;
 		}
 		// A thread that was asleep outside the hooks woke and waits now.
-		SideWait w;
-		w.fd = fd;
-		w.seq = m.seq;
-		w.deadline = m.deadline;
-		w.flags = m.flags;
-		w.kind = block_kind_name(m.kind);
-		w.requested_at = c.v;
-		w.rechecked_at = sim_ns_;
-		c.side.push_back(w);
+		c.side.push_back(side_wait_of(m, fd, c.v, sim_ns_));
 		c.stats.waits++;
 		schedule();
 		return;

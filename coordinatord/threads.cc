@@ -84,15 +84,7 @@ bool Coordinator::side_wait(Controller &c, const ::tcs_msg &m, int fd, pid_t tid
 	// check finds them all waiting (block_if_all_waiting).
 	if (c.state == CtlState::Running && proc_threads(c.pid, tid).runnable == 0)
 		return false;
-	SideWait w;
-	w.fd = fd;
-	w.seq = m.seq;
-	w.deadline = m.deadline;
-	w.flags = m.flags;
-	w.kind = block_kind_name(m.kind);
-	w.requested_at = c.v;
-	w.rechecked_at = sim_ns_;
-	c.side.push_back(w);
+	c.side.push_back(side_wait_of(m, fd, c.v, sim_ns_));
 	if (c.state == CtlState::Running) {
 		budget_to_next_timer(c); // (and to the earliest side wait)
 		if (!c.budgeted)
@@ -120,15 +112,7 @@ bool Coordinator::side_due(const Controller &c, const SideWait &w, int64_t v) co
 void Coordinator::demote_wait(Controller &c)
 {
 	if (c.in_block) {
-		SideWait w;
-		w.fd = c.wait_fd >= 0 ? c.wait_fd : c.channel.get();
-		w.seq = c.wait_seq;
-		w.deadline = c.deadline;
-		w.flags = c.wait_flags;
-		w.kind = c.wait_kind;
-		w.requested_at = c.wait_requested_at;
-		w.rechecked_at = c.rechecked_at;
-		c.side.push_back(w);
+		c.side.push_back(c.own_wait());
 		c.in_block = false;
 	}
 	c.deadline = TCS_NEVER;
@@ -155,15 +139,8 @@ bool Coordinator::wake_threads(Controller &c, int64_t at)
 	if (timer && !c.in_block && !c.sync_pending && !c.side.empty()) {
 		// Someone must raise the timer's signals inside a wait: the first
 		// waiting thread.
-		const SideWait w = c.side.front();
+		c.take_wait(c.side.front());
 		c.side.erase(c.side.begin());
-		c.wait_fd = w.fd;
-		c.wait_seq = w.seq;
-		c.deadline = w.deadline;
-		c.wait_flags = w.flags;
-		c.wait_kind = w.kind;
-		c.wait_requested_at = w.requested_at;
-		c.in_block = true;
 	}
 	if (timer && c.in_block && !c.sync_pending) {
 		c.v = v;

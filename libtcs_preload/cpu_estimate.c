@@ -2,10 +2,11 @@
  *
  * Reading CLOCK_PROCESS_CPUTIME_ID is a system call (~240 ns here, 12x a
  * native vDSO clock read). Where the coordinator pins a controller to one
- * core under SCHED_FIFO (TCS_PAGE_CPU_ESTIMATE) and it has one thread, it uses CPU at
- * exactly the rate the TSC advances, except while the coordinator runs on
- * that core (it bumps the page's gen each time, and with each new slice) or
- * while the process sleeps in the kernel outside tcs's hooks. So each thread
+ * core under SCHED_FIFO (TCS_PAGE_CPU_ESTIMATE) and it has one thread, it
+ * uses CPU at exactly the rate the TSC advances, except while the
+ * coordinator runs on that core (it bumps the page's gen each time, and with
+ * each new slice) or while the process sleeps in the kernel outside tcs's
+ * hooks. So each thread
  * keeps an anchor — a real reading and the TSC at that moment — and
  * extrapolates from it with the TSC, taking a real reading again when gen
  * changed or the anchor is older than tsc_resync ticks (20 us). An estimate
