@@ -68,11 +68,18 @@ bool Coordinator::step_aside_if_asleep(Controller &c)
 	return true;
 }
 
-// An asleep controller: still asleep (stay aside), or runnable again.
-bool Coordinator::still_asleep(Controller &c)
+// An asleep controller at its turn `at`: still asleep (stay aside), or
+// runnable again. Its time while asleep is the world's, so its signal
+// timers go off on time: a process in sigsuspend or waitpid waiting for
+// its alarm (coreutils timeout) is woken by the signal as it would be.
+bool Coordinator::still_asleep(Controller &c, int64_t at)
 {
 	if (!c.asleep)
 		return false;
+	if (c.next_timer() <= at) {
+		c.v = std::max(c.v, at);
+		deliver_due_timers(c);
+	}
 	if (proc_all_threads_asleep(c.pid))
 		return true;
 	wake_from_asleep(c);

@@ -147,6 +147,7 @@ SideWait Controller::own_wait() const
 {
 	SideWait w;
 	w.fd = wait_fd >= 0 ? wait_fd : channel.get();
+	w.tid = wait_tid;
 	w.seq = wait_seq;
 	w.deadline = deadline;
 	w.flags = wait_flags;
@@ -159,6 +160,7 @@ SideWait Controller::own_wait() const
 void Controller::take_wait(const SideWait &w)
 {
 	wait_fd = w.fd;
+	wait_tid = w.tid;
 	wait_seq = w.seq;
 	deadline = w.deadline;
 	wait_flags = w.flags;

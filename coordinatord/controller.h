@@ -71,6 +71,7 @@ struct ThreadChannel {
 // can run (scheduler.cc).
 struct SideWait {
 	int fd = -1; // the channel to answer on
+	pid_t tid = 0; // the thread waiting
 	uint32_t seq = 0;
 	int64_t deadline = TCS_NEVER;
 	uint16_t flags = 0; // TCS_BLOCK_*
@@ -88,10 +89,11 @@ inline const char *block_kind_name(uint16_t kind)
 
 // A thread's BLOCK m on channel fd, waiting beside the controller, asked at
 // virtual time v and last looked at when the world was at `now`.
-inline SideWait side_wait_of(const ::tcs_msg &m, int fd, int64_t v, int64_t now)
+inline SideWait side_wait_of(const ::tcs_msg &m, int fd, pid_t tid, int64_t v, int64_t now)
 {
 	SideWait w;
 	w.fd = fd;
+	w.tid = tid;
 	w.seq = m.seq;
 	w.deadline = m.deadline;
 	w.flags = m.flags;
@@ -172,6 +174,7 @@ public:
 	int64_t check_interval = 0; // wall time until the next check
 	uint32_t wait_seq = 0;  // the BLOCK being served
 	int wait_fd = -1;       // the channel it came on (-1: the main one)
+	pid_t wait_tid = 0;     // the thread that sent it
 	uint16_t wait_flags = 0; // its TCS_BLOCK_* flags
 	// Threads: their channels, the waits of threads beside the controller's
 	// own, and whether it is blocked with threads asleep outside the hooks.
@@ -186,7 +189,9 @@ public:
 	int64_t deadline = 0;   // when Blocked
 	bool recheck = false;   // Blocked with per-step re-checks
 	bool waits_for_child = false; // Blocked in wait/waitpid: a child's end wakes it
+	bool child_ended = false;     // a child ended while it was not waiting for one
 	int64_t rechecked_at = -1;
+	int64_t kicked_at = TCS_NEVER; // Blocked, and signalled by another controller then
 	bool wake_pending = false; // Ready after a wait: WAKE still to send
 	uint16_t wake_reason = 0;
 	// Devices: what this controller has open (handle = index), and a

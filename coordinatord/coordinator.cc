@@ -425,6 +425,9 @@ void Coordinator::on_message(Controller &c, const ::tcs_msg &m, int fd, pid_t ti
 	case TCS_MSG_THREAD:
 		drop(c, "THREAD on a thread's channel");
 		return;
+	case TCS_MSG_KILL:
+		on_kill(c, m);
+		return;
 	}
 }
 
@@ -490,17 +493,25 @@ void Coordinator::on_exit(Controller &c, int wait_status)
 	c.state = CtlState::Exited;
 	c.exit_status = wait_status;
 	// A parent waiting for its children learns of it at the child's
-	// virtual time.
+	// virtual time; one waiting for something else was sent SIGCHLD then
+	// (a handler of it may end its wait, as in coreutils timeout).
 	for (auto &p : ctls_) {
 		if (p->id != c.parent_id)
 			continue;
+		bool seen = false;
 		for (SideWait &w : p->side)
-			if (w.flags & TCS_BLOCK_CHILD)
+			if (w.flags & TCS_BLOCK_CHILD) {
 				w.wake_reason = TCS_WAKE_RECHECK;
-		if (p->state == CtlState::Blocked && p->waits_for_child && !p->sync_pending)
+				seen = true;
+			}
+		if (p->state == CtlState::Blocked && p->waits_for_child && !p->sync_pending) {
 			wake(*p, std::max(p->v, c.v), TCS_WAKE_RECHECK);
-		else if (p->state == CtlState::Blocked && !p->side.empty())
-			wake_threads(*p, std::max(p->v, c.v));
+			seen = true;
+		} else if (p->state == CtlState::Blocked) {
+			kick(*p, std::max(p->v, c.v));
+		}
+		// Not waiting for it now: its next wait for a child re-checks.
+		p->child_ended = !seen;
 	}
 	loop_.remove(c.channel.get());
 	for (auto &t : c.threads)

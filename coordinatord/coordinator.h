@@ -135,6 +135,10 @@ private:
 	static constexpr int64_t kMinSlice = 20 * TCS_NS_PER_US;
 	// Signal timers (signal_timers.cc).
 	void on_timer(Controller &c, const ::tcs_msg &m);
+	void on_kill(Controller &c, const ::tcs_msg &m);
+	void kick(Controller &c, int64_t at);
+	int runnable_threads(const Controller &c, pid_t also) const;
+	void child_wait_begins(Controller &c, const ::tcs_msg &m, SideWait *side);
 	void on_child(Controller &parent, const ::tcs_msg &m, UniqueFd channel);
 	void on_forked(Controller &c, const ::tcs_msg &m);
 	// Asleep in the kernel outside the hooks (asleep.cc).
@@ -142,7 +146,7 @@ private:
 	void arm_watchdog(Controller &c);
 	void on_watchdog();
 	bool step_aside_if_asleep(Controller &c);
-	bool still_asleep(Controller &c);
+	bool still_asleep(Controller &c, int64_t at);
 	void wake_from_asleep(Controller &c);
 	int64_t alive_controllers() const;
 	void child_settled(Controller &parent);

@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -101,7 +102,7 @@ char task_state(int dir_fd, const char *tid)
 
 } // namespace
 
-ThreadCensus proc_threads(pid_t pid, pid_t except)
+ThreadCensus proc_threads(pid_t pid, std::span<const pid_t> except)
 {
 	ThreadCensus census;
 	char dir[40];
@@ -116,7 +117,8 @@ ThreadCensus proc_threads(pid_t pid, pid_t except)
 		if (state == 0 || state == 'Z' || state == 'X')
 			continue;
 		census.threads++;
-		if (state == 'R' && atoi(e->d_name) != except)
+		pid_t tid = (pid_t)atoi(e->d_name);
+		if (state == 'R' && std::find(except.begin(), except.end(), tid) == except.end())
 			census.runnable++;
 	}
 	closedir(d);

@@ -4,6 +4,7 @@
 
 #include <sys/types.h>
 
+#include <span>
 #include <string>
 
 namespace tcs {
@@ -18,13 +19,14 @@ int proc_exit_status(pid_t pid);
 // is gone; a running or stopped thread counts as awake.
 bool proc_all_threads_asleep(pid_t pid);
 
-// The threads of a process, and how many of them, leaving out `except`,
-// could run now (state R): read at each wait of a multi-threaded controller.
+// The threads of a process, and how many of them, leaving out those in
+// `except`, could run now (state R): read at each wait of a multi-threaded
+// controller.
 struct ThreadCensus {
 	int threads = 0;
 	int runnable = 0;
 };
-ThreadCensus proc_threads(pid_t pid, pid_t except);
+ThreadCensus proc_threads(pid_t pid, std::span<const pid_t> except = {});
 // Whether tid is a thread of pid.
 bool proc_has_thread(pid_t pid, pid_t tid);
 

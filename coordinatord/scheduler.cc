@@ -72,9 +72,10 @@ void Coordinator::schedule()
 		}
 		if (!any)
 			return; // everyone has exited; run() notices
-		if (best && best->asleep && still_asleep(*best)) {
+		if (best && best->asleep && still_asleep(*best, best_at)) {
 			// Looked at: still asleep, its turn passes for this step.
 			best->rechecked_at = sim_ns_;
+			best->kicked_at = TCS_NEVER;
 			continue;
 		}
 		if (best) {
@@ -135,7 +136,7 @@ int64_t Coordinator::next_run_at(const Controller &c) const
 	}
 	if (((c.recheck || c.others_asleep) && c.rechecked_at < sim_ns_) || side_recheck)
 		return std::max(c.v, sim_ns_);
-	int64_t until = std::min({ c.deadline, c.next_timer(), side_next(c) });
+	int64_t until = std::min({ c.deadline, c.next_timer(), side_next(c), c.kicked_at });
 	if (c.wants_devices || side_devices)
 		until = std::min(until, next_record_due(c));
 	return until == TCS_NEVER ? TCS_NEVER : std::max(c.v, until);
@@ -244,6 +245,7 @@ void Coordinator::wake(Controller &c, int64_t v, uint16_t reason)
 	c.v = std::max(c.v, v);
 	c.state = CtlState::Ready;
 	c.recheck = false;
+	c.kicked_at = TCS_NEVER;
 	c.wants_devices = false;
 	c.wake_pending = true;
 	c.wake_reason = reason;
@@ -381,7 +383,7 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		// Another thread ended this wait before it began.
 		st.early_ahead = 0;
 		c.stats.waits++;
-		SideWait w = side_wait_of(m, fd, c.v, sim_ns_);
+		SideWait w = side_wait_of(m, fd, tid, c.v, sim_ns_);
 		w.wake_reason = TCS_WAKE_EARLY;
 		answer_side(c, w);
 		if (c.state == CtlState::Blocked) {
@@ -409,12 +411,14 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 			return;
 		}
 		// A thread that was asleep outside the hooks woke and waits now.
-		c.side.push_back(side_wait_of(m, fd, c.v, sim_ns_));
+		c.side.push_back(side_wait_of(m, fd, tid, c.v, sim_ns_));
+		child_wait_begins(c, m, &c.side.back());
 		c.stats.waits++;
 		schedule();
 		return;
 	}
 	if (c.multithreaded() && side_wait(c, m, fd, tid)) {
+		child_wait_begins(c, m, &c.side.back());
 		c.stats.waits++;
 		if (m.flags & TCS_BLOCK_ABSOLUTE) {
 			c.stats.absolute_waits++;
@@ -442,6 +446,7 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	}
 	c.wait_seq = m.seq;
 	c.wait_fd = fd;
+	c.wait_tid = tid;
 	c.wait_flags = m.flags;
 	c.deadline = m.deadline;
 	c.in_block = true;
@@ -455,8 +460,23 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	c.wake_pending = false;
 	c.state = CtlState::Blocked;
 	// Threads asleep outside the hooks: looked at each step (threads.cc).
-	c.others_asleep = c.multithreaded() && proc_threads(c.pid, 0).threads > 1 + (int)c.side.size();
+	c.others_asleep = c.multithreaded() && proc_threads(c.pid).threads > 1 + (int)c.side.size();
+	child_wait_begins(c, m, nullptr);
 	schedule();
+}
+
+// A wait for a child's end (side: a thread's, else the controller's own)
+// that begins after a child ended unseen: the program looked for it just
+// before, and the exit came between its look and its wait. It re-checks.
+void Coordinator::child_wait_begins(Controller &c, const ::tcs_msg &m, SideWait *side)
+{
+	if (!(m.flags & TCS_BLOCK_CHILD) || !c.child_ended)
+		return;
+	c.child_ended = false;
+	if (side)
+		side->wake_reason = TCS_WAKE_RECHECK;
+	else
+		wake(c, c.v, TCS_WAKE_RECHECK);
 }
 
 void Coordinator::on_early(Controller &c, const ::tcs_msg &m, int fd)

@@ -82,15 +82,32 @@ bool Coordinator::side_wait(Controller &c, const ::tcs_msg &m, int fd, pid_t tid
 	// Stopped (preempted as this thread began its wait), its threads cannot
 	// be told apart: assume the others run; if they do not, its budget's
 	// check finds them all waiting (block_if_all_waiting).
-	if (c.state == CtlState::Running && proc_threads(c.pid, tid).runnable == 0)
+	if (c.state == CtlState::Running && runnable_threads(c, tid) == 0)
 		return false;
-	c.side.push_back(side_wait_of(m, fd, c.v, sim_ns_));
+	c.side.push_back(side_wait_of(m, fd, tid, c.v, sim_ns_));
 	if (c.state == CtlState::Running) {
 		budget_to_next_timer(c); // (and to the earliest side wait)
 		if (!c.budgeted)
 			arm_watchdog(c);
 	}
 	return true;
+}
+
+// How many threads of c could run now, leaving out `also` and those that
+// have sent a wait: one preempted by us right after its send is still
+// runnable for the kernel, on its way to its wait. Counted as runnable, it
+// would make the last thread's wait a side wait too, and the controller
+// would hold the core with every thread waiting until the watchdog looked.
+int Coordinator::runnable_threads(const Controller &c, pid_t also) const
+{
+	std::vector<pid_t> waiting;
+	waiting.reserve(c.side.size() + 1);
+	waiting.push_back(also);
+	if (c.in_block)
+		waiting.push_back(c.wait_tid);
+	for (const SideWait &w : c.side)
+		waiting.push_back(w.tid);
+	return proc_threads(c.pid, waiting).runnable;
 }
 
 int64_t Coordinator::side_next(const Controller &c) const
@@ -127,14 +144,16 @@ void Coordinator::demote_wait(Controller &c)
 bool Coordinator::wake_threads(Controller &c, int64_t at)
 {
 	int64_t v = std::max(c.v, at);
-	bool woke_alone = c.others_asleep && proc_threads(c.pid, 0).runnable > 0;
+	bool woke_alone = c.others_asleep && runnable_threads(c, 0) > 0;
 	bool timer = c.next_timer() <= v;
 	bool own = c.in_block && !c.sync_pending &&
-		   (c.deadline <= v || (c.recheck && c.rechecked_at < sim_ns_) ||
+		   (c.deadline <= v || c.kicked_at <= v || (c.recheck && c.rechecked_at < sim_ns_) ||
 		    (c.wants_devices && next_record_due(c) <= v));
 	bool side = std::any_of(c.side.begin(), c.side.end(), [&](const SideWait &w) { return side_due(c, w, v); });
-	if (!woke_alone && !timer && !own && !side)
+	if (!woke_alone && !timer && !own && !side) {
+		c.kicked_at = TCS_NEVER; // (the thread it reached was asleep: looked at each step)
 		return false;
+	}
 	c.others_asleep = false;
 	if (timer && !c.in_block && !c.sync_pending && !c.side.empty()) {
 		// Someone must raise the timer's signals inside a wait: the first
@@ -159,6 +178,7 @@ bool Coordinator::wake_threads(Controller &c, int64_t at)
 		c.state = CtlState::Ready; // a device read: complete_sync decides
 	}
 	c.rechecked_at = sim_ns_;
+	c.kicked_at = TCS_NEVER;
 	return true;
 }
 
@@ -209,7 +229,7 @@ void Coordinator::end_all_side_waits(Controller &c)
 // none of its threads can run, it is Blocked beside their waits.
 bool Coordinator::block_if_all_waiting(Controller &c)
 {
-	if (c.side.empty() || c.awaiting_child != 0 || proc_threads(c.pid, 0).runnable > 0)
+	if (c.side.empty() || c.awaiting_child != 0 || runnable_threads(c, 0) > 0)
 		return false;
 	int64_t cpu = c.cpu_now();
 	budget_timer_.disarm();
@@ -223,7 +243,7 @@ bool Coordinator::block_if_all_waiting(Controller &c)
 	c.state = CtlState::Blocked;
 	c.in_block = false;
 	demote_wait(c);
-	c.others_asleep = proc_threads(c.pid, 0).threads > (int)c.side.size();
+	c.others_asleep = proc_threads(c.pid).threads > (int)c.side.size();
 	c.rechecked_at = sim_ns_;
 	schedule();
 	return true;

@@ -3,13 +3,15 @@
  * a timeout park in virtual time (parking.c) and futex wakes also wake the
  * parked; io_uring is refused (its timeouts and waits would run in real
  * time, unseen): programs fall back to plain calls on ENOSYS. Everything
- * else goes to the kernel unchanged, clock reads included: syscall(
+ * else goes to the kernel unchanged (signals to other processes are told to
+ * the coordinator, hooks_signal.c), clock reads included: syscall(
  * SYS_clock_gettime) is the documented way for a program to read the real
  * clocks of this machine (examples/pendulum_pd.c measures its work so). */
 #include <linux/futex.h>
 #include <stdarg.h>
 
 #include "parking.h"
+#include "sched_clamp.h"
 #include "raw_syscall.h"
 
 /* A futex wait with a timeout, in virtual time: 0 (woken, or spurious),
@@ -87,6 +89,24 @@ TCS_EXPORT long syscall(long nr, ...)
 		int r = clock_nanosleep((clockid_t)a[0], (int)a[1], (const struct timespec *)a[2], (struct timespec *)a[3]);
 		return tcs_syscall_result(-r);
 	}
+	case SYS_kill:
+	case SYS_tgkill:
+	case SYS_tkill:
+	case SYS_rt_sigqueueinfo:
+	case SYS_pidfd_send_signal:
+		return tcs_syscall_result(tcs_signal_syscall(nr, a));
+	case SYS_sched_setscheduler:
+		if (tcs_active())
+			return tcs_syscall_result(tcs_sched_setscheduler(a[0], (int)a[1], (const struct sched_param *)a[2]));
+		break;
+	case SYS_sched_setattr:
+		if (tcs_active())
+			return tcs_syscall_result(tcs_sched_setattr(a[0], (const void *)a[1], a[2]));
+		break;
+	case SYS_sched_setaffinity:
+		if (tcs_active())
+			return tcs_syscall_result(a[2] ? tcs_sched_setaffinity((size_t)a[1], (const cpu_set_t *)a[2]) : -EFAULT);
+		break;
 	case SYS_io_uring_setup:
 		if (tcs_active()) {
 			static int once;

@@ -7,14 +7,14 @@
  * the coordinator, which sends the signal when the controller's virtual time
  * reaches an expiry: it stops a computing controller there, and ends a wait
  * (the wait returns EINTR if a handler ran). What is left of a timer is
- * computed here from the same two numbers. SIGEV_THREAD timers (a new thread
- * per expiry) run in real time, said once. */
+ * computed here from the same two numbers. SIGEV_THREAD timers are served
+ * by a helper thread each (timer_thread.c). */
 #include <dlfcn.h>
 #include <signal.h>
 #include <sys/time.h>
 
-#include "preload.h"
 #include "raw_syscall.h"
+#include "signal_timers.h"
 
 static void *tcs_next_symbol(const char *name)
 {
@@ -24,27 +24,9 @@ static void *tcs_next_symbol(const char *name)
 /* Our timer_t values: tagged, so that ids of real timers are told apart. */
 #define TCS_TIMER_TAG 0x7c000000u
 
-struct tcs_stimer {
-	int used;
-	int signo;        /* 0: SIGEV_NONE */
-	int tid;          /* SIGEV_THREAD_ID: the thread; 0: the process */
-	clockid_t clock;  /* for absolute times */
-	int64_t first;    /* virtual ns of the first expiry; TCS_NEVER: disarmed */
-	int64_t interval; /* 0: once */
-};
-
 static struct tcs_stimer tcs_stimers[TCS_MAX_TIMERS];
 static int tcs_stimer_lock;
-
-/* The next expiry after virtual time v (TCS_NEVER: none). */
-static int64_t tcs_stimer_next(const struct tcs_stimer *t, int64_t v)
-{
-	if (t->first == TCS_NEVER || v < t->first)
-		return t->first;
-	if (t->interval <= 0)
-		return TCS_NEVER;
-	return t->first + ((v - t->first) / t->interval + 1) * t->interval;
-}
+static uint32_t tcs_stimer_gens;
 
 static struct itimerspec tcs_stimer_value(const struct tcs_stimer *t, int64_t v)
 {
@@ -89,9 +71,32 @@ static long tcs_stimer_set(int slot, int64_t value, int64_t interval, int abs, s
 	else
 		t->first = abs ? value - tcs_sleep_clock_origin(t->clock) : tcs_ns_add(v, value);
 	t->interval = t->first == TCS_NEVER ? 0 : interval;
+	t->set_count++;
 	struct tcs_stimer copy = *t;
 	tcs_spin_unlock(&tcs_stimer_lock);
+	if (copy.notify) {
+		tcs_timer_threads_poke();
+		return 0;
+	}
 	return tcs_stimer_sync(slot, &copy);
+}
+
+int tcs_stimer_copy(int slot, uint32_t gen, struct tcs_stimer *out)
+{
+	tcs_spin_lock(&tcs_stimer_lock);
+	int alive = tcs_stimers[slot].used && tcs_stimers[slot].gen == gen;
+	if (alive)
+		*out = tcs_stimers[slot];
+	tcs_spin_unlock(&tcs_stimer_lock);
+	return alive ? 0 : -1;
+}
+
+void tcs_stimer_set_overrun(int slot, uint32_t gen, int overrun)
+{
+	tcs_spin_lock(&tcs_stimer_lock);
+	if (tcs_stimers[slot].gen == gen)
+		tcs_stimers[slot].overrun = overrun;
+	tcs_spin_unlock(&tcs_stimer_lock);
 }
 
 void tcs_timers_forget_all(void)
@@ -177,21 +182,20 @@ static int (*tcs_real_timer_create)(clockid_t, struct sigevent *, timer_t *);
 TCS_EXPORT int timer_create(clockid_t clock, struct sigevent *sev, timer_t *id)
 {
 	int notify = sev ? sev->sigev_notify : SIGEV_SIGNAL;
-	if (!tcs_active() || notify == SIGEV_THREAD) {
-		if (tcs_active()) {
-			static int once;
-			tcs_report_once(&once, "a SIGEV_THREAD timer runs in real time (not virtualised yet)");
-		}
+	if (!tcs_active()) {
 		if (!tcs_real_timer_create)
 			tcs_real_timer_create = (int (*)(clockid_t, struct sigevent *, timer_t *))tcs_next_symbol("timer_create");
 		if (!tcs_real_timer_create)
 			return tcs_errno_result(-ENOSYS);
 		return tcs_real_timer_create(clock, sev, id);
 	}
-	if (tcs_sleep_clock_origin(clock) < 0 || (notify != SIGEV_SIGNAL && notify != SIGEV_NONE && notify != SIGEV_THREAD_ID))
+	if (tcs_sleep_clock_origin(clock) < 0 || (notify != SIGEV_SIGNAL && notify != SIGEV_NONE &&
+						    notify != SIGEV_THREAD_ID && notify != SIGEV_THREAD))
 		return tcs_errno_result(-EINVAL);
-	int signo = notify == SIGEV_NONE ? 0 : sev ? sev->sigev_signo : SIGALRM;
-	if (notify != SIGEV_NONE && (signo < 1 || signo > 64))
+	if (notify == SIGEV_THREAD && !sev->sigev_notify_function)
+		return tcs_errno_result(-EINVAL);
+	int signo = notify == SIGEV_NONE || notify == SIGEV_THREAD ? 0 : sev ? sev->sigev_signo : SIGALRM;
+	if (signo == 0 ? notify == SIGEV_SIGNAL || notify == SIGEV_THREAD_ID : signo < 1 || signo > 64)
 		return tcs_errno_result(-EINVAL);
 	tcs_spin_lock(&tcs_stimer_lock);
 	int slot = -1;
@@ -202,9 +206,27 @@ TCS_EXPORT int timer_create(clockid_t clock, struct sigevent *sev, timer_t *id)
 		tcs_spin_unlock(&tcs_stimer_lock);
 		return tcs_errno_result(-EAGAIN);
 	}
-	tcs_stimers[slot] = (struct tcs_stimer){ 1, signo, notify == SIGEV_THREAD_ID ? sev->_sigev_un._tid : 0, clock,
-						  TCS_NEVER, 0 };
+	struct tcs_stimer *t = &tcs_stimers[slot];
+	*t = (struct tcs_stimer){ 0 };
+	t->used = 1;
+	t->signo = signo;
+	t->tid = notify == SIGEV_THREAD_ID ? sev->_sigev_un._tid : 0;
+	t->clock = clock;
+	t->first = TCS_NEVER;
+	t->gen = ++tcs_stimer_gens;
+	if (notify == SIGEV_THREAD) {
+		t->notify = sev->sigev_notify_function;
+		t->value = sev->sigev_value;
+	}
+	uint32_t gen = t->gen;
 	tcs_spin_unlock(&tcs_stimer_lock);
+	if (notify == SIGEV_THREAD) {
+		long r = tcs_timer_thread_start(slot, gen, sev);
+		if (r < 0) {
+			tcs_stimers[slot].used = 0;
+			return tcs_errno_result(r == -EPERM ? -EAGAIN : r);
+		}
+	}
 	*id = (timer_t)(uintptr_t)(TCS_TIMER_TAG | (unsigned)slot);
 	return 0;
 }
@@ -250,7 +272,9 @@ TCS_EXPORT int timer_getoverrun(timer_t id)
 		int (*real)(timer_t) = TCS_REAL(timer_getoverrun, int (*)(timer_t));
 		return real ? real(id) : tcs_errno_result(-EINVAL);
 	}
-	return 0; /* expirations are signalled one by one */
+	/* Signals: expirations are signalled one by one. SIGEV_THREAD: those
+	 * that passed while the previous call ran. */
+	return tcs_stimers[slot].overrun;
 }
 
 TCS_EXPORT int timer_delete(timer_t id)
@@ -261,6 +285,11 @@ TCS_EXPORT int timer_delete(timer_t id)
 		return real ? real(id) : tcs_errno_result(-EINVAL);
 	}
 	long r = tcs_stimer_set(slot, 0, 0, 0, NULL);
+	tcs_spin_lock(&tcs_stimer_lock);
+	int helper = tcs_stimers[slot].notify != NULL;
 	tcs_stimers[slot].used = 0;
+	tcs_spin_unlock(&tcs_stimer_lock);
+	if (helper)
+		tcs_timer_threads_poke(); /* its helper ends */
 	return tcs_errno_result(r);
 }

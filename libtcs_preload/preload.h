@@ -187,6 +187,11 @@ void tcs_wait_leave(void) TCS_HIDDEN;
 /* Writes "tcs: <msg>\n" to stderr the first time it is called with *once == 0. */
 void tcs_report_once(int *once, const char *msg) TCS_HIDDEN;
 
+/* Signals to other processes (hooks_signal.c): syscall() by number, and
+ * what handlers inside a wait left to tell the coordinator. */
+long tcs_signal_syscall(long nr, const long a[6]) TCS_HIDDEN;
+void tcs_flush_kills(void) TCS_HIDDEN;
+
 /* Exported entry points that no public header declares. */
 struct tcs_timeb;
 TCS_EXPORT int __nanosleep(const struct timespec *req, struct timespec *rem);
@@ -199,6 +204,7 @@ TCS_EXPORT int __open64_2(const char *path, int flags);
 TCS_EXPORT int __openat_2(int dirfd, const char *path, int flags);
 TCS_EXPORT int __openat64_2(int dirfd, const char *path, int flags);
 TCS_EXPORT long __read_chk(int fd, void *buf, size_t n, size_t buflen);
+TCS_EXPORT int pidfd_send_signal(int pidfd, int sig, siginfo_t *info, unsigned flags);
 
 /* Returns -1 with errno = -r when r < 0, else r. The one place hooks turn
  * internal -errno results into the C convention. */

@@ -11,8 +11,8 @@
 #include <sched.h>
 #include <sys/socket.h>
 
-#include "preload.h"
 #include "raw_syscall.h"
+#include "sched_clamp.h"
 
 #define TCS_MAX_THREAD_CHANNELS 256
 
@@ -146,7 +146,7 @@ static void tcs_threads_share_core(void)
 	    sp.sched_priority != TCS_CONTROLLER_FIFO_PRIO)
 		return;
 	sp.sched_priority = 0;
-	sched_setscheduler(0, SCHED_OTHER, &sp);
+	tcs_sys3(SYS_sched_setscheduler, 0, SCHED_OTHER, &sp);
 }
 
 TCS_EXPORT int pthread_create(pthread_t *thread, const pthread_attr_t *attr, void *(*start)(void *), void *arg)
@@ -155,5 +155,12 @@ TCS_EXPORT int pthread_create(pthread_t *thread, const pthread_attr_t *attr, voi
 		tcs_threads_share_core();
 	if (!tcs_real_pthread_create) /* a library's constructor, before ours */
 		tcs_threads_init();
-	return tcs_real_pthread_create(thread, attr, start, arg);
+	struct sched_param saved;
+	int saved_policy;
+	pthread_attr_t *own = (pthread_attr_t *)attr;
+	int clamped = tcs_active() && tcs_sched_clamp_attr(own, &saved, &saved_policy);
+	int r = tcs_real_pthread_create(thread, attr, start, arg);
+	if (clamped)
+		tcs_sched_restore_attr(own, &saved, saved_policy);
+	return r;
 }

@@ -22,6 +22,8 @@ fi
 packages=(gcc g++ libc6-dev binutils pkg-config meson ninja-build python3 libcmocka-dev util-linux
 	libode-dev libccd-dev libeigen3-dev libtomlplusplus-dev libzstd-dev gnuplot-nox)
 [[ $what == bench ]] && packages+=(faketime)
+# Real programs nobody wrote for tcs, which the tests run under it.
+[[ $what == test ]] && packages+=(rt-tests stress-ng coreutils)
 missing=()
 for p in "${packages[@]}"; do
 	dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -77,6 +77,10 @@ void check_accepted(const tcs_msg &m)
 		// A thread id, compared with /proc's.
 		check(m.arg > 0 && m.arg <= INT32_MAX);
 		break;
+	case TCS_MSG_KILL:
+		// kill()'s pid argument (a process, a group, all) and the sender's time.
+		check(m.arg >= -(int64_t)INT32_MAX && m.arg <= INT32_MAX && m.v >= 0 && m.cpu >= 0);
+		break;
 	default:
 		check(false); // WAKE and unknown types are never accepted
 	}
@@ -183,6 +187,10 @@ std::vector<std::string> tcs_fuzz_seeds()
 	v.push_back(message(TCS_MSG_TIMER, 64, 1, TCS_NEVER, INT32_MAX, 0, 0));            // disarmed
 	v.push_back(message(TCS_MSG_CHILD, 0, TCS_CHILD_V_KNOWN, 0, 3 * s, 0, 4243));
 	v.push_back(message(TCS_MSG_CHILD, 0, TCS_CHILD_PARENT, 0, 0, 0, INT32_MAX));
+	v.push_back(message(TCS_MSG_THREAD, 0, 0, 0, 0, 0, 4244));
+	v.push_back(message(TCS_MSG_KILL, 0, 0, 0, 2 * s, s, 4245));       // kill(4245, ...)
+	v.push_back(message(TCS_MSG_KILL, 0, 0, 0, 0, 0, -1));             // kill(-1, ...)
+	v.push_back(message(TCS_MSG_KILL, 0, 0, 0, 0, 0, -INT32_MAX));     // killpg(INT32_MAX, ...)
 	v.push_back(v[2].substr(0, sizeof(tcs_msg) - 1)); // one byte short
 	v.push_back(v[2] + '\0');                          // one byte long
 	v.push_back(v[2] + v[2]);                          // two at once

@@ -69,5 +69,35 @@ def test_alarm_and_pause():
     close_to(int(v["loop_ns"]), 3e9, 0.0001, "alarm(1) and pause() three times: 3 s of virtual time", r)
 
 
+def test_sigev_thread_timers_call_their_function_in_virtual_time():
+    # Lockstep: every call exactly on its expiry, on a thread of its own.
+    r = tcs("-q", "-m", "lockstep", prog("notify_timer"), 1000, 1000)
+    v = r.values()
+    print("  lockstep: %s calls, first at %s ns, last at %s ns" % (v["calls"], v["first_ns"], v["last_ns"]))
+    check(v["calls"] == "1000" and v["expiries"] == "1000", "1000 calls, one per expiry", r)
+    check(v["first_ns"] == "1000000" and v["last_ns"] == "1000000000" and v["max_late_ns"] == "0",
+          "each call at its expiry exactly: the first at 1 ms, the last at 1 s", r)
+    check(v["after_delete"] == "0", "no call after timer_delete", r)
+    check(v["other_thread"] == "1", "the function runs on another thread, with its sigev_value", r)
+    # cpu mode, light function: on time within the noise of one core.
+    r = tcs("-q", prog("notify_timer"), 500, 1000, 100)
+    v = r.values()
+    print("  cpu mode, 100 us each: %s calls for %s expiries, at most %s ns late" %
+          (v["calls"], v["expiries"], v["max_late_ns"]))
+    check(v["calls"] == "500" and v["after_delete"] == "0", "500 calls, none after timer_delete", r)
+    check(int(v["expiries"]) - int(v["last_ns"]) // 1000000 in (0, 1), "the expiries are the periods that passed", r)
+    check(int(v["max_late_ns"]) < 1000000, "no call a period late", r)
+    # cpu mode, a function that takes 2.5 periods: the expiries that pass
+    # while it runs are its successor's overrun.
+    r = tcs("-q", prog("notify_timer"), 100, 1000, 2500)
+    v = r.values()
+    print("  cpu mode, 2.5 ms each: %s calls for %s expiries over %.1f ms" %
+          (v["calls"], v["expiries"], int(v["last_ns"]) / 1e6))
+    # (main, sharing the one core, may see its 100th post a few calls late)
+    check(int(v["calls"]) >= 100 and v["after_delete"] == "0", "100 calls or more, none after timer_delete", r)
+    check(abs(int(v["expiries"]) - int(v["last_ns"]) // 1000000) <= 1, "overruns count every period that passed", r)
+    close_to(int(v["last_ns"]), 100 * 2.5e6, 0.03, "the calls run at the pace of their work", r)
+
+
 if __name__ == "__main__":
     main(globals())

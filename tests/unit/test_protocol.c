@@ -153,6 +153,28 @@ static void test_thread_message(void **state)
 	}
 }
 
+/* A signal sent to kill()'s pid argument: any process, group or all. */
+static void test_kill_message(void **state)
+{
+	struct tcs_msg m = tcs_msg_make(TCS_MSG_KILL, 3);
+	static const int64_t good[] = { 4242, 0, -1, -4242, INT32_MAX, -(int64_t)INT32_MAX };
+	for (size_t i = 0; i < sizeof good / sizeof good[0]; i++) {
+		m.arg = good[i];
+		assert_accepted(m);
+	}
+	static const int64_t bad[] = { (int64_t)INT32_MAX + 1, INT32_MIN, INT64_MIN, INT64_MAX };
+	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+		m.arg = bad[i];
+		assert_rejected(m);
+	}
+	m.arg = 1;
+	m.v = -1;
+	assert_rejected(m);
+	m.v = 0;
+	m.cpu = -1;
+	assert_rejected(m);
+}
+
 static void test_valid_early(void **state)
 {
 	assert_accepted(valid_early());
@@ -230,7 +252,7 @@ static void test_wrong_version(void **state)
 
 static void test_unknown_type(void **state)
 {
-	static const uint16_t types[] = { 0, 7, 8, 10, 100, 0xffff, 0x0101 };
+	static const uint16_t types[] = { 0, 7, 8, 11, 100, 0xffff, 0x0101 };
 	for (size_t i = 0; i < sizeof types / sizeof types[0]; i++) {
 		struct tcs_msg m = valid_block();
 		m.type = types[i];
@@ -416,6 +438,9 @@ static void assert_invariants(const struct tcs_msg *m, const void *raw)
 	case TCS_MSG_THREAD:
 		assert_true(m->arg > 0 && m->arg <= INT32_MAX);
 		break;
+	case TCS_MSG_KILL:
+		assert_true(m->arg >= -(int64_t)INT32_MAX && m->arg <= INT32_MAX && m->v >= 0 && m->cpu >= 0);
+		break;
 	default:
 		print_error("accepted a message of type %u\n", m->type);
 		fail();
@@ -543,6 +568,7 @@ int main(void)
 		cmocka_unit_test(test_bad_magic),
 		cmocka_unit_test(test_wrong_version),
 		cmocka_unit_test(test_unknown_type),
+		cmocka_unit_test(test_kill_message),
 		cmocka_unit_test(test_device_messages),
 		cmocka_unit_test(test_wake_to_coordinator),
 		cmocka_unit_test(test_thread_message),

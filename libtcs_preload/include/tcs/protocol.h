@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 #define TCS_PROTO_MAGIC 0x31736374u /* "tcs1" */
-#define TCS_PROTO_VERSION 3u
+#define TCS_PROTO_VERSION 4u
 
 /* Environment through which tcs-run hands the channel to the preload. */
 #define TCS_ENV_CHANNEL_FD "TCS_CHANNEL_FD"
@@ -44,6 +44,7 @@ enum tcs_msg_type {
 	TCS_MSG_TIMER = 7,    /* controller → coordinator: (re)arm signal timer flags (see below) */
 	TCS_MSG_CHILD = 8,    /* a new child → its parent's coordinator: register me (see below) */
 	TCS_MSG_THREAD = 9,   /* controller → coordinator: thread arg's own channel (SCM_RIGHTS) */
+	TCS_MSG_KILL = 10,    /* controller → coordinator: it signalled process(es) arg (see below) */
 };
 
 /* Threads. The main thread waits on the controller's channel; every other
@@ -75,6 +76,13 @@ enum tcs_child_flags {
  * once). The coordinator sends the signal when the controller's virtual time
  * reaches it, stopping a computing controller there. Answered by a WAKE. */
 #define TCS_MAX_TIMERS 64
+
+/* A controller sent a signal (kill, killpg, sigqueue, tgkill) to arg, in
+ * kill()'s convention: > 0 a process, 0 its own group, < -1 group -arg, -1
+ * every process it may signal; v = its virtual time then. A controller the
+ * signal reaches gets the core before virtual time passes v, so that it
+ * dies or runs its handler then (stepping the world, the coordinator would
+ * otherwise keep the core). Answered by a WAKE. */
 
 /* Answering DEV_OPEN, the WAKE carries the device's fd (SCM_RIGHTS) and
  * arg = its handle, or arg = -errno and no fd. Answering DEV_SYNC, arg = 0
@@ -218,6 +226,10 @@ static inline const char *tcs_msg_check(const void *buf, long len, struct tcs_ms
 	case TCS_MSG_THREAD:
 		if (out->arg <= 0 || out->arg > INT32_MAX)
 			return "THREAD with an invalid tid";
+		return NULL;
+	case TCS_MSG_KILL:
+		if (out->arg < -(int64_t)INT32_MAX || out->arg > INT32_MAX || out->v < 0 || out->cpu < 0)
+			return "KILL with an invalid pid or time";
 		return NULL;
 	case TCS_MSG_WAKE:
 		return "WAKE is sent by the coordinator, not to it";

@@ -1,0 +1,54 @@
+// Signals one controller sends another (kill, killpg, sigqueue, tgkill).
+// The kernel delivers them at once, but a waiting receiver only acts on one
+// when it gets the core, and while every controller waits the coordinator
+// keeps the core to step the world: `timeout 2 sleep 10` would see its
+// child die 8 virtual seconds late. So the sender says whom it signalled,
+// and each receiver waiting in a hooked wait is woken to re-check at the
+// sender's time: it dies there, or runs its handler (its wait ends with
+// EINTR), or, if it blocks or ignores the signal, waits on.
+#include <unistd.h>
+
+#include <algorithm>
+
+#include "coordinator.h"
+
+namespace tcs {
+
+namespace {
+
+// Whether kill(target, ...) from a process of group sender_pgid reaches pid.
+bool reaches(pid_t pid, int64_t target, pid_t sender_pgid)
+{
+	if (target > 0)
+		return pid == target;
+	if (target == -1)
+		return true;
+	pid_t group = target == 0 ? sender_pgid : (pid_t)-target;
+	return group > 0 && getpgid(pid) == group;
+}
+
+} // namespace
+
+void Coordinator::on_kill(Controller &c, const ::tcs_msg &m)
+{
+	restart_slice(c, m.cpu);
+	c.wait_seq = m.seq;
+	pid_t sender_pgid = getpgid(c.pid);
+	int64_t at = std::max(c.v, m.v);
+	for (auto &o : ctls_)
+		if (o.get() != &c && o->state == CtlState::Blocked && reaches(o->pid, m.arg, sender_pgid))
+			kick(*o, at);
+	reply_now(c, 0);
+}
+
+// c, Blocked, has been sent a signal at virtual time `at`: its waits are
+// re-checked then (an asleep one is looked at then).
+void Coordinator::kick(Controller &c, int64_t at)
+{
+	c.kicked_at = std::min(c.kicked_at, at);
+	for (SideWait &w : c.side)
+		if (w.wake_reason == 0)
+			w.wake_reason = TCS_WAKE_RECHECK;
+}
+
+} // namespace tcs
