@@ -80,9 +80,7 @@ int tcs_become_child(int parent_channel, int64_t fork_v, int v_known)
 	tcs_rt.pid = tcs_sys0(SYS_getpid);
 	tcs_in_wait = 0;
 	tcs_threads_after_fork();
-#if defined(__x86_64__)
-	tcs_anchor.valid = 0; /* a CPU clock of its own now */
-#endif
+	tcs_cpu_forget(); /* a CPU clock of its own now, from 0 */
 	tcs_timers_forget_all(); /* POSIX: timers are not inherited */
 	return 0;
 }

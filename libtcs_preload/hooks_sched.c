@@ -5,7 +5,8 @@
  * out, and run on unbudgeted. So SCHED_FIFO and SCHED_RR requests are
  * granted at TCS_CONTROLLER_FIFO_PRIO at most, or as SCHED_OTHER where the
  * coordinator itself has no real-time priority; SCHED_DEADLINE, which
- * outranks every priority, is refused. Requests to run elsewhere than the
+ * outranks every priority, is granted as the highest of those (stress-ng
+ * --cyclic asks for it first). Requests to run elsewhere than the
  * core tcs gives the controller succeed without moving it: a controller is
  * one virtual CPU. Each is said once. */
 #include <dlfcn.h>
@@ -62,19 +63,10 @@ static void tcs_clamp(int *policy, int *prio)
 	}
 }
 
-static long tcs_refuse_deadline(void)
-{
-	static int once;
-	tcs_report_once(&once, "SCHED_DEADLINE refused (EPERM): it would outrank the coordinator");
-	return -EPERM;
-}
-
 long tcs_sched_setscheduler(long pid, int policy, const struct sched_param *param)
 {
 	if (!param)
 		return -EINVAL;
-	if ((policy & ~SCHED_RESET_ON_FORK) == SCHED_DEADLINE)
-		return tcs_refuse_deadline();
 	struct sched_param p = *param;
 	tcs_clamp(&policy, &p.sched_priority);
 	return tcs_sys3(SYS_sched_setscheduler, pid, policy, &p);
@@ -85,12 +77,18 @@ long tcs_sched_setattr(long pid, const void *uattr, long flags)
 	const struct tcs_sched_attr *a = uattr;
 	if (!a || a->size < sizeof *a || a->size > 4096)
 		return tcs_sys3(SYS_sched_setattr, pid, uattr, flags); /* the kernel's error */
-	if (a->sched_policy == SCHED_DEADLINE)
-		return tcs_refuse_deadline();
 	unsigned char copy[4096];
 	__builtin_memcpy(copy, a, a->size);
 	struct tcs_sched_attr *c = (struct tcs_sched_attr *)copy;
 	int policy = (int)c->sched_policy, prio = (int)c->sched_priority;
+	if (policy == SCHED_DEADLINE) {
+		static int once;
+		tcs_report_once(&once, "SCHED_DEADLINE granted as SCHED_FIFO below the coordinator: a deadline task "
+				       "would outrank it");
+		policy = SCHED_FIFO;
+		prio = 99;
+		c->sched_flags = 0; /* (deadline-only flags) */
+	}
 	tcs_clamp(&policy, &prio);
 	c->sched_policy = (uint32_t)policy;
 	c->sched_priority = (uint32_t)prio;
@@ -156,8 +154,6 @@ TCS_EXPORT int pthread_setschedparam(pthread_t thread, int policy, const struct 
 		return ENOSYS;
 	if (!tcs_active())
 		return real(thread, policy, param);
-	if ((policy & ~SCHED_RESET_ON_FORK) == SCHED_DEADLINE)
-		return (int)-tcs_refuse_deadline();
 	struct sched_param p = *param;
 	tcs_clamp(&policy, &p.sched_priority);
 	return real(thread, policy, &p);

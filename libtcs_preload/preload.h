@@ -138,6 +138,8 @@ int tcs_timer_signal_target(int signo) TCS_HIDDEN;
 
 /* The process CPU time up to which a request charges it (runtime.c). */
 int64_t tcs_charge_point(void) TCS_HIDDEN;
+/* In a new child: the CPU readings it inherited are its parent's. */
+void tcs_cpu_forget(void) TCS_HIDDEN;
 /* The virtual CPU time charged to the controller so far. */
 int64_t tcs_charged_now(void) TCS_HIDDEN;
 

@@ -66,6 +66,14 @@ int64_t tcs_v_seen;
  * what a wait charges is never less (see tcs_wait). */
 static int64_t tcs_cpu_seen;
 
+void tcs_cpu_forget(void)
+{
+	__atomic_store_n(&tcs_cpu_seen, 0, __ATOMIC_RELAXED);
+#if defined(__x86_64__)
+	tcs_anchor.valid = 0;
+#endif
+}
+
 int64_t tcs_charge_point(void)
 {
 	/* Estimated (the coordinator bounds it by its own reading), but never

@@ -1,0 +1,127 @@
+"""Programs nobody wrote for tcs, from Debian (issue 6), run under tcs-run
+to completion in virtual time: coreutils timeout, sleep and date; signals
+one process sends another (a shell's kill, Python's os.kill); rt-tests'
+cyclictest and stress-ng's cyclic stressor, which ask for real-time
+priorities (SCHED_FIFO 80, SCHED_DEADLINE) that tcs keeps below its own."""
+
+import re
+import shutil
+import time
+
+from harness import PYTHON, check, main, tcs
+
+
+def virtual_s(r):
+    m = re.search(r"([0-9.]+) (s|ms) virtual", r.stderr)
+    check(m is not None, "tcs-run's summary gives the virtual time", r)
+    return float(m.group(1)) / (1000 if m.group(2) == "ms" else 1)
+
+
+def need(program, package):
+    check(shutil.which(program) is not None,
+          "%s is not installed: apt-get install %s (tools/bootstrap.sh test installs it)" % (program, package))
+
+
+def test_timeout_ends_a_sleep_at_its_limit():
+    for mode in ("lockstep", "cpu"):
+        # (limit, command, its exit status, the virtual time it takes)
+        for args, status, took in ((["timeout", "2", "sleep", "10"], 124, 2.0),
+                                   (["timeout", "3", "sleep", "1"], 0, 1.0),
+                                   (["timeout", "-s", "INT", "1.5", "sleep", "5"], 124, 1.5)):
+            r = tcs("-m", mode, "--", *args, timeout=30)
+            t = virtual_s(r)
+            print("  %-8s %-28s exit %d after %.3f s" % (mode, " ".join(args), r.returncode, t))
+            check(r.returncode == status, "%s: %s exits %d" % (mode, " ".join(args), status), r)
+            # cpu mode adds what the programs compute (milliseconds).
+            check(took <= t <= (took if mode == "lockstep" else took + 0.05),
+                  "%s: %s takes %.1f s of virtual time, not %.3f" % (mode, " ".join(args), took, t), r)
+
+
+def test_a_signal_acts_at_the_senders_virtual_time():
+    # A shell kills its background sleep after 1 s: the sleep dies then.
+    r = tcs("-m", "lockstep", "--", "sh", "-c", "sleep 10 & p=$!; sleep 1; kill $p; wait $p; echo status=$?",
+            timeout=30)
+    check(r.values().get("status") == "143", "the sleep died of SIGTERM (status 143)", r)
+    check(virtual_s(r) == 1.0, "the run takes 1 s of virtual time, not the sleep's 10", r)
+    # A handler in the receiver runs at the sender's time: Python's
+    # time.sleep(10) in a child, interrupted after 0.5 s.
+    script = """
+import os, signal, sys, time
+class Woken(Exception):
+    pass
+def woken(*_):
+    raise Woken()
+t0 = time.monotonic()
+pid = os.fork()
+if pid == 0:
+    signal.signal(signal.SIGUSR1, woken)
+    try:
+        time.sleep(10)
+    except Woken:
+        print("handler_at=%.9f" % (time.monotonic() - t0), flush=True)
+    os._exit(0)
+time.sleep(0.5)
+os.kill(pid, signal.SIGUSR1)
+os.waitpid(pid, 0)
+print("parent_done=%.9f" % (time.monotonic() - t0))
+"""
+    r = tcs("-q", "-m", "lockstep", "--", PYTHON, "-c", script, timeout=30)
+    v = r.values()
+    print("  child's handler at %s s, parent done at %s s" % (v.get("handler_at"), v.get("parent_done")))
+    check(v.get("handler_at") == "0.500000000", "the child's handler runs at 0.5 s", r)
+    check(v.get("parent_done") == "0.500000000", "the parent sees the child end at 0.5 s", r)
+
+
+def test_date_tells_virtual_time():
+    r = tcs("-q", "-m", "lockstep", "--", "sh", "-c", "date +first=%s.%N; sleep 5; date +second=%s.%N", timeout=30)
+    v = r.values()
+    first, second = float(v["first"]), float(v["second"])
+    print("  date: %s, then %s" % (v["first"], v["second"]))
+    check(abs(first - time.time()) < 600, "virtual wall-clock time starts at the real one", r)
+    check(round(second - first, 6) == 5.0, "5 s apart, exactly", r)
+
+
+CYCLIC = re.compile(r"C:\s*(\d+)\s+Min:\s*(\d+)\s+Act:\s*(\d+)\s+Avg:\s*(\d+)\s+Max:\s*(\d+)")
+
+
+def test_cyclictest_runs_to_completion():
+    need("cyclictest", "rt-tests")
+    # Lockstep: every wake-up exactly on time, whatever priority it asks.
+    r = tcs("-m", "lockstep", "--", "cyclictest", "-l", "1000", "-i", "1000", "-p", "80", "-m", "-q", timeout=60)
+    m = CYCLIC.search(r.stdout)
+    check(r.returncode == 0 and m is not None, "cyclictest -p 80 ends and reports", r)
+    loops, lat_min, _, avg, lat_max = map(int, m.groups())
+    print("  lockstep: %d loops, latency min %d avg %d max %d us, %.3f s virtual" %
+          (loops, lat_min, avg, lat_max, virtual_s(r)))
+    check(loops == 1000 and lat_max == 0, "1000 loops, each woken at its time exactly", r)
+    check(1.0 <= virtual_s(r) <= 1.1, "1000 loops of 1 ms take 1 s of virtual time (and its start-up)", r)
+    check("lowered to 2" in r.stderr, "its priority 80 is lowered below the coordinator's, and it says so", r)
+    # cpu mode: late by what the hooks cost, as a real kernel's timer is.
+    r = tcs("-m", "cpu", "--", "cyclictest", "-l", "1000", "-i", "1000", "-q", timeout=60)
+    m = CYCLIC.search(r.stdout)
+    check(r.returncode == 0 and m is not None, "cyclictest ends and reports in cpu mode", r)
+    loops, lat_min, _, avg, lat_max = map(int, m.groups())
+    print("  cpu mode: %d loops, latency min %d avg %d max %d us" % (loops, lat_min, avg, lat_max))
+    check(loops == 1000 and avg <= 50 and lat_max < 1000, "1000 loops, none a period late", r)
+
+
+def test_stress_ng_cyclic_runs_to_completion():
+    need("stress-ng", "stress-ng")
+    args = ["stress-ng", "--cyclic", "1", "--cyclic-ops", "1000", "--cyclic-method", "clock_ns", "--cyclic-sleep",
+            "1000", "-t", "5", "--metrics-brief"]
+    for mode in ("lockstep", "cpu"):
+        r = tcs("-m", mode, "--", *args, timeout=60)
+        out = r.stdout + r.stderr
+        ops = re.search(r"cyclic\s+(\d+)\s+[0-9.]+\s", out)
+        mean = re.search(r"cyclic:\s+mean:\s+([0-9.]+) ns", out)
+        check(r.returncode == 0 and ops is not None and mean is not None, "%s: stress-ng ends and reports" % mode, r)
+        print("  %-8s %s cycles, mean latency %s ns, %.3f s virtual" %
+              (mode, ops.group(1), mean.group(1), virtual_s(r)))
+        check(int(ops.group(1)) == 1000, "%s: 1000 cycles measured" % mode, r)
+        check(float(mean.group(1)) == 0.0 if mode == "lockstep" else float(mean.group(1)) < 10000,
+              "%s: latencies of a virtual clock (none in lockstep, hook cost in cpu mode)" % mode, r)
+        check("SCHED_DEADLINE granted as SCHED_FIFO" in r.stderr, "%s: its SCHED_DEADLINE is kept below tcs" % mode, r)
+
+
+if __name__ == "__main__":
+    main(globals())
