@@ -47,6 +47,14 @@ bool Coordinator::step_aside_if_asleep(Controller &c)
 {
 	if (alive_controllers() < 2 || c.awaiting_child != 0 || !proc_all_threads_asleep(c.pid))
 		return false;
+	if (!c.outside && !proc_maps_library(c.pid, "libtcs_preload")) {
+		// It has exec'd a program that runs without tcs's hooks: from
+		// now on it is the world's, in real time, till it ends.
+		c.outside = true;
+		warn_once("process " + std::to_string(c.pid) + " (" + proc_name(c.pid, c.name) +
+			  ") runs in real time: it started a program without tcs's preload (a static program, or "
+			  "LD_PRELOAD removed from its environment)");
+	}
 	int64_t cpu = c.cpu_now();
 	c.asleep_looks = 0;
 	budget_timer_.disarm();
@@ -76,6 +84,8 @@ bool Coordinator::still_asleep(Controller &c, int64_t at)
 {
 	if (!c.asleep)
 		return false;
+	if (c.outside)
+		return true; // not ours to run: its end is all that is awaited
 	if (c.next_timer() <= at) {
 		c.v = std::max(c.v, at);
 		deliver_due_timers(c);

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -190,6 +191,9 @@ public:
 	bool recheck = false;   // Blocked with per-step re-checks
 	bool waits_for_child = false; // Blocked in wait/waitpid: a child's end wakes it
 	bool child_ended = false;     // a child ended while it was not waiting for one
+	bool outside = false;         // its program runs without the preload: real time
+	// Children seen running outside tcs: when first seen (wall ns; -1: said).
+	std::map<pid_t, int64_t> unregistered_children;
 	int64_t rechecked_at = -1;
 	int64_t kicked_at = TCS_NEVER; // Blocked, and signalled by another controller then
 	bool wake_pending = false; // Ready after a wait: WAKE still to send

@@ -125,6 +125,39 @@ ThreadCensus proc_threads(pid_t pid, std::span<const pid_t> except)
 	return census;
 }
 
+std::vector<pid_t> proc_children(pid_t pid)
+{
+	std::vector<pid_t> out;
+	char dir[40];
+	snprintf(dir, sizeof dir, "/proc/%d/task", (int)pid);
+	DIR *d = opendir(dir);
+	if (!d)
+		return out;
+	while (struct dirent *e = readdir(d)) {
+		if (e->d_name[0] == '.')
+			continue;
+		std::ifstream f(std::string(dir) + "/" + e->d_name + "/children");
+		for (pid_t child; f >> child;)
+			out.push_back(child);
+	}
+	closedir(d);
+	return out;
+}
+
+bool proc_maps_library(pid_t pid, const char *name)
+{
+	std::ifstream f("/proc/" + std::to_string(pid) + "/maps");
+	std::string line;
+	bool any = false;
+	while (std::getline(f, line)) {
+		if (line.find(name) != std::string::npos)
+			return true;
+		any = true;
+	}
+	return !any; // unreadable, or a process on its way out: no verdict
+
+}
+
 bool proc_has_thread(pid_t pid, pid_t tid)
 {
 	char path[64];

@@ -6,6 +6,7 @@
 
 #include <span>
 #include <string>
+#include <vector>
 
 namespace tcs {
 
@@ -29,5 +30,10 @@ struct ThreadCensus {
 ThreadCensus proc_threads(pid_t pid, std::span<const pid_t> except = {});
 // Whether tid is a thread of pid.
 bool proc_has_thread(pid_t pid, pid_t tid);
+// Whether pid has a library whose file name contains name mapped (true too
+// if its maps cannot be read or are empty: no verdict).
+bool proc_maps_library(pid_t pid, const char *name);
+// The children of pid (of all its threads), from /proc.
+std::vector<pid_t> proc_children(pid_t pid);
 
 } // namespace tcs

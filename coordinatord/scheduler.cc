@@ -37,6 +37,9 @@ constexpr int64_t kMaxRecheck = 10 * TCS_NS_PER_MS;
 constexpr int64_t kAdvanceSlice = 20 * TCS_NS_PER_MS;
 // A world step that costs more wall time than this is heavy.
 constexpr int64_t kHeavyStep = 100 * TCS_NS_PER_US;
+// How long a child may run unregistered before it is said to run in real
+// time (a program still loading has not registered yet).
+constexpr int64_t kRegistrationGrace = 200 * TCS_NS_PER_MS;
 // Bound on the learnt wall-versus-CPU lag of a slice.
 constexpr int64_t kMaxLag = 200 * TCS_NS_PER_US;
 } // namespace
@@ -419,6 +422,8 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	}
 	if (c.multithreaded() && side_wait(c, m, fd, tid)) {
 		child_wait_begins(c, m, &c.side.back());
+		if ((m.flags & TCS_BLOCK_CHILD) && has_real_time_child(c))
+			c.side.back().flags |= TCS_BLOCK_RECHECK;
 		c.stats.waits++;
 		if (m.flags & TCS_BLOCK_ABSOLUTE) {
 			c.stats.absolute_waits++;
@@ -454,6 +459,13 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	c.wait_requested_at = c.v;
 	c.wait_absolute = (m.flags & TCS_BLOCK_ABSOLUTE) != 0;
 	c.recheck = (m.flags & TCS_BLOCK_RECHECK) != 0;
+	if ((m.flags & TCS_BLOCK_CHILD) && has_real_time_child(c)) {
+		// Its own time-out does not count: the child's end does, in real
+		// time (if nothing else has a next event, virtual time passes at
+		// the speed of real time meanwhile).
+		c.recheck = true;
+		c.deadline = TCS_NEVER;
+	}
 	c.waits_for_child = (m.flags & TCS_BLOCK_CHILD) != 0;
 	c.wants_devices = (m.flags & TCS_BLOCK_DEVICES) != 0;
 	c.rechecked_at = sim_ns_;
@@ -463,6 +475,34 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	c.others_asleep = c.multithreaded() && proc_threads(c.pid).threads > 1 + (int)c.side.size();
 	child_wait_begins(c, m, nullptr);
 	schedule();
+}
+
+// Whether c has a child that runs in real time, outside tcs: a static
+// program, or one whose environment lost LD_PRELOAD, started with vfork or
+// posix_spawn (it would register when its program loads). A wait for a
+// child then passes in real time, as that child's time does: each step is
+// a re-check. Said once per child, once it has gone unregistered for long
+// enough not to be one still loading.
+bool Coordinator::has_real_time_child(Controller &c)
+{
+	bool any = false;
+	int64_t now = wall_now();
+	for (const auto &o : ctls_)
+		if (o->parent_id == c.id && o->outside && o->state != CtlState::Exited)
+			any = true;
+	for (pid_t child : proc_children(c.pid)) {
+		if (std::any_of(ctls_.begin(), ctls_.end(), [child](const auto &o) { return o->pid == child; }))
+			continue;
+		any = true;
+		auto [it, fresh] = c.unregistered_children.try_emplace(child, now);
+		if (!fresh && it->second >= 0 && now - it->second > kRegistrationGrace) {
+			it->second = -1; // said
+			warn_once("process " + std::to_string(child) + " (" + proc_name(child, "?") + "), started by " + c.name +
+				  ", runs in real time: it did not load tcs's preload (a static program, or LD_PRELOAD removed "
+				  "from its environment)");
+		}
+	}
+	return any;
 }
 
 // A wait for a child's end (side: a thread's, else the controller's own)

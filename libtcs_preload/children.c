@@ -15,6 +15,7 @@
 #include <sys/socket.h>
 #include <sys/wait.h>
 
+#include "devices.h"
 #include "raw_syscall.h"
 #include "timerfd.h"
 
@@ -82,6 +83,7 @@ int tcs_become_child(int parent_channel, int64_t fork_v, int v_known)
 	tcs_threads_after_fork();
 	tcs_cpu_forget(); /* a CPU clock of its own now, from 0 */
 	tcs_timers_forget_all(); /* POSIX: timers are not inherited */
+	tcs_devices_after_fork();
 	return 0;
 }
 

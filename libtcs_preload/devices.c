@@ -13,6 +13,7 @@
  * never devices: open() moves a device fd below it if it must. */
 static int32_t tcs_fd_handle[TCS_DEVICE_FD_MAX];
 static uint8_t tcs_fd_kind[TCS_DEVICE_FD_MAX]; /* enum tcs_device_kind, | TCS_FD_STREAM */
+static uint8_t tcs_fd_dev[TCS_DEVICE_FD_MAX];  /* the device's index in the table */
 #define TCS_FD_STREAM 0x80 /* a stream sensor: records in the fd are due */
 static int tcs_open_devices;
 
@@ -70,6 +71,7 @@ void tcs_device_copy(int from, int to)
 		return;
 	tcs_device_forget(to);
 	tcs_fd_kind[to] = tcs_fd_kind[from];
+	tcs_fd_dev[to] = tcs_fd_dev[from];
 	__atomic_store_n(&tcs_fd_handle[to], h + 1, __ATOMIC_RELAXED);
 	__atomic_add_fetch(&tcs_open_devices, 1, __ATOMIC_RELAXED);
 }
@@ -109,6 +111,7 @@ long tcs_device_open(int dev, int oflags)
 	if (!(oflags & O_CLOEXEC))
 		tcs_sys3(SYS_fcntl, fd, F_SETFD, 0);
 	tcs_fd_kind[fd] = (uint8_t)(e->kind | (e->kind == TCS_DEVICE_SENSOR && !e->latest ? TCS_FD_STREAM : 0));
+	tcs_fd_dev[fd] = (uint8_t)dev;
 	__atomic_store_n(&tcs_fd_handle[fd], (int32_t)w.arg + 1, __ATOMIC_RELAXED);
 	__atomic_add_fetch(&tcs_open_devices, 1, __ATOMIC_RELAXED);
 	return fd;
@@ -141,4 +144,33 @@ long tcs_device_sync(int handle, int fd, unsigned kind)
 	long r = tcs_device_sync_held(handle, fd, kind);
 	tcs_wait_leave();
 	return r;
+}
+
+/* A new child's device fds are its parent's handles: it opens each device
+ * again as a controller of its own and puts the new fd in the old one's
+ * place (same number, flags and close-on-exec), as if it had opened it. A
+ * device it cannot open again is closed (its reads then fail with EBADF,
+ * as they would have). */
+void tcs_devices_after_fork(void)
+{
+	if (tcs_devices_open() == 0)
+		return;
+	for (int fd = 0; fd < TCS_DEVICE_FD_MAX; fd++) {
+		if (tcs_device_handle(fd) < 0)
+			continue;
+		long fl = tcs_sys3(SYS_fcntl, fd, F_GETFL, 0), fdfl = tcs_sys3(SYS_fcntl, fd, F_GETFD, 0);
+		int kind = tcs_fd_kind[fd] & ~TCS_FD_STREAM;
+		int oflags = (kind == TCS_DEVICE_SENSOR ? O_RDONLY : O_WRONLY) | (fl > 0 && (fl & O_NONBLOCK) ? O_NONBLOCK : 0) |
+			     (fdfl > 0 && (fdfl & FD_CLOEXEC) ? O_CLOEXEC : 0);
+		tcs_device_forget(fd);
+		long fresh = tcs_device_open(tcs_fd_dev[fd], oflags);
+		if (fresh < 0) {
+			tcs_sys1(SYS_close, fd);
+			continue;
+		}
+		tcs_sys3(SYS_dup3, fresh, fd, (oflags & O_CLOEXEC) ? O_CLOEXEC : 0);
+		tcs_device_copy((int)fresh, fd);
+		tcs_device_forget((int)fresh);
+		tcs_sys1(SYS_close, fresh);
+	}
 }

@@ -23,6 +23,8 @@ int tcs_devices_open(void) TCS_HIDDEN;
 /* fd was closed / `to` became a copy of `from`. */
 void tcs_device_forget(int fd) TCS_HIDDEN;
 void tcs_device_copy(int from, int to) TCS_HIDDEN;
+/* In a new child, registered: its inherited device fds opened again as its own. */
+void tcs_devices_after_fork(void) TCS_HIDDEN;
 /* Brings the device up to the controller's virtual time (kind: TCS_SYNC_*);
  * fd tells whether it is non-blocking. 0 or -errno. */
 long tcs_device_sync(int handle, int fd, unsigned kind) TCS_HIDDEN;

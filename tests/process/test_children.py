@@ -54,5 +54,31 @@ def test_pipes_and_python_subprocesses():
     check(v.get("took") == "3.000000000", "and takes exactly 3 s of virtual time", r)
 
 
+def test_a_forked_child_reads_the_devices_it_inherits():
+    # The default world's angle sensor, opened by the parent: its forked
+    # child reads it through the same fd, in its own virtual time (1 kHz).
+    script = """
+import os, time
+fd = os.open("/dev/tcs/pendulum/state", os.O_RDONLY)
+os.read(fd, 200)
+pid = os.fork()
+if pid == 0:
+    t0 = time.monotonic()
+    for i in range(3):
+        rec = os.read(fd, 200).decode()
+        print("child_%d=%.6f,%d" % (i, time.monotonic() - t0, len(rec.split())), flush=True)
+    os._exit(0)
+os.waitpid(pid, 0)
+print("parent_fields=%d" % len(os.read(fd, 200).decode().split()))
+"""
+    r = tcs("-q", "-m", "lockstep", "--", PYTHON, "-c", script, timeout=30)
+    v = r.values()
+    print("  child's reads: %s %s %s" % (v.get("child_0"), v.get("child_1"), v.get("child_2")))
+    check(r.returncode == 0, "exit 0", r)
+    check([v.get("child_%d" % i) for i in range(3)] == ["0.000000,2", "0.001000,2", "0.002000,2"],
+          "the child reads one record (angle, velocity) each 1 ms", r)
+    check(int(v.get("parent_fields", "0")) >= 2, "the parent still reads its own", r)
+
+
 if __name__ == "__main__":
     main(globals())

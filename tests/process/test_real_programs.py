@@ -4,11 +4,12 @@ one process sends another (a shell's kill, Python's os.kill); rt-tests'
 cyclictest and stress-ng's cyclic stressor, which ask for real-time
 priorities (SCHED_FIFO 80, SCHED_DEADLINE) that tcs keeps below its own."""
 
+import os
 import re
 import shutil
 import time
 
-from harness import PYTHON, check, main, tcs
+from harness import PROGRAMS, PYTHON, check, main, tcs
 
 
 def virtual_s(r):
@@ -79,6 +80,25 @@ def test_date_tells_virtual_time():
     print("  date: %s, then %s" % (v["first"], v["second"]))
     check(abs(first - time.time()) < 600, "virtual wall-clock time starts at the real one", r)
     check(round(second - first, 6) == 5.0, "5 s apart, exactly", r)
+
+
+def test_a_child_outside_tcs_is_said_and_waited_for_in_real_time():
+    # A static program started by a shell (dash starts it with vfork: it
+    # never registers), and one exec'd without LD_PRELOAD by a forked,
+    # registered child: each runs 0.5 real seconds, which its parent's
+    # wait for it takes as it would in real time.
+    static = os.path.join(PROGRAMS, "static_hello")
+    for how, command, name in (("static", static + " 0.5; sleep 1", "static_hello"),
+                               ("no LD_PRELOAD", "env -u LD_PRELOAD sleep 0.5; sleep 1", "sleep")):
+        r = tcs("-m", "lockstep", "--", "sh", "-c", command, timeout=30)
+        t = virtual_s(r)
+        print("  %-13s %.3f s virtual" % (how, t))
+        check(r.returncode == 0, "%s: exit 0" % how, r)
+        check(re.search(r"warning: process \d+ \(%s\).* runs in real time" % name, r.stderr) is not None,
+              "%s: said once to run in real time" % how, r)
+        check(r.stderr.count("runs in real time") == 1, "%s: said once" % how, r)
+        # 1 s of sleep in virtual time, and about 0.5 s waited in real time.
+        check(1.3 <= t <= 3.0, "%s: the wait for it passes in real time (%.3f s in all)" % (how, t), r)
 
 
 CYCLIC = re.compile(r"C:\s*(\d+)\s+Min:\s*(\d+)\s+Act:\s*(\d+)\s+Avg:\s*(\d+)\s+Max:\s*(\d+)")
