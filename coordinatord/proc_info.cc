@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <climits>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -85,7 +86,7 @@ namespace {
 // on the path of every wait of a multi-threaded controller. 0 if gone.
 char task_state(int dir_fd, const char *tid)
 {
-	char path[48];
+	char path[NAME_MAX + 8]; // (a directory entry's name and "/stat")
 	snprintf(path, sizeof path, "%s/stat", tid);
 	int fd = openat(dir_fd, path, O_RDONLY | O_CLOEXEC);
 	if (fd < 0)
