@@ -138,6 +138,7 @@ private:
 	void on_kill(Controller &c, const ::tcs_msg &m);
 	void kick(Controller &c, int64_t at);
 	int runnable_threads(const Controller &c, pid_t also) const;
+	bool wait_until_stopped(Controller &c);
 	bool has_real_time_child(Controller &c);
 	void child_wait_begins(Controller &c, const ::tcs_msg &m, SideWait *side);
 	void on_child(Controller &parent, const ::tcs_msg &m, UniqueFd channel);

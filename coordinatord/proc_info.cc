@@ -126,6 +126,27 @@ ThreadCensus proc_threads(pid_t pid, std::span<const pid_t> except)
 	return census;
 }
 
+bool proc_all_threads_stopped(pid_t pid)
+{
+	char dir[40];
+	snprintf(dir, sizeof dir, "/proc/%d/task", (int)pid);
+	DIR *d = opendir(dir);
+	if (!d)
+		return true;
+	bool stopped = true;
+	while (struct dirent *e = readdir(d)) {
+		if (e->d_name[0] == '.')
+			continue;
+		char state = task_state(dirfd(d), e->d_name);
+		if (state != 0 && state != 'T' && state != 't' && state != 'Z' && state != 'X') {
+			stopped = false;
+			break;
+		}
+	}
+	closedir(d);
+	return stopped;
+}
+
 std::vector<pid_t> proc_children(pid_t pid)
 {
 	std::vector<pid_t> out;

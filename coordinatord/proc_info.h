@@ -28,6 +28,8 @@ struct ThreadCensus {
 	int runnable = 0;
 };
 ThreadCensus proc_threads(pid_t pid, std::span<const pid_t> except = {});
+// Whether every thread of pid is stopped (state T or t), or it is gone.
+bool proc_all_threads_stopped(pid_t pid);
 // Whether tid is a thread of pid.
 bool proc_has_thread(pid_t pid, pid_t tid);
 // Whether pid has a library whose file name contains name mapped (true too

@@ -12,6 +12,7 @@
 // re-armed for the rest; past it, SIGSTOP, and the overshoot simply stays in
 // its virtual time, so the next budget is that much shorter and no error
 // accumulates (the TCS paper's §3.8 correction, with exact accounting).
+#include <poll.h>
 #include <signal.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
@@ -40,6 +41,9 @@ constexpr int64_t kHeavyStep = 100 * TCS_NS_PER_US;
 // How long a child may run unregistered before it is said to run in real
 // time (a program still loading has not registered yet).
 constexpr int64_t kRegistrationGrace = 200 * TCS_NS_PER_MS;
+// How many times (20 us apart) a preempted child of a controller is looked
+// at until it has stopped.
+constexpr int kStopLooks = 50000;
 // Bound on the learnt wall-versus-CPU lag of a slice.
 constexpr int64_t kMaxLag = 200 * TCS_NS_PER_US;
 } // namespace
@@ -353,21 +357,45 @@ void Coordinator::on_budget()
 	schedule();
 }
 
+// After its SIGSTOP: true once c has stopped, false if it died first. It
+// stops when it next runs, which is once we let go of its core.
+bool Coordinator::wait_until_stopped(Controller &c)
+{
+	if (c.parent_id == 0) {
+		siginfo_t si = {};
+		int r;
+		do
+			r = waitid(P_PID, (id_t)c.pid, &si, WSTOPPED | WEXITED | WNOWAIT);
+		while (r < 0 && errno == EINTR);
+		if (r < 0 || si.si_code != CLD_STOPPED)
+			return false;
+		si = {};
+		waitid(P_PID, (id_t)c.pid, &si, WSTOPPED);
+		return true;
+	}
+	// A child of a controller is its parent's to wait for: waitid cannot
+	// see it stop (it fails with ECHILD, and the controller was taken for
+	// dead and left stopped). So look, letting go of the core meanwhile.
+	for (int i = 0; i < kStopLooks; i++) {
+		struct pollfd ended = { c.pidfd.get(), POLLIN, 0 };
+		if (poll(&ended, 1, 0) > 0)
+			return false;
+		if (proc_all_threads_stopped(c.pid))
+			return true;
+		struct timespec pause = { 0, 20 * TCS_NS_PER_US };
+		nanosleep(&pause, nullptr);
+	}
+	return true; // (asleep uninterruptibly for a second: it stops on waking)
+}
+
 void Coordinator::preempt(Controller &c)
 {
 	running_ = nullptr;
 	kill(c.pid, SIGSTOP);
-	siginfo_t si = {};
-	int r;
-	do
-		r = waitid(P_PID, (id_t)c.pid, &si, WSTOPPED | WEXITED | WNOWAIT);
-	while (r < 0 && errno == EINTR);
-	if (r < 0 || si.si_code != CLD_STOPPED) {
+	if (!wait_until_stopped(c)) {
 		on_pidfd(c); // it died before it could stop
 		return;
 	}
-	si = {};
-	waitid(P_PID, (id_t)c.pid, &si, WSTOPPED);
 	c.stopped = true;
 	c.state = CtlState::Ready;
 	c.stats.preemptions++;

@@ -52,6 +52,18 @@ def session_processes(sid):
     return found
 
 
+def demote(sid):
+    """Every process of the session to normal scheduling: a SCHED_FIFO
+    process that spins in the kernel outlives SIGKILL until it may be
+    preempted (seen while debugging a hang), and would starve what runs
+    next on its core."""
+    for pid, _, _ in session_processes(sid):
+        try:
+            os.sched_setscheduler(pid, os.SCHED_OTHER, os.sched_param(0))
+        except OSError:
+            pass
+
+
 def assert_nothing_left(sid, grace=2.0):
     """Every process of the session must be gone (zombies of ours aside)."""
     deadline = time.monotonic() + grace
@@ -60,6 +72,7 @@ def assert_nothing_left(sid, grace=2.0):
         if not left:
             return
         if time.monotonic() > deadline:
+            demote(sid)
             for pid, _, _ in left:
                 try:
                     os.kill(pid, signal.SIGKILL)
@@ -88,6 +101,7 @@ def finish(p, timeout, t0):
     try:
         out, err = p.communicate(timeout=timeout)
     except subprocess.TimeoutExpired:
+        demote(p.pid)
         os.killpg(p.pid, signal.SIGKILL)
         out, err = p.communicate()
         assert_nothing_left(p.pid)

@@ -80,5 +80,36 @@ print("parent_fields=%d" % len(os.read(fd, 200).decode().split()))
     check(int(v.get("parent_fields", "0")) >= 2, "the parent still reads its own", r)
 
 
+def test_a_computing_child_is_preempted_for_its_parents_deadlines():
+    # cpu mode: the child computes 200 ms of CPU while its parent sleeps
+    # 1 ms 100 times; the child (not tcs-run's own child: its parent's) is
+    # stopped at each of the parent's deadlines, and goes on after.
+    script = """
+import os, time
+t0 = time.monotonic()
+pid = os.fork()
+if pid == 0:
+    c0 = time.process_time()
+    while time.process_time() - c0 < 0.2:
+        pass
+    os._exit(0)
+late = 0.0
+for i in range(100):
+    due = t0 + (i + 1) * 0.001
+    time.sleep(max(0.0, due - time.monotonic()))
+    late = max(late, time.monotonic() - due)
+loop = time.monotonic() - t0
+os.waitpid(pid, 0)
+print("loop=%.6f late=%.6f done=%.6f" % (loop, late, time.monotonic() - t0))
+"""
+    r = tcs("-q", "-m", "cpu", "--", PYTHON, "-c", script, timeout=60)
+    v = r.values()
+    print("  parent's 100 ms loop took %s s (at most %s s late), the child ended at %s s" %
+          (v.get("loop"), v.get("late"), v.get("done")))
+    check(r.returncode == 0 and "done" in v, "both end", r)
+    check(float(v["late"]) < 0.001, "the parent's sleeps end on time while its child computes", r)
+    check(0.19 <= float(v["done"]) <= 0.3, "the child's 200 ms of CPU take 200 ms of its virtual time", r)
+
+
 if __name__ == "__main__":
     main(globals())
