@@ -563,6 +563,10 @@ void Coordinator::on_early(Controller &c, const ::tcs_msg &m, int fd)
 			continue;
 		w.wake_reason = TCS_WAKE_EARLY;
 		if (c.state == CtlState::Running) {
+			// Ended by a thread that runs: at that thread's time now (in
+			// cpu mode past the slice's start by what it has computed), so
+			// that what it did is never seen as done before it was.
+			c.account(c.cpu_now(), cfg_.mode);
 			SideWait done = w;
 			c.side.erase(c.side.begin() + (long)i);
 			answer_side(c, done);

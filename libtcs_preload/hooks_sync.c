@@ -299,12 +299,14 @@ TCS_EXPORT int pthread_cond_broadcast(pthread_cond_t *) __attribute__((alias("tc
 
 /* A semaphore shared between processes (sem_open, or sem_init with
  * pshared): a post in another process cannot wake a parked thread here, so
- * its wait re-checks at every step. glibc's sem_t holds a private-futex flag
- * after its 64-bit value (0: shared). */
+ * its wait re-checks at every step. glibc's sem_t holds, after its 64-bit
+ * value, the futex flag its waits use: 0 for a private semaphore, and
+ * FUTEX_PRIVATE_FLAG (128), confusingly, for a shared one (glibc's
+ * LLL_SHARED). */
 static int tcs_sem_shared(const sem_t *s)
 {
-	const int *private_flag = (const int *)((const char *)s + sizeof(uint64_t));
-	return __atomic_load_n(private_flag, __ATOMIC_RELAXED) == 0;
+	const int *futex_flag = (const int *)((const char *)s + sizeof(uint64_t));
+	return __atomic_load_n(futex_flag, __ATOMIC_RELAXED) != 0;
 }
 
 /* 0 or an errno value. */

@@ -38,8 +38,9 @@ def test_two_loops_in_threads_keep_their_rates():
             check(v["fast_misses"] == v["slow_misses"] == "0", "lockstep: computing is free, nothing missed", r)
         else:
             # One core, 50 % load: the 1 kHz thread waits now and then for
-            # the other's 1 ms bursts, as it would on a one-core target.
-            check(int(v["fast_misses"]) < 150 and v["slow_misses"] == "0", "cpu: misses only as one core makes them", r)
+            # the other's 1 ms bursts, as it would on a one-core target; the
+            # 300 Hz one, preempted by the kernel's choice, once in a while.
+            check(int(v["fast_misses"]) < 150 and int(v["slow_misses"]) < 5, "cpu: misses only as one core makes them", r)
 
 
 def test_time_passes_only_when_every_thread_waits():

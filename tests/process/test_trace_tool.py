@@ -123,14 +123,16 @@ def test_summary_of_an_overloaded_loop():
 
 def test_summary_of_preempted_controllers():
     # Two controllers on one core: each is preempted when the other is due.
+    # 80 % of the core in all (40 % each, the second on a CPU twice as
+    # slow): the rest leaves room for what preemption costs them.
     with scenario_file('''
 [sim]
 step = "1ms"
 model = "pendulum"
 [[controller]]
-command = "%s 1000 1 500us"
+command = "%s 1000 1 400us"
 [[controller]]
-command = "%s 250 1 2000us"
+command = "%s 250 1 1600us"
 cpu_scale = 2.0
 ''' % (prog("periodic"), prog("periodic"))) as world:
         path, _ = traced_run("two", "-w", world, "-q")
@@ -148,7 +150,7 @@ cpu_scale = 2.0
     close_to(a["rate_hz"], 1000, 0.002, "the 1 kHz one keeps its rate")
     close_to(b["rate_hz"], 250, 0.002, "the 250 Hz one keeps its rate")
     check(a["deadline_misses"] + b["deadline_misses"] <= 2, "neither misses a deadline (but for a VM hiccup)")
-    close_to(b["charged_cpu_ns"], b["cycles"] * 2e6, 0.05, "2 ms of virtual CPU per cycle, at scale 2")
+    close_to(b["charged_cpu_ns"], b["cycles"] * 1.6e6, 0.05, "1.6 ms of virtual CPU per cycle, at scale 2")
 
 
 def test_exports_parse():
