@@ -88,15 +88,13 @@ def test_sigev_thread_timers_call_their_function_in_virtual_time():
     check(int(v["expiries"]) - int(v["last_ns"]) // 1000000 in (0, 1), "the expiries are the periods that passed", r)
     check(int(v["max_late_ns"]) < 1000000, "no call a period late", r)
     # cpu mode, a function that takes 2.5 periods: the expiries that pass
-    # while it runs are its successor's overrun.
+    # while it runs are its successor's overrun. Over 100 periods: 40 calls.
     r = tcs("-q", prog("notify_timer"), 100, 1000, 2500)
     v = r.values()
     print("  cpu mode, 2.5 ms each: %s calls for %s expiries over %.1f ms" %
           (v["calls"], v["expiries"], int(v["last_ns"]) / 1e6))
-    # (main, sharing the one core, may see its 100th post a few calls late)
-    check(int(v["calls"]) >= 100 and v["after_delete"] == "0", "100 calls or more, none after timer_delete", r)
+    check(38 <= int(v["calls"]) <= 41 and v["after_delete"] == "0", "a call per 2.5 ms, none after timer_delete", r)
     check(abs(int(v["expiries"]) - int(v["last_ns"]) // 1000000) <= 1, "overruns count every period that passed", r)
-    close_to(int(v["last_ns"]), 100 * 2.5e6, 0.03, "the calls run at the pace of their work", r)
 
 
 if __name__ == "__main__":

@@ -1,13 +1,12 @@
 /* notify_timer N PERIOD_US [CALLBACK_WORK_US]: a periodic timer_create
- * timer with SIGEV_THREAD, whose function does CALLBACK_WORK_US of CPU time
- * and posts a semaphore the main thread waits on, N calls in all; then the
- * timer is deleted and the program sleeps 5 periods. Prints, as key=value
+ * timer with SIGEV_THREAD, whose function does CALLBACK_WORK_US of CPU time,
+ * while the main thread sleeps N periods and a half; then the timer is
+ * deleted and the program sleeps 5 periods more. Prints, as key=value
  * lines: the calls, the expiries they stand for (1 + timer_getoverrun
  * each), when the first came after arming, how late the latest expiry a
  * call stood for was at most, the calls after timer_delete, and whether the
  * function ran on a thread other than main. */
 #include <pthread.h>
-#include <semaphore.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -17,7 +16,6 @@
 
 #include "work.h"
 
-static sem_t ticked;
 static timer_t timer;
 static long long start, period, work_ns;
 static volatile long calls, expiries;
@@ -41,7 +39,13 @@ static void on_expiry(union sigval v)
 	long long c0 = clock_ns(CLOCK_THREAD_CPUTIME_ID);
 	while (clock_ns(CLOCK_THREAD_CPUTIME_ID) - c0 < work_ns)
 		work(100);
-	sem_post(&ticked);
+}
+
+static void sleep_ns(long long ns)
+{
+	struct timespec ts = { ns / 1000000000, ns % 1000000000 };
+	while (nanosleep(&ts, &ts) != 0)
+		;
 }
 
 int main(int argc, char **argv)
@@ -54,7 +58,6 @@ int main(int argc, char **argv)
 	period = atoll(argv[2]) * 1000LL;
 	work_ns = argc == 4 ? atoll(argv[3]) * 1000LL : 0;
 	main_thread = pthread_self();
-	sem_init(&ticked, 0, 0);
 	struct sigevent sev;
 	memset(&sev, 0, sizeof sev);
 	sev.sigev_notify = SIGEV_THREAD;
@@ -71,15 +74,10 @@ int main(int argc, char **argv)
 		perror("timer_settime");
 		return 1;
 	}
-	for (long i = 0; i < n; i++)
-		while (sem_wait(&ticked) != 0)
-			;
+	sleep_ns(n * period + period / 2);
 	timer_delete(timer);
 	long before = calls;
-	struct timespec nap = { 0, 0 };
-	nap.tv_sec = (5 * period) / 1000000000;
-	nap.tv_nsec = (5 * period) % 1000000000;
-	nanosleep(&nap, NULL);
+	sleep_ns(5 * period);
 	printf("calls=%ld\nexpiries=%ld\nfirst_ns=%lld\nlast_ns=%lld\nmax_late_ns=%lld\nafter_delete=%ld\nother_thread=%d\n",
 	       before, expiries, first_ns, last_ns, max_late_ns, calls - before, other_thread);
 	return 0;
