@@ -183,6 +183,8 @@ public:
 	std::vector<std::unique_ptr<ThreadChannel>> threads;
 	std::vector<SideWait> side;
 	bool others_asleep = false;
+	// Threads seen without a channel: when first seen (wall ns).
+	std::map<pid_t, int64_t> thread_first_seen;
 	uint32_t thread_registrations = 0;
 	// It has started threads (or has thread channels): each wait looks at
 	// them all.

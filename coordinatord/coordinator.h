@@ -137,7 +137,7 @@ private:
 	void on_timer(Controller &c, const ::tcs_msg &m);
 	void on_kill(Controller &c, const ::tcs_msg &m);
 	void kick(Controller &c, int64_t at);
-	int runnable_threads(const Controller &c, pid_t also) const;
+	int runnable_threads(Controller &c, pid_t also);
 	bool wait_until_stopped(Controller &c);
 	bool has_real_time_child(Controller &c);
 	void child_wait_begins(Controller &c, const ::tcs_msg &m, SideWait *side);

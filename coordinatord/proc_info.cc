@@ -126,6 +126,25 @@ ThreadCensus proc_threads(pid_t pid, std::span<const pid_t> except)
 	return census;
 }
 
+std::vector<ThreadState> proc_thread_states(pid_t pid)
+{
+	std::vector<ThreadState> out;
+	char dir[40];
+	snprintf(dir, sizeof dir, "/proc/%d/task", (int)pid);
+	DIR *d = opendir(dir);
+	if (!d)
+		return out;
+	while (struct dirent *e = readdir(d)) {
+		if (e->d_name[0] == '.')
+			continue;
+		char state = task_state(dirfd(d), e->d_name);
+		if (state != 0 && state != 'Z' && state != 'X')
+			out.push_back({ (pid_t)atoi(e->d_name), state });
+	}
+	closedir(d);
+	return out;
+}
+
 bool proc_all_threads_stopped(pid_t pid)
 {
 	char dir[40];

@@ -28,6 +28,12 @@ struct ThreadCensus {
 	int runnable = 0;
 };
 ThreadCensus proc_threads(pid_t pid, std::span<const pid_t> except = {});
+// Each live thread of pid with its state letter (Z and X left out).
+struct ThreadState {
+	pid_t tid;
+	char state;
+};
+std::vector<ThreadState> proc_thread_states(pid_t pid);
 // Whether every thread of pid is stopped (state T or t), or it is gone.
 bool proc_all_threads_stopped(pid_t pid);
 // Whether tid is a thread of pid.

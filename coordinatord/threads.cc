@@ -20,6 +20,8 @@ namespace tcs {
 namespace {
 // Threads with a channel of their own, at once, per controller.
 constexpr size_t kMaxThreads = 1024;
+// How long a thread without a channel is taken for one still starting.
+constexpr int64_t kThreadStartGrace = 50 * TCS_NS_PER_MS;
 } // namespace
 
 void Coordinator::on_thread(Controller &c, const ::tcs_msg &m, UniqueFd channel)
@@ -42,6 +44,7 @@ void Coordinator::on_thread(Controller &c, const ::tcs_msg &m, UniqueFd channel)
 		drop(c, "more than " + std::to_string(kMaxThreads) + " of its threads wait at once");
 		return;
 	}
+	c.thread_first_seen.erase(tid);
 	auto t = std::make_unique<ThreadChannel>();
 	t->tid = tid;
 	t->fd = std::move(channel);
@@ -98,16 +101,39 @@ bool Coordinator::side_wait(Controller &c, const ::tcs_msg &m, int fd, pid_t tid
 // runnable for the kernel, on its way to its wait. Counted as runnable, it
 // would make the last thread's wait a side wait too, and the controller
 // would hold the core with every thread waiting until the watchdog looked.
-int Coordinator::runnable_threads(const Controller &c, pid_t also) const
+// A thread that has never waited through tcs (it has no channel yet) and
+// sleeps may be one just started, on its way to its first wait: it counts
+// as runnable for this long after it is first seen (wall time), so that no
+// virtual time passes before it is counted. One that stays asleep outside
+// tcs's hooks (a real read, say) is taken for asleep after that.
+int Coordinator::runnable_threads(Controller &c, pid_t also)
 {
 	std::vector<pid_t> waiting;
-	waiting.reserve(c.side.size() + 1);
+	waiting.reserve(c.side.size() + 2);
 	waiting.push_back(also);
 	if (c.in_block)
 		waiting.push_back(c.wait_tid);
 	for (const SideWait &w : c.side)
 		waiting.push_back(w.tid);
-	return proc_threads(c.pid, waiting).runnable;
+	int64_t now = -1;
+	int runnable = 0;
+	for (const ThreadState &t : proc_thread_states(c.pid)) {
+		if (std::find(waiting.begin(), waiting.end(), t.tid) != waiting.end())
+			continue;
+		if (t.state == 'R') {
+			runnable++;
+			continue;
+		}
+		if (t.tid == c.pid ||
+		    std::any_of(c.threads.begin(), c.threads.end(), [&](const auto &ch) { return ch->tid == t.tid; }))
+			continue;
+		if (now < 0)
+			now = wall_now();
+		auto [seen, fresh] = c.thread_first_seen.try_emplace(t.tid, now);
+		if (now - seen->second < kThreadStartGrace)
+			runnable++;
+	}
+	return runnable;
 }
 
 int64_t Coordinator::side_next(const Controller &c) const
