@@ -8,28 +8,30 @@ def timed(fn):
     r = fn()
     return r, time.monotonic_ns() - s
 
-def later(ms, fn):
+def ended_later(ms, end, wait):
+    """wait(), which another thread started first ends after ms with end():
+    timed from before that thread starts (in cpu mode it may run first)."""
     def run():
         time.sleep(ms / 1000)
-        fn()
+        end()
+    s = time.monotonic_ns()
     t = threading.Thread(target=run)
     t.start()
-    return t
+    r = wait()
+    ns = time.monotonic_ns() - s
+    t.join()
+    return r, ns
 
 ev = threading.Event()
 r, ns = timed(lambda: ev.wait(0.002))
 print("event_timeout_result=%d event_timeout_ns=%d" % (r, ns))
-t = later(1, ev.set)
-r, ns = timed(lambda: ev.wait(1))
-t.join()
+r, ns = ended_later(1, ev.set, lambda: ev.wait(1))
 print("event_set_result=%d event_set_ns=%d" % (r, ns))
 lock = threading.Lock()
 lock.acquire()
 r, ns = timed(lambda: lock.acquire(timeout=0.003))
 print("lock_timeout_result=%d lock_timeout_ns=%d" % (r, ns))
-t = later(2, lock.release)
-r, ns = timed(lambda: lock.acquire(timeout=1))
-t.join()
+r, ns = ended_later(2, lock.release, lambda: lock.acquire(timeout=1))
 print("lock_released_result=%d lock_released_ns=%d" % (r, ns))
 q = queue.Queue()
 def get(timeout):
@@ -39,7 +41,5 @@ def get(timeout):
         return "empty"
 r, ns = timed(lambda: get(0.004))
 print("queue_timeout_result=%s queue_timeout_ns=%d" % (r, ns))
-t = later(1, lambda: q.put("item"))
-r, ns = timed(lambda: get(1))
-t.join()
+r, ns = ended_later(1, lambda: q.put("item"), lambda: get(1))
 print("queue_put_result=%s queue_put_ns=%d" % (r, ns))
