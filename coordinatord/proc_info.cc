@@ -6,7 +6,6 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <climits>
 #include <cstdio>
 #include <cstdlib>
@@ -60,26 +59,6 @@ int proc_exit_status(pid_t pid)
 	return f.size() > 49 ? atoi(f[49].c_str()) : 0; // field 52
 }
 
-bool proc_all_threads_asleep(pid_t pid)
-{
-	std::string dir = "/proc/" + std::to_string(pid) + "/task";
-	DIR *d = opendir(dir.c_str());
-	if (!d)
-		return true; // gone
-	bool asleep = true;
-	while (struct dirent *e = readdir(d)) {
-		if (e->d_name[0] == '.')
-			continue;
-		auto f = stat_fields(dir + "/" + e->d_name + "/stat");
-		if (!f.empty() && f[0] != "S" && f[0] != "D") {
-			asleep = false;
-			break;
-		}
-	}
-	closedir(d);
-	return asleep;
-}
-
 namespace {
 
 // A thread's state letter (stat field 3), read without allocating: this is
@@ -101,87 +80,83 @@ char task_state(int dir_fd, const char *tid)
 	return close_paren && close_paren[1] == ' ' ? close_paren[2] : 0;
 }
 
-} // namespace
-
-ThreadCensus proc_threads(pid_t pid, std::span<const pid_t> except)
+// Calls f(task directory fd, thread id as a string) for each thread of
+// pid while f returns true; false if pid is gone.
+template <class F> bool for_each_task(pid_t pid, F f)
 {
-	ThreadCensus census;
 	char dir[40];
 	snprintf(dir, sizeof dir, "/proc/%d/task", (int)pid);
 	DIR *d = opendir(dir);
 	if (!d)
-		return census;
-	while (struct dirent *e = readdir(d)) {
-		if (e->d_name[0] == '.')
-			continue;
-		char state = task_state(dirfd(d), e->d_name);
-		if (state == 0 || state == 'Z' || state == 'X')
-			continue;
-		census.threads++;
-		pid_t tid = (pid_t)atoi(e->d_name);
-		if (state == 'R' && std::find(except.begin(), except.end(), tid) == except.end())
-			census.runnable++;
-	}
+		return false;
+	while (struct dirent *e = readdir(d))
+		if (e->d_name[0] != '.' && !f(dirfd(d), e->d_name))
+			break;
 	closedir(d);
-	return census;
+	return true;
+}
+
+bool live(char state)
+{
+	return state != 0 && state != 'Z' && state != 'X';
+}
+
+} // namespace
+
+bool proc_all_threads_asleep(pid_t pid)
+{
+	bool asleep = true;
+	for_each_task(pid, [&](int dir, const char *tid) {
+		char state = task_state(dir, tid);
+		asleep = state == 0 || state == 'S' || state == 'D';
+		return asleep;
+	});
+	return asleep; // (gone: asleep)
+}
+
+int proc_thread_count(pid_t pid)
+{
+	int n = 0;
+	for_each_task(pid, [&](int dir, const char *tid) {
+		n += live(task_state(dir, tid));
+		return true;
+	});
+	return n;
 }
 
 std::vector<ThreadState> proc_thread_states(pid_t pid)
 {
 	std::vector<ThreadState> out;
-	char dir[40];
-	snprintf(dir, sizeof dir, "/proc/%d/task", (int)pid);
-	DIR *d = opendir(dir);
-	if (!d)
-		return out;
-	while (struct dirent *e = readdir(d)) {
-		if (e->d_name[0] == '.')
-			continue;
-		char state = task_state(dirfd(d), e->d_name);
-		if (state != 0 && state != 'Z' && state != 'X')
-			out.push_back({ (pid_t)atoi(e->d_name), state });
-	}
-	closedir(d);
+	for_each_task(pid, [&](int dir, const char *tid) {
+		char state = task_state(dir, tid);
+		if (live(state))
+			out.push_back({ (pid_t)atoi(tid), state });
+		return true;
+	});
 	return out;
 }
 
 bool proc_all_threads_stopped(pid_t pid)
 {
-	char dir[40];
-	snprintf(dir, sizeof dir, "/proc/%d/task", (int)pid);
-	DIR *d = opendir(dir);
-	if (!d)
-		return true;
 	bool stopped = true;
-	while (struct dirent *e = readdir(d)) {
-		if (e->d_name[0] == '.')
-			continue;
-		char state = task_state(dirfd(d), e->d_name);
-		if (state != 0 && state != 'T' && state != 't' && state != 'Z' && state != 'X') {
-			stopped = false;
-			break;
-		}
-	}
-	closedir(d);
+	for_each_task(pid, [&](int dir, const char *tid) {
+		char state = task_state(dir, tid);
+		stopped = !live(state) || state == 'T' || state == 't';
+		return stopped;
+	});
 	return stopped;
 }
 
 std::vector<pid_t> proc_children(pid_t pid)
 {
 	std::vector<pid_t> out;
-	char dir[40];
-	snprintf(dir, sizeof dir, "/proc/%d/task", (int)pid);
-	DIR *d = opendir(dir);
-	if (!d)
-		return out;
-	while (struct dirent *e = readdir(d)) {
-		if (e->d_name[0] == '.')
-			continue;
-		std::ifstream f(std::string(dir) + "/" + e->d_name + "/children");
+	std::string dir = "/proc/" + std::to_string(pid) + "/task/";
+	for_each_task(pid, [&](int, const char *tid) {
+		std::ifstream f(dir + tid + "/children");
 		for (pid_t child; f >> child;)
 			out.push_back(child);
-	}
-	closedir(d);
+		return true;
+	});
 	return out;
 }
 
@@ -196,7 +171,6 @@ bool proc_maps_library(pid_t pid, const char *name)
 		any = true;
 	}
 	return !any; // unreadable, or a process on its way out: no verdict
-
 }
 
 bool proc_has_thread(pid_t pid, pid_t tid)

@@ -4,7 +4,6 @@
 
 #include <sys/types.h>
 
-#include <span>
 #include <string>
 #include <vector>
 
@@ -20,14 +19,9 @@ int proc_exit_status(pid_t pid);
 // is gone; a running or stopped thread counts as awake.
 bool proc_all_threads_asleep(pid_t pid);
 
-// The threads of a process, and how many of them, leaving out those in
-// `except`, could run now (state R): read at each wait of a multi-threaded
+// How many live threads pid has: read at each wait of a multi-threaded
 // controller.
-struct ThreadCensus {
-	int threads = 0;
-	int runnable = 0;
-};
-ThreadCensus proc_threads(pid_t pid, std::span<const pid_t> except = {});
+int proc_thread_count(pid_t pid);
 // Each live thread of pid with its state letter (Z and X left out).
 struct ThreadState {
 	pid_t tid;

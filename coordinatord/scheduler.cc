@@ -450,8 +450,6 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	}
 	if (c.multithreaded() && side_wait(c, m, fd, tid)) {
 		child_wait_begins(c, m, &c.side.back());
-		if ((m.flags & TCS_BLOCK_CHILD) && has_real_time_child(c))
-			c.side.back().flags |= TCS_BLOCK_RECHECK;
 		c.stats.waits++;
 		if (m.flags & TCS_BLOCK_ABSOLUTE) {
 			c.stats.absolute_waits++;
@@ -487,20 +485,13 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	c.wait_requested_at = c.v;
 	c.wait_absolute = (m.flags & TCS_BLOCK_ABSOLUTE) != 0;
 	c.recheck = (m.flags & TCS_BLOCK_RECHECK) != 0;
-	if ((m.flags & TCS_BLOCK_CHILD) && has_real_time_child(c)) {
-		// Its own time-out does not count: the child's end does, in real
-		// time (if nothing else has a next event, virtual time passes at
-		// the speed of real time meanwhile).
-		c.recheck = true;
-		c.deadline = TCS_NEVER;
-	}
 	c.waits_for_child = (m.flags & TCS_BLOCK_CHILD) != 0;
 	c.wants_devices = (m.flags & TCS_BLOCK_DEVICES) != 0;
 	c.rechecked_at = sim_ns_;
 	c.wake_pending = false;
 	c.state = CtlState::Blocked;
 	// Threads asleep outside the hooks: looked at each step (threads.cc).
-	c.others_asleep = c.multithreaded() && proc_threads(c.pid).threads > 1 + (int)c.side.size();
+	c.others_asleep = c.multithreaded() && proc_thread_count(c.pid) > 1 + (int)c.side.size();
 	child_wait_begins(c, m, nullptr);
 	schedule();
 }
@@ -533,12 +524,26 @@ bool Coordinator::has_real_time_child(Controller &c)
 	return any;
 }
 
-// A wait for a child's end (side: a thread's, else the controller's own)
-// that begins after a child ended unseen: the program looked for it just
-// before, and the exit came between its look and its wait. It re-checks.
+// A wait for a child's end begins (side: a thread's, else the
+// controller's own). With a child in real time, the wait's own time-out
+// does not count: the child's end does, in real time, looked for at each
+// step (if nothing else has a next event, virtual time passes at the speed
+// of real time meanwhile). After a child ended unseen (the program looked
+// for it just before, and the exit came between its look and its wait), it
+// re-checks at once.
 void Coordinator::child_wait_begins(Controller &c, const ::tcs_msg &m, SideWait *side)
 {
-	if (!(m.flags & TCS_BLOCK_CHILD) || !c.child_ended)
+	if (!(m.flags & TCS_BLOCK_CHILD))
+		return;
+	if (has_real_time_child(c)) {
+		if (side) {
+			side->flags |= TCS_BLOCK_RECHECK;
+		} else {
+			c.recheck = true;
+			c.deadline = TCS_NEVER;
+		}
+	}
+	if (!c.child_ended)
 		return;
 	c.child_ended = false;
 	if (side)
@@ -566,7 +571,8 @@ void Coordinator::on_early(Controller &c, const ::tcs_msg &m, int fd)
 			// Ended by a thread that runs: at that thread's time now (in
 			// cpu mode past the slice's start by what it has computed), so
 			// that what it did is never seen as done before it was.
-			c.account(c.cpu_now(), cfg_.mode);
+			if (cfg_.mode == TCS_MODE_CPU)
+				c.account(c.cpu_now(), cfg_.mode);
 			SideWait done = w;
 			c.side.erase(c.side.begin() + (long)i);
 			answer_side(c, done);

@@ -269,7 +269,7 @@ bool Coordinator::block_if_all_waiting(Controller &c)
 	c.state = CtlState::Blocked;
 	c.in_block = false;
 	demote_wait(c);
-	c.others_asleep = proc_threads(c.pid).threads > (int)c.side.size();
+	c.others_asleep = proc_thread_count(c.pid) > (int)c.side.size();
 	c.rechecked_at = sim_ns_;
 	schedule();
 	return true;

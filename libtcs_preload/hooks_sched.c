@@ -118,12 +118,13 @@ TCS_EXPORT int sched_setparam(pid_t pid, const struct sched_param *param)
 {
 	if (!tcs_active() || !param)
 		return tcs_errno_result(tcs_sys2(SYS_sched_setparam, pid, param));
-	int policy = (int)tcs_sys1(SYS_sched_getscheduler, pid);
-	if (policy < 0)
-		return tcs_errno_result(policy);
+	int current = (int)tcs_sys1(SYS_sched_getscheduler, pid);
+	if (current < 0)
+		return tcs_errno_result(current);
+	int policy = current;
 	struct sched_param p = *param;
 	tcs_clamp(&policy, &p.sched_priority);
-	if (!tcs_rt_policy(policy) && policy != (int)tcs_sys1(SYS_sched_getscheduler, pid))
+	if (policy != current) /* real-time refused here: SCHED_OTHER */
 		return tcs_errno_result(tcs_sys3(SYS_sched_setscheduler, pid, policy, &p));
 	return tcs_errno_result(tcs_sys2(SYS_sched_setparam, pid, &p));
 }

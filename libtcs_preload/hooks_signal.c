@@ -5,7 +5,7 @@
  * acts on one at the sender's time rather than whenever the coordinator
  * next gives it the core. Sent from a signal handler that runs inside one
  * of our waits (coreutils timeout kills its child from its SIGALRM
- * handler), the news waits for that wait's round trip to end. */
+ * handler), the news waits until that wait is left (tcs_wait_leave). */
 #include <signal.h>
 
 #include "preload.h"
@@ -15,7 +15,7 @@
  * thread whose wait it interrupted). More than fit: tell "everyone". */
 #define TCS_MAX_PENDING_KILLS 8
 static __thread long tcs_pending_kills[TCS_MAX_PENDING_KILLS];
-static __thread volatile int tcs_npending_kills;
+__thread volatile int tcs_npending_kills;
 
 static void tcs_send_kill(long target)
 {
@@ -26,7 +26,8 @@ static void tcs_send_kill(long target)
 	tcs_roundtrip(&m, NULL, 0, NULL, &w, NULL);
 }
 
-/* Inside a wait (tcs_wait_enter() held): what handlers left to tell. */
+/* Inside a wait, as it is left (tcs_wait_enter() still held): what
+ * handlers that ran in it left to tell. */
 void tcs_flush_kills(void)
 {
 	while (tcs_npending_kills > 0) {
@@ -76,7 +77,7 @@ long tcs_signal_syscall(long nr, const long a[6])
 	case SYS_tgkill:
 		return tcs_after_kill(r, a[0], (int)a[2]);
 	default: /* tkill, pidfd_send_signal: the process is not at hand */
-		return tcs_after_kill(r, -1, 1);
+		return tcs_after_kill(r, -1, (int)a[1]);
 	}
 }
 

@@ -190,8 +190,10 @@ void tcs_wait_leave(void) TCS_HIDDEN;
 void tcs_report_once(int *once, const char *msg) TCS_HIDDEN;
 
 /* Signals to other processes (hooks_signal.c): syscall() by number, and
- * what handlers inside a wait left to tell the coordinator. */
+ * what handlers inside a wait left to tell the coordinator (how many, then
+ * told as the wait is left). */
 long tcs_signal_syscall(long nr, const long a[6]) TCS_HIDDEN;
+extern __thread volatile int tcs_npending_kills TCS_HIDDEN __attribute__((tls_model("initial-exec")));
 void tcs_flush_kills(void) TCS_HIDDEN;
 
 /* Exported entry points that no public header declares. */

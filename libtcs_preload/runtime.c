@@ -128,6 +128,9 @@ int tcs_wait_enter(void)
 
 void tcs_wait_leave(void)
 {
+	/* Signals a handler sent from inside this wait, told now. */
+	if (__builtin_expect(tcs_npending_kills != 0, 0))
+		tcs_flush_kills();
 	tcs_in_wait = 0;
 }
 
@@ -203,7 +206,6 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 	struct tcs_clock_page *p = tcs_rt.page;
 	if (__builtin_expect(__atomic_load_n(&p->flags, __ATOMIC_RELAXED) & TCS_PAGE_ASLEEP, 0))
 		tcs_catch_up_in_wait();
-	tcs_flush_kills();
 	/* The charge up to here, and virtual time from it in cpu mode. */
 	int64_t cpu = tcs_charge_point();
 	int64_t v = tcs_page_vnow(p, tcs_page_read_slice(p), cpu);
@@ -241,7 +243,6 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 	m.cpu = cpu;
 	struct tcs_msg w;
 	unsigned early = tcs_roundtrip(&m, fds, nfds, mask, &w, NULL);
-	tcs_flush_kills();
 	t->end = w.v;
 	/* A handler ran (a timer's signal, say): the wait was interrupted,
 	 * whatever the answer that crossed the EARLY says. */
