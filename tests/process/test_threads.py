@@ -18,9 +18,11 @@ def run(mode, *argv):
     return r.values(), r
 
 
-def within(value, at, mode, what, r, cpu_slack=0.3 * MS):
+def within(value, at, mode, what, r, cpu_slack=1 * MS):
     """Exactly `at` in lockstep; in cpu mode no earlier, and late by no more
-    than the program's own computing."""
+    than the program's own computing: 6 to 56 us in 30 runs of the mutex
+    case, but a pause of this shared VM inside it is charged as CPU too
+    (312 us seen once in CI), hence a whole millisecond."""
     v = int(value)
     hi = at if mode == "lockstep" else at + cpu_slack
     check(at <= v <= hi, "%s: %s at %.3f ms, expected %.3f ms%s" %
