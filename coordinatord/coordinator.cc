@@ -322,59 +322,58 @@ void Coordinator::child_settled(Controller &parent)
 		reply_now(parent, 0);
 }
 
+// One message per call: the loop is level-triggered, so a channel with more
+// comes back after the others had their turn. Drained in a loop, a channel
+// whose thread always had its next request there by the time the last was
+// answered (the coordinator paused in a system call, under load) kept the
+// coordinator from ever going back to epoll, and another thread's wait went
+// unread for hundreds of virtual ms.
 void Coordinator::on_channel(Controller &c, ThreadChannel *t)
 {
 	const int fd = t ? t->fd.get() : c.channel.get();
 	const pid_t tid = t ? t->tid : c.pid;
 	ChannelState &st = t ? t->state : c.main_state;
-	for (;;) {
-		alignas(8) unsigned char buf[sizeof(struct tcs_msg) + 1];
-		// A child or a thread registering passes its channel
-		// (SCM_RIGHTS); an fd that comes with any other message is closed.
-		struct tcs_msg_io io;
-		tcs_msg_io_recv(&io, buf, sizeof buf);
-		ssize_t n = recvmsg(fd, &io.mh, MSG_DONTWAIT | MSG_CMSG_CLOEXEC);
-		if (n < 0 && (errno == EAGAIN || errno == EINTR))
-			return;
-		UniqueFd passed(n > 0 ? tcs_msg_io_fd(&io) : -1);
-		if (n == 0 || (n < 0 && errno == ECONNRESET)) {
-			// Every copy of this end is closed: the thread has ended, or
-			// the controller is exiting (its pidfd tells when).
-			if (t)
-				thread_gone(c, t);
-			else
-				loop_.remove(c.channel.get());
-			return;
-		}
-		struct tcs_msg m;
-		if (const char *why = tcs_msg_check(buf, (long)n, &m)) {
-			drop(c, std::string("bad message on its channel: ") + why);
-			return;
-		}
-		if (!t && m.type == TCS_MSG_CHILD && !(m.flags & TCS_CHILD_PARENT)) {
-			// From a new child, not from c: it waits on its own channel.
-			on_child(c, m, std::move(passed));
-			continue;
-		}
-		if (!t && m.type == TCS_MSG_THREAD) {
-			on_thread(c, m, std::move(passed));
-			if (c.state == CtlState::Exited || !c.dropped.empty())
-				return;
-			continue;
-		}
-		// The preload waits for the answer to each request: its HELLO, one
-		// request and the EARLY that may cross the answer (and one from
-		// another thread ending its wait) are all it can have outstanding.
-		// More is a flood.
-		if (++st.unanswered > kMaxUnanswered) {
-			drop(c, "it floods its channel (" + std::to_string(st.unanswered) +
-					" messages without waiting for an answer)");
-			return;
-		}
-		on_message(c, m, fd, tid);
-		if (c.state == CtlState::Exited || !c.dropped.empty())
-			return;
+	alignas(8) unsigned char buf[sizeof(struct tcs_msg) + 1];
+	// A child or a thread registering passes its channel (SCM_RIGHTS); an
+	// fd that comes with any other message is closed.
+	struct tcs_msg_io io;
+	tcs_msg_io_recv(&io, buf, sizeof buf);
+	ssize_t n = recvmsg(fd, &io.mh, MSG_DONTWAIT | MSG_CMSG_CLOEXEC);
+	if (n < 0 && (errno == EAGAIN || errno == EINTR))
+		return;
+	UniqueFd passed(n > 0 ? tcs_msg_io_fd(&io) : -1);
+	if (n == 0 || (n < 0 && errno == ECONNRESET)) {
+		// Every copy of this end is closed: the thread has ended, or the
+		// controller is exiting (its pidfd tells when).
+		if (t)
+			thread_gone(c, t);
+		else
+			loop_.remove(c.channel.get());
+		return;
 	}
+	struct tcs_msg m;
+	if (const char *why = tcs_msg_check(buf, (long)n, &m)) {
+		drop(c, std::string("bad message on its channel: ") + why);
+		return;
+	}
+	if (!t && m.type == TCS_MSG_CHILD && !(m.flags & TCS_CHILD_PARENT)) {
+		// From a new child, not from c: it waits on its own channel.
+		on_child(c, m, std::move(passed));
+		return;
+	}
+	if (!t && m.type == TCS_MSG_THREAD) {
+		on_thread(c, m, std::move(passed));
+		return;
+	}
+	// The preload waits for the answer to each request: its HELLO, one
+	// request and the EARLY that may cross the answer (and one from another
+	// thread ending its wait) are all it can have outstanding. More is a
+	// flood.
+	if (++st.unanswered > kMaxUnanswered) {
+		drop(c, "it floods its channel (" + std::to_string(st.unanswered) + " messages without waiting for an answer)");
+		return;
+	}
+	on_message(c, m, fd, tid);
 }
 
 void Coordinator::on_message(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)

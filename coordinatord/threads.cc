@@ -9,6 +9,8 @@
 // outside tcs's hooks (a mutex, a pipe) count as waiting for something
 // only another thread (or the outside world) can end: a Blocked controller
 // with such threads is looked at each step, and runs again when one wakes.
+#include <sys/socket.h>
+
 #include <algorithm>
 
 #include "coordinator.h"
@@ -96,11 +98,21 @@ bool Coordinator::side_wait(Controller &c, const ::tcs_msg &m, int fd, pid_t tid
 	return true;
 }
 
+// Whether a thread's channel holds a request we have not read yet.
+static bool has_unread_message(int fd)
+{
+	unsigned char b;
+	return recv(fd, &b, 1, MSG_PEEK | MSG_DONTWAIT) > 0;
+}
+
 // How many threads of c could run now, leaving out `also` and those that
 // have sent a wait: one preempted by us right after its send is still
 // runnable for the kernel, on its way to its wait. Counted as runnable, it
 // would make the last thread's wait a side wait too, and the controller
 // would hold the core with every thread waiting until the watchdog looked.
+// A thread asleep with a request on its channel that we have not read yet
+// (it waits for the answer) is on its way to a wait too: taken for asleep
+// outside the hooks, time would pass before its request was heard.
 // A thread that has never waited through tcs (it has no channel yet) and
 // sleeps may be one just started, on its way to its first wait: it counts
 // as runnable for this long after it is first seen (wall time), so that no
@@ -124,9 +136,15 @@ int Coordinator::runnable_threads(Controller &c, pid_t also)
 			runnable++;
 			continue;
 		}
-		if (t.tid == c.pid ||
-		    std::any_of(c.threads.begin(), c.threads.end(), [&](const auto &ch) { return ch->tid == t.tid; }))
+		int channel = t.tid == c.pid ? c.channel.get() : -1;
+		for (const auto &ch : c.threads)
+			if (ch->tid == t.tid)
+				channel = ch->fd.get();
+		if (channel >= 0) {
+			if (has_unread_message(channel))
+				runnable++;
 			continue;
+		}
 		if (now < 0)
 			now = wall_now();
 		auto [seen, fresh] = c.thread_first_seen.try_emplace(t.tid, now);

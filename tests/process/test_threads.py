@@ -5,8 +5,9 @@ Python (Event, Lock, queue) end in virtual time. Lockstep figures are exact;
 cpu mode adds the CPU the program itself uses (tens of microseconds)."""
 
 import os
+import time
 
-from harness import PYTHON, check, close_to, main, prog, tcs
+from harness import PYTHON, TCS_RUN, check, close_to, finish, main, prog, start, tcs
 
 MS = 1000000
 SRC = os.environ["TCS_PROGRAMS_SRC"]
@@ -64,6 +65,28 @@ def test_time_passes_only_when_every_thread_waits():
     check(woke >= 10 * MS, "cpu: main's 10 ms sleep lasts 10 ms at least", r)
     check(woke - 1 * MS <= worker <= woke, "cpu: the time that passed is the worker's CPU", r)
     check(int(v["end_ns"]) >= 20 * MS, "cpu: the worker's 20 ms of CPU are 20 ms of virtual time", r)
+
+
+def test_every_thread_is_heard_while_another_polls():
+    # A worker sleeps 1 ms a thousand times while main polls its count
+    # every 100 us. Each of the worker's waits ends on time, in every run:
+    # the coordinator once read one channel for as long as it had messages,
+    # and main's next poll was always there, so the worker's wait went
+    # unread for up to seconds of virtual time (1 run in 100 alone, more in
+    # parallel). Two runs at a time, as the suite's own load.
+    results = []
+    for _ in range(4):
+        t0 = time.monotonic()
+        pair = [start([TCS_RUN, "-q", "-m", "lockstep", "--", prog("threads"), "poll"]) for _ in range(2)]
+        results += [finish(p, 60, t0) for p in pair]
+    for r in results:
+        check(r.returncode == 0, "threads poll: exit 0", r)
+        v = r.values()
+        check(v["worker_late"] == "0", "lockstep: each of the worker's 1000 sleeps ends at its deadline", r)
+        seen = int(v["seen_ns"])
+        check(1000 * MS <= seen <= 1000 * MS + 100000, "lockstep: main sees the 1000th count at 1.000 s "
+              "(or its next poll), not %.6f s" % (seen / 1e9), r)
+    print("  8 runs: every sleep on time, count seen at %s" % sorted({int(r.values()["seen_ns"]) for r in results}))
 
 
 def test_pthread_timed_waits():

@@ -13,7 +13,10 @@
  *   sem          sem_timedwait times out at 3 ms; sem_clockwait is posted
  *                at 4 ms
  *   asleep       a worker blocked in read() on a pipe (outside the hooks)
- *                while main sleeps 5 ms, then writes to it */
+ *                while main sleeps 5 ms, then writes to it
+ *   poll         a worker sleeps 1 ms a thousand times while main polls
+ *                its count every 100 us: when main saw the count reach
+ *                1000, and how many times the worker was late */
 #include <errno.h>
 #include <pthread.h>
 #include <semaphore.h>
@@ -294,6 +297,36 @@ static int mode_asleep(void)
 	return 0;
 }
 
+/* ---- poll ---- */
+static volatile long polled_count;
+static long worker_late;
+
+static void *counting(void *arg)
+{
+	(void)arg;
+	struct timespec ms = { 0, MS };
+	for (long i = 1; i <= 1000; i++) {
+		nanosleep(&ms, NULL);
+		if (now() != i * MS)
+			worker_late++;
+		polled_count = i;
+	}
+	return NULL;
+}
+
+static int mode_poll(void)
+{
+	pthread_t w;
+	pthread_create(&w, NULL, counting, NULL);
+	struct timespec poll_period = { 0, 100000 };
+	while (polled_count < 1000)
+		nanosleep(&poll_period, NULL);
+	long long seen = now();
+	pthread_join(w, NULL);
+	printf("seen_ns=%lld worker_late=%ld\n", seen, worker_late);
+	return 0;
+}
+
 int main(int argc, char **argv)
 {
 	t0 = clock_ns(CLOCK_MONOTONIC);
@@ -310,6 +343,8 @@ int main(int argc, char **argv)
 		return mode_sem();
 	if (!strcmp(mode, "asleep"))
 		return mode_asleep();
-	fprintf(stderr, "usage: threads loops|compute|cond|mutex|sem|asleep\n");
+	if (!strcmp(mode, "poll"))
+		return mode_poll();
+	fprintf(stderr, "usage: threads loops|compute|cond|mutex|sem|asleep|poll\n");
 	return 2;
 }
