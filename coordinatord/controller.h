@@ -230,6 +230,8 @@ public:
 	int asleep_looks = 0;       // looks in a row that found it asleep
 	pid_t awaiting_child = 0;   // right after a fork: the child not yet registered
 	UniqueFd awaiting_child_fd; // its pidfd (it may die before it registers)
+	int64_t awaiting_since = 0; // wall time
+	bool awaiting_exec = false; // its exec not yet done: looked at
 
 private:
 	Result<UniqueFd> make_page(const ControllerSpec &spec, int mode, const ClockOrigins &origins,

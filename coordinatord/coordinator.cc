@@ -28,6 +28,9 @@ int64_t clock_ns(clockid_t id)
 }
 
 constexpr int64_t kProgressPeriod = 250 * TCS_NS_PER_MS;
+constexpr int64_t kRegistrationWait = 1 * TCS_NS_PER_S;
+// How often a child's exec, still under way, is looked at (wall time).
+constexpr int64_t kExecLook = 200 * TCS_NS_PER_US;
 // Messages a controller may send without an answer (see on_channel).
 constexpr int kMaxUnanswered = 4;
 // How long controllers get to act on SIGTERM at the end before SIGKILL.
@@ -50,7 +53,7 @@ Status Coordinator::init()
 		return Error{ "the simulation step must be positive" };
 	if (auto s = loop_.init(); !s)
 		return s;
-	for (Timer *t : { &budget_timer_, &progress_timer_, &kill_timer_, &idle_timer_, &continue_timer_, &watchdog_timer_, &exit_timer_ })
+	for (Timer *t : { &budget_timer_, &progress_timer_, &kill_timer_, &idle_timer_, &continue_timer_, &watchdog_timer_, &exit_timer_, &exec_timer_ })
 		if (auto s = t->init(); !s)
 			return s;
 
@@ -119,6 +122,7 @@ Status Coordinator::init()
 	watch(progress_timer_.fd(), [this](uint32_t) { on_progress(); });
 	watch(idle_timer_.fd(), [this](uint32_t) { on_idle(); });
 	watch(watchdog_timer_.fd(), [this](uint32_t) { on_watchdog(); });
+	watch(exec_timer_.fd(), [this](uint32_t) { on_exec_look(); });
 	watch(exit_timer_.fd(), [this](uint32_t) {
 		exit_timer_.consume();
 		auto again = std::move(exiting_);
@@ -235,6 +239,8 @@ void Coordinator::on_child(Controller &parent, const ::tcs_msg &m, UniqueFd chan
 	pid_t pid = (pid_t)m.arg;
 	auto refuse = [&](const std::string &why) {
 		warn_once("a child of " + parent.name + " runs in real time: " + why);
+		if (parent.awaiting_child == pid)
+			child_settled(parent);
 		if (channel) {
 			struct tcs_msg w = tcs_msg_make(TCS_MSG_WAKE, m.seq);
 			w.arg = -EPERM;
@@ -304,11 +310,42 @@ void Coordinator::on_forked(Controller &c, const ::tcs_msg &m)
 		reply_now(c, -ESRCH);
 		return;
 	}
+	// Started by vfork or posix_spawn, it has exec'd already: a program
+	// that will not load the preload never registers (it runs in real
+	// time, said once when its parent waits for it).
+	WillLoad will = proc_will_load(pid, "libtcs_preload");
+	if (will == WillLoad::No) {
+		reply_now(c, 0);
+		return;
+	}
 	c.awaiting_child = pid;
+	c.awaiting_since = wall_now();
+	c.awaiting_exec = will == WillLoad::Unknown;
+	if (c.awaiting_exec)
+		exec_timer_.arm(kExecLook, kExecLook);
 	c.awaiting_child_fd = std::move(fd);
 	Controller *raw = &c;
 	if (auto s = loop_.add(c.awaiting_child_fd.get(), [this, raw](uint32_t) { child_settled(*raw); }); !s)
 		fatal_ = s;
+}
+
+// Children whose exec was still under way when their parent asked: looked
+// at until they can be seen to load the preload or not.
+void Coordinator::on_exec_look()
+{
+	exec_timer_.consume();
+	bool again = false;
+	for (auto &c : ctls_) {
+		if (c->awaiting_child == 0 || !c->awaiting_exec)
+			continue;
+		WillLoad will = proc_will_load(c->awaiting_child, "libtcs_preload");
+		c->awaiting_exec = will == WillLoad::Unknown;
+		if (will == WillLoad::No)
+			child_settled(*c);
+		again = again || c->awaiting_exec;
+	}
+	if (!again)
+		exec_timer_.disarm();
 }
 
 void Coordinator::child_settled(Controller &parent)
@@ -567,6 +604,11 @@ void Coordinator::on_signal()
 void Coordinator::on_progress()
 {
 	progress_timer_.consume();
+	// A parent waits for its new child's registration no longer than this
+	// (its program, say, hangs in a constructor before ours runs).
+	for (auto &c : ctls_)
+		if (c->awaiting_child != 0 && wall_now() - c->awaiting_since > kRegistrationWait)
+			child_settled(*c);
 	if (cfg_.on_progress && !ending_)
 		cfg_.on_progress(sim_ns_, clock_ns(CLOCK_MONOTONIC) - wall_start_);
 	if (cfg_.mode == TCS_MODE_LOCKSTEP && running_ &&

@@ -143,6 +143,8 @@ private:
 	void child_wait_begins(Controller &c, const ::tcs_msg &m, SideWait *side);
 	void on_child(Controller &parent, const ::tcs_msg &m, UniqueFd channel);
 	void on_forked(Controller &c, const ::tcs_msg &m);
+	void on_exec_look();
+	void arm_idle_step();
 	// Asleep in the kernel outside the hooks (asleep.cc).
 	static constexpr int64_t kWatchdog = 2 * TCS_NS_PER_MS;
 	void arm_watchdog(Controller &c);
@@ -188,6 +190,13 @@ private:
 	Timer progress_timer_;
 	Timer kill_timer_;
 	Timer idle_timer_;
+	// A world running at real-time speed: the wall time its steps are
+	// due at (arm_idle_step).
+	struct IdlePace {
+		int64_t wall = 0, sim = 0; // where it began
+		int64_t next_sim = -1; // the step it was armed for
+		int64_t wall_for(int64_t at) const { return wall + (at - sim); }
+	} idle_;
 	// Fires at once: a long way for the world to go is computed in slices
 	// of wall time, with the event loop (signals, deaths) served between.
 	Timer continue_timer_;
@@ -197,6 +206,7 @@ private:
 	// from this timer (not in a loop: on our core, at our priority, they
 	// would never get to end).
 	Timer exit_timer_;
+	Timer exec_timer_; // a new child's exec, still under way
 	std::vector<Controller *> exiting_;
 	UniqueFd signal_fd_;
 	std::vector<std::unique_ptr<Controller>> ctls_;

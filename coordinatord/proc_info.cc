@@ -180,4 +180,29 @@ bool proc_has_thread(pid_t pid, pid_t tid)
 	return access(path, F_OK) == 0;
 }
 
+WillLoad proc_will_load(pid_t pid, const char *name)
+{
+	// The environment is laid out last, the loader mapped by then: read
+	// first, it says whether what the maps say next is final.
+	std::ifstream env("/proc/" + std::to_string(pid) + "/environ");
+	std::string var;
+	bool laid_out = false, preload = false;
+	while (std::getline(env, var, '\0')) {
+		laid_out = true;
+		if (var.rfind("LD_PRELOAD=", 0) == 0)
+			preload = var.find(name) != std::string::npos;
+	}
+	std::ifstream maps("/proc/" + std::to_string(pid) + "/maps");
+	std::string line;
+	bool loader = false;
+	while (std::getline(maps, line)) {
+		if (line.find(name) != std::string::npos)
+			return WillLoad::Yes;
+		loader = loader || line.find("/ld-") != std::string::npos;
+	}
+	if (!laid_out)
+		return WillLoad::Unknown;
+	return loader && preload ? WillLoad::Yes : WillLoad::No;
+}
+
 } // namespace tcs

@@ -35,6 +35,13 @@ bool proc_has_thread(pid_t pid, pid_t tid);
 // Whether pid has a library whose file name contains name mapped (true too
 // if its maps cannot be read or are empty: no verdict).
 bool proc_maps_library(pid_t pid, const char *name);
+// Whether pid, a program just started by exec, will load a library whose
+// file name contains name: mapped already, or a dynamic program (its loader
+// is mapped) with LD_PRELOAD naming it. Unknown while its exec is still
+// setting up the new image (a vfork parent resumes before it is done):
+// until its environment can be read.
+enum class WillLoad { Yes, No, Unknown };
+WillLoad proc_will_load(pid_t pid, const char *name);
 // The children of pid (of all its threads), from /proc.
 std::vector<pid_t> proc_children(pid_t pid);
 

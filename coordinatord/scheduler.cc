@@ -46,6 +46,8 @@ constexpr int64_t kRegistrationGrace = 200 * TCS_NS_PER_MS;
 constexpr int kStopLooks = 50000;
 // Bound on the learnt wall-versus-CPU lag of a slice.
 constexpr int64_t kMaxLag = 200 * TCS_NS_PER_US;
+// How far behind real time an idle world may fall and catch up.
+constexpr int64_t kIdleCatchUp = 50 * TCS_NS_PER_MS;
 } // namespace
 
 void Coordinator::schedule()
@@ -119,7 +121,7 @@ void Coordinator::schedule()
 			// can end (some looked at each step: asleep outside the hooks,
 			// or in a wait only a re-check can see end): let virtual time
 			// pass at real-time speed, and hear their channels meanwhile.
-			idle_timer_.arm(cfg_.step_ns);
+			arm_idle_step();
 			return;
 		}
 		int64_t next = target;
@@ -236,6 +238,19 @@ bool Coordinator::advance_to(int64_t next)
 		return false;
 	}
 	return true;
+}
+
+// The next step of a world that runs at real-time speed, on a wall clock
+// anchored where it began to, so that the time steps take (and this
+// coordinator waiting for its core, under load) is not lost from it. Far
+// behind (the machine paused), it starts again from now.
+void Coordinator::arm_idle_step()
+{
+	int64_t now = wall_now();
+	if (sim_ns_ != idle_.next_sim || now - idle_.wall_for(sim_ns_) > kIdleCatchUp)
+		idle_ = IdlePace{ now, sim_ns_, 0 };
+	idle_.next_sim = sim_ns_ + cfg_.step_ns;
+	idle_timer_.arm(std::max<int64_t>(idle_.wall_for(idle_.next_sim) - now, 1));
 }
 
 void Coordinator::on_idle()

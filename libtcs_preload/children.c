@@ -2,8 +2,9 @@
  * posix_spawn, system) registers with the coordinator before it runs on:
  * a forked one in the fork's child handler, one started by vfork or
  * posix_spawn when its new program loads (its clock page is then its
- * parent's). It becomes a controller of its own, with its own virtual CPU,
- * starting at its parent's virtual time. A parent waiting for a child
+ * parent's); the parent waits for that in each case. It becomes a
+ * controller of its own, with its own virtual CPU, starting at its
+ * parent's virtual time. A parent waiting for a child
  * (wait, waitpid, wait3, wait4, waitid) waits in virtual time: the
  * coordinator wakes it when a child of its exits. */
 #include <dlfcn.h>
@@ -110,9 +111,24 @@ void tcs_children_init(void)
 	pthread_atfork(tcs_atfork_prepare, NULL, tcs_atfork_child);
 }
 
-/* fork: the parent waits until its child has registered (the child runs
- * only once the parent waits, under SCHED_FIFO on their one core), so that
- * no virtual time passes in which the child is not counted. */
+/* The parent of a new child waits until the child has registered (or can
+ * be seen never to: a static program, LD_PRELOAD gone; or has died), so
+ * that no virtual time passes in which the child is not counted: a forked
+ * child registers in its fork handler (under SCHED_FIFO on their one core
+ * it runs only once the parent waits), one started by vfork or
+ * posix_spawn once its new program has loaded. */
+static void tcs_await_child(pid_t pid)
+{
+	if (pid <= 0 || !tcs_active() || !tcs_wait_enter())
+		return;
+	struct tcs_msg m = tcs_msg_make(TCS_MSG_CHILD, 0), w;
+	m.arg = pid;
+	m.flags = TCS_CHILD_PARENT;
+	m.cpu = tcs_charge_point();
+	tcs_roundtrip(&m, NULL, 0, NULL, &w, NULL);
+	tcs_wait_leave();
+}
+
 TCS_EXPORT pid_t fork(void)
 {
 	static pid_t (*real_fork)(void);
@@ -121,16 +137,78 @@ TCS_EXPORT pid_t fork(void)
 	if (!real_fork)
 		return (pid_t)tcs_errno_result(-ENOSYS);
 	pid_t pid = real_fork();
-	if (pid <= 0 || !tcs_active() || !tcs_wait_enter())
-		return pid;
-	struct tcs_msg m = tcs_msg_make(TCS_MSG_CHILD, 0), w;
-	m.arg = pid;
-	m.flags = TCS_CHILD_PARENT;
-	m.cpu = tcs_charge_point();
-	tcs_roundtrip(&m, NULL, 0, NULL, &w, NULL);
-	tcs_wait_leave();
+	tcs_await_child(pid);
 	return pid;
 }
+
+typedef int (*tcs_spawn_fn)(pid_t *, const char *, const posix_spawn_file_actions_t *, const posix_spawnattr_t *,
+			    char *const[], char *const[]);
+
+static int tcs_spawn(const char *name, tcs_spawn_fn *real, pid_t *pid, const char *file,
+		     const posix_spawn_file_actions_t *actions, const posix_spawnattr_t *attr, char *const argv[],
+		     char *const envp[])
+{
+	if (!*real)
+		*real = (tcs_spawn_fn)dlsym(RTLD_NEXT, name);
+	if (!*real)
+		return ENOSYS;
+	pid_t child = -1;
+	int r = (*real)(&child, file, actions, attr, argv, envp);
+	if (r == 0) {
+		if (pid)
+			*pid = child;
+		tcs_await_child(child);
+	}
+	return r;
+}
+
+TCS_EXPORT int posix_spawn(pid_t *pid, const char *path, const posix_spawn_file_actions_t *actions,
+			   const posix_spawnattr_t *attr, char *const argv[], char *const envp[])
+{
+	static tcs_spawn_fn real;
+	return tcs_spawn("posix_spawn", &real, pid, path, actions, attr, argv, envp);
+}
+
+TCS_EXPORT int posix_spawnp(pid_t *pid, const char *file, const posix_spawn_file_actions_t *actions,
+			    const posix_spawnattr_t *attr, char *const argv[], char *const envp[])
+{
+	static tcs_spawn_fn real;
+	return tcs_spawn("posix_spawnp", &real, pid, file, actions, attr, argv, envp);
+}
+
+#if defined(__x86_64__)
+/* vfork: the child borrows the parent's memory, stack included, until it
+ * execs or exits, so no C function may return in it. As glibc's own, the
+ * return address is kept in a register across the system call (each
+ * process has its registers); the parent then, the child gone from its
+ * stack, waits for the child's registration in C. Elsewhere vfork is
+ * libc's and the child is counted from when its program loads. */
+long tcs_after_vfork(long pid) __attribute__((used));
+long tcs_after_vfork(long pid)
+{
+	if (pid < 0)
+		return tcs_errno_result(pid);
+	tcs_await_child((pid_t)pid);
+	return pid;
+}
+
+__asm__(".text\n"
+	".globl vfork\n"
+	".type vfork, @function\n"
+	"vfork:\n"
+	"	popq %rdi\n" /* the return address, out of the shared stack */
+	"	movl $58, %eax\n" /* SYS_vfork */
+	"	syscall\n"
+	"	pushq %rdi\n"
+	"	testq %rax, %rax\n"
+	"	jz 1f\n" /* the child: straight back */
+	"	movq %rax, %rdi\n"
+	"	subq $8, %rsp\n" /* the stack 16-byte aligned at the call */
+	"	call tcs_after_vfork@PLT\n"
+	"	addq $8, %rsp\n"
+	"1:	ret\n"
+	".size vfork, .-vfork\n");
+#endif
 
 /* ---- waiting for children -------------------------------------------------- */
 
