@@ -28,6 +28,7 @@ int64_t clock_ns(clockid_t id)
 }
 
 constexpr int64_t kProgressPeriod = 250 * TCS_NS_PER_MS;
+// The longest a parent waits for its new child to register (wall time).
 constexpr int64_t kRegistrationWait = 1 * TCS_NS_PER_S;
 // How often a child's exec, still under way, is looked at (wall time).
 constexpr int64_t kExecLook = 200 * TCS_NS_PER_US;
@@ -606,8 +607,9 @@ void Coordinator::on_progress()
 	progress_timer_.consume();
 	// A parent waits for its new child's registration no longer than this
 	// (its program, say, hangs in a constructor before ours runs).
+	int64_t now = wall_now();
 	for (auto &c : ctls_)
-		if (c->awaiting_child != 0 && wall_now() - c->awaiting_since > kRegistrationWait)
+		if (c->awaiting_child != 0 && now - c->awaiting_since > kRegistrationWait)
 			child_settled(*c);
 	if (cfg_.on_progress && !ending_)
 		cfg_.on_progress(sim_ns_, clock_ns(CLOCK_MONOTONIC) - wall_start_);

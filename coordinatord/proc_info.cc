@@ -160,17 +160,30 @@ std::vector<pid_t> proc_children(pid_t pid)
 	return out;
 }
 
-bool proc_maps_library(pid_t pid, const char *name)
+namespace {
+// What pid's maps say: whether a file whose name contains name is mapped,
+// and whether a dynamic loader and anything at all are.
+struct MapsSeen {
+	bool found = false, loader = false, any = false;
+};
+MapsSeen scan_maps(pid_t pid, const char *name)
 {
+	MapsSeen seen;
 	std::ifstream f("/proc/" + std::to_string(pid) + "/maps");
 	std::string line;
-	bool any = false;
-	while (std::getline(f, line)) {
-		if (line.find(name) != std::string::npos)
-			return true;
-		any = true;
+	while (!seen.found && std::getline(f, line)) {
+		seen.any = true;
+		seen.found = line.find(name) != std::string::npos;
+		seen.loader = seen.loader || line.find("/ld-") != std::string::npos;
 	}
-	return !any; // unreadable, or a process on its way out: no verdict
+	return seen;
+}
+} // namespace
+
+bool proc_maps_library(pid_t pid, const char *name)
+{
+	MapsSeen seen = scan_maps(pid, name);
+	return seen.found || !seen.any; // unreadable, or a process on its way out: no verdict
 }
 
 bool proc_has_thread(pid_t pid, pid_t tid)
@@ -192,17 +205,12 @@ WillLoad proc_will_load(pid_t pid, const char *name)
 		if (var.rfind("LD_PRELOAD=", 0) == 0)
 			preload = var.find(name) != std::string::npos;
 	}
-	std::ifstream maps("/proc/" + std::to_string(pid) + "/maps");
-	std::string line;
-	bool loader = false;
-	while (std::getline(maps, line)) {
-		if (line.find(name) != std::string::npos)
-			return WillLoad::Yes;
-		loader = loader || line.find("/ld-") != std::string::npos;
-	}
+	MapsSeen maps = scan_maps(pid, name);
+	if (maps.found)
+		return WillLoad::Yes;
 	if (!laid_out)
 		return WillLoad::Unknown;
-	return loader && preload ? WillLoad::Yes : WillLoad::No;
+	return maps.loader && preload ? WillLoad::Yes : WillLoad::No;
 }
 
 } // namespace tcs
