@@ -89,6 +89,9 @@ Result<std::unique_ptr<Controller>> Controller::start(int id, const ControllerSp
 	req.channel_fd = child_end.get();
 	req.page_fd = page_fd->get();
 	req.realtime = rt;
+	req.env = spec.env ? &*spec.env : nullptr;
+	req.cwd = spec.cwd;
+	req.stdio = spec.stdio;
 	auto spawned = spawn_stopped(req);
 	if (!spawned)
 		return spawned.error();

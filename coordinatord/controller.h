@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,12 @@ struct ControllerSpec {
 	std::vector<std::string> argv; // as given
 	double cpu_scale = 1.0;
 	bool report_misses = false; // TCS_PAGE_REPORT_MISSES (set when tracing)
+	// Started for someone else (coordinatord serving tcs-run --connect):
+	// their environment, working directory and stdin/stdout/stderr. Empty,
+	// empty and -1: the coordinator's own.
+	std::optional<std::vector<std::string>> env;
+	std::string cwd;
+	std::array<int, 3> stdio = { -1, -1, -1 };
 };
 
 // The constants every controller's clock page starts with.
@@ -220,6 +227,7 @@ public:
 
 	int exit_status = -1;   // wait status when Exited
 	bool ended_by_tcs = false; // exited after the run's end was called
+	int64_t kill_after = 0;    // wall time: SIGKILL then if still alive (0: no)
 	std::string dropped;    // why tcs dropped it, if it did
 	LoopStats stats;
 

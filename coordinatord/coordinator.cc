@@ -34,8 +34,6 @@ constexpr int64_t kRegistrationWait = 1 * TCS_NS_PER_S;
 constexpr int64_t kExecLook = 200 * TCS_NS_PER_US;
 // Messages a controller may send without an answer (see on_channel).
 constexpr int kMaxUnanswered = 4;
-// How long controllers get to act on SIGTERM at the end before SIGKILL.
-constexpr int64_t kEndGrace = 2 * TCS_NS_PER_S;
 
 } // namespace
 
@@ -175,7 +173,10 @@ Result<RunReport> Coordinator::run()
 	// Ticks even without a progress line: the lockstep warning needs it.
 	progress_timer_.arm(kProgressPeriod, kProgressPeriod);
 	schedule();
-	while (alive() > 0 && fatal_) {
+	// Served, the run lasts until its end was called and every controller,
+	// children too, has gone.
+	auto going = [&] { return cfg_.serve ? !ending_ || alive_controllers() > 0 : alive() > 0; };
+	while (going() && fatal_) {
 		if (auto s = loop_.dispatch(); !s)
 			fatal_ = s;
 	}
@@ -201,25 +202,29 @@ Result<RunReport> Coordinator::run()
 	r.step_wall_median = step_walls_.median();
 	r.step_wall_max = step_walls_.max();
 	r.realtime = rt_;
-	for (auto &c : ctls_) {
-		ControllerReport cr;
-		cr.id = c->id;
-		cr.pid = c->pid;
-		cr.name = c->name;
-		cr.wait_status = c->exit_status;
-		cr.attached = c->attached;
-		cr.virtual_ns = c->v;
-		cr.charged_ns = c->charged;
-		cr.waits = c->stats.waits + c->quick_waits();
-		cr.periodic_waits = c->stats.absolute_waits + c->past_deadlines();
-		cr.deadline_misses = c->past_deadlines() + c->stats.reported_misses;
-		cr.preemptions = c->stats.preemptions;
-		cr.ended_by_tcs = c->ended_by_tcs;
-		cr.child = c->parent_id != 0;
-		cr.dropped = c->dropped;
-		r.controllers.push_back(cr);
-	}
+	for (auto &c : ctls_)
+		r.controllers.push_back(report_of(*c));
 	return r;
+}
+
+ControllerReport Coordinator::report_of(const Controller &c) const
+{
+	ControllerReport cr;
+	cr.id = c.id;
+	cr.pid = c.pid;
+	cr.name = c.name;
+	cr.wait_status = c.exit_status;
+	cr.attached = c.attached;
+	cr.virtual_ns = c.v;
+	cr.charged_ns = c.charged;
+	cr.waits = c.stats.waits + c.quick_waits();
+	cr.periodic_waits = c.stats.absolute_waits + c.past_deadlines();
+	cr.deadline_misses = c.past_deadlines() + c.stats.reported_misses;
+	cr.preemptions = c.stats.preemptions;
+	cr.ended_by_tcs = c.ended_by_tcs;
+	cr.child = c.parent_id != 0;
+	cr.dropped = c.dropped;
+	return cr;
 }
 
 // The run lasts while a controller tcs started lives (children left behind
@@ -561,6 +566,14 @@ void Coordinator::on_exit(Controller &c, int wait_status)
 		budget_timer_.disarm();
 	}
 	c.ended_by_tcs = ending_;
+	if (c.parent_id == 0 && cfg_.serve) {
+		// Served: its children go with it, as they do at the end of a run.
+		for (auto &o : ctls_)
+			if (o->state != CtlState::Exited && descends_from(*o, c.id))
+				kill(o->pid, SIGKILL);
+		if (cfg_.on_controller_end)
+			cfg_.on_controller_end(report_of(c));
+	}
 	schedule();
 }
 
@@ -608,9 +621,12 @@ void Coordinator::on_progress()
 	// A parent waits for its new child's registration no longer than this
 	// (its program, say, hangs in a constructor before ours runs).
 	int64_t now = wall_now();
-	for (auto &c : ctls_)
+	for (auto &c : ctls_) {
 		if (c->awaiting_child != 0 && now - c->awaiting_since > kRegistrationWait)
 			child_settled(*c);
+		if (c->kill_after != 0 && now > c->kill_after && c->state != CtlState::Exited)
+			kill(c->pid, SIGKILL);
+	}
 	if (cfg_.on_progress && !ending_)
 		cfg_.on_progress(sim_ns_, clock_ns(CLOCK_MONOTONIC) - wall_start_);
 	if (cfg_.mode == TCS_MODE_LOCKSTEP && running_ &&

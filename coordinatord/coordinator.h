@@ -28,6 +28,8 @@
 
 namespace tcs {
 
+struct ControllerReport;
+
 struct CoordinatorConfig {
 	int mode = TCS_MODE_CPU;
 	int64_t step_ns = 1000000;          // the simulation step dt
@@ -42,6 +44,11 @@ struct CoordinatorConfig {
 	std::function<void(int64_t virtual_ns, int64_t wall_ns)> on_progress;
 	// Called once per distinct warning (may be empty).
 	std::function<void(const std::string &)> on_warning;
+	// coordinatord: the run lasts until a signal ends it, controllers come
+	// and go (attach()), and a world without any runs at real-time speed.
+	bool serve = false;
+	// Called when a controller tcs started (not a child of one) has ended.
+	std::function<void(const ControllerReport &)> on_controller_end;
 };
 
 struct ControllerReport {
@@ -86,6 +93,26 @@ public:
 	// signal ends the run; every controller is gone when it returns.
 	Result<RunReport> run();
 
+	// Serving (coordinatord), from handlers the run's loop calls:
+	struct Attached {
+		int id = 0;
+		pid_t pid = -1;
+	};
+	// Starts a controller in the running world, at the world's time.
+	Result<Attached> attach(const ControllerSpec &spec);
+	// While held, nothing runs and the world does not step.
+	void hold(bool on);
+	// Sends signo to controller id for its caller (Ctrl-C at tcs-run).
+	void signal_controller(int id, int signo);
+	// Its caller has gone: SIGTERM now, SIGKILL after the end's grace.
+	void end_controller(int id);
+	// Another fd for the run's loop (a socket, a client).
+	Status watch(int fd, std::function<void()> on_ready);
+	void unwatch(int fd);
+	int64_t sim_time() const { return sim_ns_; }
+	int mode() const { return cfg_.mode; }
+	int fifo_cpu() const { return rt_.fifo ? rt_.cpu : -1; }
+
 private:
 	Coordinator() = default;
 	Status init();
@@ -100,6 +127,9 @@ private:
 	void on_signal();
 	void on_progress();
 	void drop(Controller &c, const std::string &why);
+	ControllerReport report_of(const Controller &c) const;
+	Controller *top_level(int id);
+	bool descends_from(const Controller &o, int root) const;
 	void warn_once(const std::string &what);
 
 	// Scheduling (scheduler.cc).
@@ -133,6 +163,8 @@ private:
 	// SCHED_FIFO it would never get to run at all. The overshoot this allows
 	// is carried into the next budget like any other.
 	static constexpr int64_t kMinSlice = 20 * TCS_NS_PER_US;
+	// How long controllers get to act on SIGTERM at the end before SIGKILL.
+	static constexpr int64_t kEndGrace = 2 * TCS_NS_PER_S;
 	// Signal timers (signal_timers.cc).
 	void on_timer(Controller &c, const ::tcs_msg &m);
 	void on_kill(Controller &c, const ::tcs_msg &m);
@@ -223,6 +255,7 @@ private:
 	int64_t steps_ = 0;
 	Controller *running_ = nullptr;
 	bool ending_ = false;
+	bool held_ = false;
 	EndReason end_reason_ = EndReason::AllExited;
 	int end_signal_ = 0;
 	int64_t wall_start_ = 0;

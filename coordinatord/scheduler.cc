@@ -52,7 +52,7 @@ constexpr int64_t kIdleCatchUp = 50 * TCS_NS_PER_MS;
 
 void Coordinator::schedule()
 {
-	if (running_ || ending_ || !fatal_)
+	if (running_ || ending_ || held_ || !fatal_)
 		return;
 	for (;;) {
 		const int64_t target = sim_ns_ + cfg_.step_ns;
@@ -79,8 +79,13 @@ void Coordinator::schedule()
 				next_event = std::min(next_event, at);
 			}
 		}
-		if (!any)
-			return; // everyone has exited; run() notices
+		if (!any) {
+			// Everyone has exited: run() notices; served, the world goes
+			// on at real-time speed until someone attaches.
+			if (cfg_.serve)
+				arm_idle_step();
+			return;
+		}
 		if (best && best->asleep && still_asleep(*best, best_at)) {
 			// Looked at: still asleep, its turn passes for this step.
 			best->rechecked_at = sim_ns_;
@@ -256,7 +261,7 @@ void Coordinator::arm_idle_step()
 void Coordinator::on_idle()
 {
 	idle_timer_.consume();
-	if (running_ || ending_)
+	if (running_ || ending_ || held_)
 		return;
 	if (advance_to(sim_ns_ + cfg_.step_ns))
 		schedule();

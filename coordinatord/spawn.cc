@@ -66,9 +66,18 @@ Result<Spawned> spawn_stopped(const SpawnRequest &req)
 {
 	int floor = runtime_fd_floor();
 	std::vector<std::string> env_strings;
+	// The environment the program is to have: the caller's, or ours.
+	std::vector<const char *> base;
+	if (req.env)
+		for (const auto &kv : *req.env)
+			base.push_back(kv.c_str());
+	else
+		for (char **e = environ; e && *e; e++)
+			base.push_back(*e);
 	std::string preload = "LD_PRELOAD=" + req.preload;
-	if (const char *old = getenv("LD_PRELOAD"); old && *old)
-		preload += std::string(":") + old;
+	for (const char *kv : base)
+		if (std::strncmp(kv, "LD_PRELOAD=", 11) == 0 && kv[11])
+			preload += std::string(":") + (kv + 11);
 	env_strings.push_back(preload);
 	env_strings.push_back(std::string(TCS_ENV_CHANNEL_FD) + "=" + std::to_string(floor));
 	env_strings.push_back(std::string(TCS_ENV_PAGE_FD) + "=" + std::to_string(floor + 1));
@@ -76,9 +85,9 @@ Result<Spawned> spawn_stopped(const SpawnRequest &req)
 	size_t pid_at = pid_var.size();
 	pid_var.resize(pid_at + 24, '\0');
 	std::vector<char *> envp;
-	for (char **e = environ; e && *e; e++)
-		if (!is_tcs_variable(*e))
-			envp.push_back(*e);
+	for (const char *kv : base)
+		if (!is_tcs_variable(kv))
+			envp.push_back(const_cast<char *>(kv));
 	for (auto &s : env_strings)
 		envp.push_back(s.data());
 	envp.push_back(pid_var.data());
@@ -104,6 +113,13 @@ Result<Spawned> spawn_stopped(const SpawnRequest &req)
 		apply_controller_realtime(req.realtime);
 		if (dup2(req.channel_fd, floor) < 0 || dup2(req.page_fd, floor + 1) < 0)
 			child_fail("cannot set up the channel for", req.path.c_str());
+		for (int i = 0; i < 3; i++)
+			if (req.stdio[i] >= 0 && req.stdio[i] != i && dup2(req.stdio[i], i) < 0)
+				child_fail("cannot set up the standard streams for", req.path.c_str());
+		if (!req.cwd.empty() && chdir(req.cwd.c_str()) < 0)
+			child_fail("cannot enter the working directory of", req.path.c_str());
+		if (req.env) // its own session: the caller's terminal signals go through tcs-run
+			setsid();
 		put_decimal(pid_var.data() + pid_at, (long)getpid());
 		raise(SIGSTOP);
 		execve(req.path.c_str(), argv.data(), envp.data());

@@ -6,6 +6,7 @@
 
 #include <sys/types.h>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,11 @@ struct SpawnRequest {
 	int channel_fd = -1;           // the controller's end of the channel
 	int page_fd = -1;              // the clock page memfd
 	RealtimePlan realtime;
+	// Someone else's: their environment (else the coordinator's), working
+	// directory (else ours) and stdin/stdout/stderr (-1: ours).
+	const std::vector<std::string> *env = nullptr;
+	std::string cwd;
+	std::array<int, 3> stdio = { -1, -1, -1 };
 };
 
 struct Spawned {

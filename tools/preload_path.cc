@@ -1,4 +1,5 @@
-// find_preload(): TCS_PRELOAD, then the build tree, then the install tree.
+// find_preload(): TCS_PRELOAD, then the build tree, then the install tree
+// (sbin, where coordinatord goes, is as deep as bin).
 #include "preload_path.h"
 
 #include <limits.h>
@@ -24,7 +25,8 @@ Result<std::string> find_preload()
 	std::string dir(exe);
 	dir.resize(dir.rfind('/'));
 	std::string candidates[] = {
-		dir + "/../libtcs_preload/libtcs_preload.so", // build tree
+		dir + "/../libtcs_preload/libtcs_preload.so", // build tree: tools/
+		dir + "/../../libtcs_preload/libtcs_preload.so", // build tree: coordinatord/daemon/
 		std::string(TCS_BIN_TO_PRELOAD).front() == '/' ? std::string(TCS_BIN_TO_PRELOAD)
 							       : dir + "/" + TCS_BIN_TO_PRELOAD,
 	};
@@ -33,8 +35,8 @@ Result<std::string> find_preload()
 		if (realpath(c.c_str(), real) && access(real, R_OK) == 0)
 			return std::string(real);
 	}
-	return Error{ "cannot find libtcs_preload.so (looked at " + candidates[0] + " and " + candidates[1] +
-		      "); set TCS_PRELOAD to its path" };
+	return Error{ "cannot find libtcs_preload.so (looked at " + candidates[0] + ", " + candidates[1] + " and " +
+		      candidates[2] + "); set TCS_PRELOAD to its path" };
 }
 
 } // namespace tcs

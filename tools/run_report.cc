@@ -38,6 +38,8 @@ std::string how_it_ended(const ControllerReport &c)
 	return "ended";
 }
 
+} // namespace
+
 int status_code(int st)
 {
 	if (WIFEXITED(st))
@@ -47,17 +49,15 @@ int status_code(int st)
 	return 0;
 }
 
-} // namespace
-
 std::string progress_line(int64_t virtual_ns, int64_t wall_ns)
 {
 	return "tcs-run: " + format_duration(virtual_ns) + " virtual, " + format_duration(wall_ns) + " wall, " +
 	       speed(virtual_ns, wall_ns);
 }
 
-std::string summary(const RunReport &r, int mode)
+std::string summary(const RunReport &r, int mode, const std::string &who)
 {
-	std::string s = "tcs-run: " + format_duration(r.virtual_ns) + " virtual in " + format_duration(r.wall_ns) +
+	std::string s = who + ": " + format_duration(r.virtual_ns) + " virtual in " + format_duration(r.wall_ns) +
 			" wall (" + speed(r.virtual_ns, r.wall_ns) + "), " +
 			(mode == TCS_MODE_LOCKSTEP ? "lockstep" : "cpu") + " mode, ";
 	s += r.realtime.fifo ? "SCHED_FIFO" : "normal scheduling";
@@ -65,7 +65,7 @@ std::string summary(const RunReport &r, int mode)
 		s += " on CPU " + std::to_string(r.realtime.cpu);
 	s += "\n";
 	if (r.step_wall_max > 0)
-		s += "tcs-run:   world: " + std::to_string(r.steps) + " steps; wall cost per step min " +
+		s += who + ":   world: " + std::to_string(r.steps) + " steps; wall cost per step min " +
 		     format_duration(r.step_wall_min) + ", median " + format_duration(r.step_wall_median) + ", max " +
 		     format_duration(r.step_wall_max) + "\n";
 	// Child processes of the controllers: one line for them all.
@@ -79,7 +79,7 @@ std::string summary(const RunReport &r, int mode)
 	for (const auto &c : r.controllers) {
 		if (c.child)
 			continue;
-		s += "tcs-run:   " + c.name + " (pid " + std::to_string(c.pid) + "): " + how_it_ended(c);
+		s += who + ":   " + c.name + " (pid " + std::to_string(c.pid) + "): " + how_it_ended(c);
 		uint64_t cycles = c.periodic_waits ? c.periodic_waits : c.waits;
 		double secs = (double)c.virtual_ns / 1e9;
 		s += "; " + std::to_string(cycles) + (c.periodic_waits ? " periodic" : "") + " waits";
@@ -95,7 +95,7 @@ std::string summary(const RunReport &r, int mode)
 		s += "\n";
 	}
 	if (children)
-		s += "tcs-run:   and " + std::to_string(children) + (children == 1 ? " child process" : " child processes") +
+		s += who + ":   and " + std::to_string(children) + (children == 1 ? " child process" : " child processes") +
 		     " of theirs, each in virtual time on a CPU of its own; CPU " + format_duration(children_cpu) + "\n";
 	return s;
 }

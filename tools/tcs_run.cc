@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cli_time.h"
+#include "connect_run.h"
 #include "coordinator.h"
 #include "preload_path.h"
 #include "program_check.h"
@@ -55,6 +56,32 @@ int usage_error(const std::string &msg)
 	return 2;
 }
 
+// --connect: the world, its mode, duration, trace and epoch are the
+// daemon's; only the program and its CPU scale are the caller's.
+int run_under_daemon(const std::string &socket, const std::vector<std::string> &given, int argc, char **argv,
+		     double cpu_scale, bool quiet)
+{
+	if (!given.empty())
+		return usage_error(given.front() + " cannot go with --connect: the world and its run are coordinatord's");
+	if (argc == 0)
+		return usage_error("--connect needs a PROGRAM to run");
+	ConnectRequest req;
+	req.socket = socket;
+	req.argv.assign(argv, argv + argc);
+	req.cpu_scale = cpu_scale;
+	req.quiet = quiet;
+	auto path = resolve_program(req.argv[0]);
+	if (!path)
+		return fail(path.error().message);
+	if (auto ok = check_preloadable(*path); !ok)
+		return fail(ok.error().message);
+	req.path = *path;
+	auto status = run_connected(req);
+	if (!status)
+		return fail(status.error().message);
+	return *status;
+}
+
 } // namespace
 
 int main(int argc, char **argv)
@@ -77,11 +104,16 @@ int main(int argc, char **argv)
 	CoordinatorConfig cfg;
 	double cpu_scale = 1.0;
 	bool quiet = false, list_signals = false, scale_given = false;
-	std::string world_file;
+	std::string world_file, connect_socket;
+	std::vector<std::string> given; // options that belong to the world's owner
 	int opt;
 	opterr = 0;
 	while ((opt = getopt_long(argc, argv, "+:w:m:d:t:qhV", longopts, nullptr)) != -1) {
 		std::string arg = optarg ? optarg : "";
+		for (const struct option *o = longopts; o->name; o++)
+			if (o->val == opt && (opt == 'w' || opt == 'm' || opt == 'd' || opt == 't' || opt == OPT_EPOCH ||
+					      opt == OPT_LIST_SIGNALS))
+				given.push_back(std::string("--") + o->name);
 		switch (opt) {
 		case 'w':
 			world_file = arg;
@@ -125,7 +157,8 @@ int main(int argc, char **argv)
 			break;
 		}
 		case OPT_CONNECT:
-			return fail("--connect " + arg + ": coordinatord is not available in this build yet");
+			connect_socket = arg;
+			break;
 		case 'q':
 			quiet = true;
 			break;
@@ -141,6 +174,8 @@ int main(int argc, char **argv)
 			return usage_error(std::string("unknown option '") + argv[optind - 1] + "'");
 		}
 	}
+	if (!connect_socket.empty())
+		return run_under_daemon(connect_socket, given, argc - optind, argv + optind, scale_given ? cpu_scale : 0, quiet);
 	auto scenario = world_file.empty() ? default_scenario() : parse_scenario_file(world_file);
 	if (!scenario)
 		return fail(scenario.error().message);

@@ -1,0 +1,191 @@
+// coordinatord: one shared simulated world, served on a Unix socket to
+// controllers attached with `tcs-run --connect`. The one place where the
+// daemon's errors become messages and exit statuses.
+#include <getopt.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <string>
+
+#include "attach_socket.h"
+#include "cli_time.h"
+#include "clients.h"
+#include "coordinator.h"
+#include "preload_path.h"
+#include "run_report.h"
+#include "scenario.h"
+#include "sd_notify.h"
+#include "world_setup.h"
+
+using namespace tcs;
+
+namespace {
+
+const char kUsage[] =
+	"Usage: coordinatord --world FILE [OPTIONS]\n"
+	"Serve one simulated world to controllers attached with tcs-run --connect.\n"
+	"\n"
+	"  -w, --world FILE       scenario; its [[controller]] entries are the\n"
+	"                         controllers the world waits for before it starts\n"
+	"  -s, --socket PATH      where to listen (default: $XDG_RUNTIME_DIR/tcs/\n"
+	"                         coordinatord.sock, or /run/tcs/coordinatord.sock as root)\n"
+	"  -m, --mode cpu|lockstep\n"
+	"                         cpu (default): computation costs virtual time;\n"
+	"                         lockstep: computation is free (the status quo)\n"
+	"  -t, --trace FILE       write a trace of everything served (MCAP)\n"
+	"      --epoch TIME       virtual wall-clock start: RFC 3339 or seconds since 1970\n"
+	"  -q, --quiet            log only warnings and errors\n"
+	"  -h, --help             show this help\n"
+	"  -V, --version          show the version\n"
+	"\n"
+	"SIGTERM or SIGINT ends it: controllers are ended, the trace is closed.\n"
+	"Exit status: 0 after such an end, 2 for errors. See coordinatord(8).\n";
+
+int fail(const std::string &msg)
+{
+	fprintf(stderr, "coordinatord: %s\n", msg.c_str());
+	return 2;
+}
+
+int usage_error(const std::string &msg)
+{
+	fprintf(stderr, "coordinatord: %s\nTry 'coordinatord --help' for more information.\n", msg.c_str());
+	return 2;
+}
+
+void log_line(const std::string &msg)
+{
+	fprintf(stderr, "coordinatord: %s\n", msg.c_str());
+}
+
+} // namespace
+
+int main(int argc, char **argv)
+{
+	enum { OPT_EPOCH = 256 };
+	static const struct option longopts[] = {
+		{ "world", required_argument, nullptr, 'w' },
+		{ "socket", required_argument, nullptr, 's' },
+		{ "mode", required_argument, nullptr, 'm' },
+		{ "trace", required_argument, nullptr, 't' },
+		{ "epoch", required_argument, nullptr, OPT_EPOCH },
+		{ "quiet", no_argument, nullptr, 'q' },
+		{ "help", no_argument, nullptr, 'h' },
+		{ "version", no_argument, nullptr, 'V' },
+		{ nullptr, 0, nullptr, 0 },
+	};
+	CoordinatorConfig cfg;
+	std::string world_file, socket_path;
+	bool quiet = false;
+	int opt;
+	opterr = 0;
+	while ((opt = getopt_long(argc, argv, ":w:s:m:t:qhV", longopts, nullptr)) != -1) {
+		std::string arg = optarg ? optarg : "";
+		switch (opt) {
+		case 'w':
+			world_file = arg;
+			break;
+		case 's':
+			socket_path = arg;
+			break;
+		case 'm':
+			if (arg == "cpu")
+				cfg.mode = TCS_MODE_CPU;
+			else if (arg == "lockstep")
+				cfg.mode = TCS_MODE_LOCKSTEP;
+			else
+				return usage_error("--mode: '" + arg + "' is not a mode (cpu or lockstep)");
+			break;
+		case 't':
+			cfg.trace_path = arg;
+			break;
+		case OPT_EPOCH: {
+			auto v = parse_epoch(arg);
+			if (!v)
+				return usage_error("--epoch: " + v.error().message);
+			cfg.epoch_ns = *v;
+			break;
+		}
+		case 'q':
+			quiet = true;
+			break;
+		case 'h':
+			fputs(kUsage, stdout);
+			return 0;
+		case 'V':
+			printf("coordinatord %s\n", TCS_VERSION);
+			return 0;
+		case ':':
+			return usage_error(std::string("option '") + argv[optind - 1] + "' needs a value");
+		default:
+			return usage_error(std::string("unknown option '") + argv[optind - 1] + "'");
+		}
+	}
+	if (optind < argc)
+		return usage_error(std::string("unexpected argument '") + argv[optind] +
+				   "' (controllers attach with tcs-run --connect)");
+	if (world_file.empty())
+		return usage_error("--world FILE is required");
+
+	auto scenario = parse_scenario_file(world_file);
+	if (!scenario)
+		return fail(scenario.error().message);
+	auto setup = world_setup(*scenario);
+	if (!setup)
+		return fail(setup.error().message);
+	cfg.models = setup->models;
+	cfg.devices = setup->devices;
+	cfg.step_ns = setup->step_ns;
+	auto preload = find_preload();
+	if (!preload)
+		return fail(preload.error().message);
+	cfg.preload = *preload;
+	cfg.want_fifo = getenv("TCS_NO_FIFO") == nullptr;
+	cfg.serve = true;
+	cfg.on_warning = [](const std::string &w) { log_line("warning: " + w); };
+	auto log = [quiet](const std::string &msg) {
+		if (!quiet)
+			log_line(msg);
+	};
+
+	if (socket_path.empty()) {
+		auto p = default_socket_path();
+		if (!p)
+			return fail(p.error().message);
+		socket_path = *p;
+	}
+	auto listening = listen_socket(socket_path);
+	if (!listening)
+		return fail(listening.error().message);
+
+	Clients *clients = nullptr;
+	cfg.on_controller_end = [&clients](const ControllerReport &r) {
+		if (clients)
+			clients->controller_ended(r);
+	};
+	auto co = Coordinator::create(cfg);
+	if (!co) {
+		unlink(socket_path.c_str());
+		return fail(co.error().message);
+	}
+	Clients served(**co, *scenario, log);
+	clients = &served;
+	if (auto s = served.serve(std::move(*listening)); !s) {
+		unlink(socket_path.c_str());
+		return fail(s.error().message);
+	}
+	std::string waiting = served.waiting_for();
+	log("serving " + world_file + " on " + socket_path +
+	    (waiting.empty() ? "" : "; the world waits for " + waiting + " to attach"));
+	notify_systemd("READY=1\nSTATUS=serving " + world_file + " on " + socket_path);
+
+	auto report = (*co)->run();
+	notify_systemd("STOPPING=1");
+	unlink(socket_path.c_str());
+	clients = nullptr;
+	if (!report)
+		return fail(report.error().message);
+	if (!quiet)
+		fputs(summary(*report, cfg.mode, "coordinatord").c_str(), stderr);
+	return 0;
+}
