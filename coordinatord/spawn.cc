@@ -118,8 +118,10 @@ Result<Spawned> spawn_stopped(const SpawnRequest &req)
 				child_fail("cannot set up the standard streams for", req.path.c_str());
 		if (!req.cwd.empty() && chdir(req.cwd.c_str()) < 0)
 			child_fail("cannot enter the working directory of", req.path.c_str());
-		if (req.env) // its own session: the caller's terminal signals go through tcs-run
-			setsid();
+		// Someone else's: a group of its own, out of reach of the daemon's
+		// terminal (its caller's Ctrl-C comes through tcs-run).
+		if (req.env)
+			setpgid(0, 0);
 		put_decimal(pid_var.data() + pid_at, (long)getpid());
 		raise(SIGSTOP);
 		execve(req.path.c_str(), argv.data(), envp.data());

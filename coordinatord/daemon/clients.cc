@@ -91,10 +91,14 @@ void Clients::on_readable(Client *c)
 	if (n < 0 && (errno == EAGAIN || errno == EINTR))
 		return;
 	if (n <= 0) {
-		// Gone: its controller goes with it (SIGTERM, then SIGKILL).
-		if (c->controller != 0)
-			co_.end_controller(c->controller);
-		close_client(c);
+		// Gone: its controller goes with it (SIGTERM, then SIGKILL); the
+		// record stays until the controller's end is reported.
+		co_.unwatch(c->fd.get());
+		c->fd.reset();
+		if (c->controller == 0)
+			return close_client(c);
+		log_(c->name + ": its tcs-run has gone, so it is ended");
+		co_.end_controller(c->controller);
 		return;
 	}
 	for (;;) {
@@ -206,7 +210,8 @@ void Clients::controller_ended(const ControllerReport &r)
 		e.deadline_misses = r.deadline_misses;
 		e.preemptions = r.preemptions;
 		e.dropped = r.dropped;
-		reply(c->fd.get(), AttachType::Ended, encode_ended(e));
+		if (c->fd)
+			reply(c->fd.get(), AttachType::Ended, encode_ended(e));
 		log_(c->name + " (controller " + std::to_string(r.id) + ") ended");
 		c->controller = 0;
 		close_client(c.get());

@@ -42,6 +42,7 @@ ControllerSummary summarize_controller(const TraceData &t, const TraceController
 		}
 	}
 	s.span_ns = first < 0 ? 0 : last - first;
+	s.start_ns = std::max<int64_t>(first, 0);
 	s.overshoot = spread_of(std::move(overshoots));
 
 	std::vector<const TraceWait *> loop;
@@ -256,6 +257,8 @@ std::string summary_json(const RunSummary &r)
 		json_field(o, "used_cpu_ns", (double)c.cpu_ns);
 		o += ',';
 		json_field(o, "span_ns", (double)c.span_ns);
+		o += ',';
+		json_field(o, "start_ns", (double)c.start_ns);
 		o += ',';
 		json_field(o, "malformed_commands", (double)c.malformed_commands);
 		o += '}';

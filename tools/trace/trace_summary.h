@@ -33,6 +33,7 @@ struct ControllerSummary {
 	int64_t charged_ns = 0;      // virtual CPU charged
 	int64_t cpu_ns = 0;          // real CPU used in its slices, tcs's hooks included
 	int64_t span_ns = 0;         // virtual time from its first slice to its last
+	int64_t start_ns = 0;        // where its first slice began (a late joiner: > 0)
 	int64_t computing_ns = 0;    // virtual time that passed while it ran
 	uint64_t malformed_commands = 0;
 };

@@ -1,0 +1,395 @@
+"""coordinatord and tcs-run --connect (DESIGN.md §5): controllers attached
+to one shared world keep their rates and get their exit statuses back, the
+world waits for the controllers its scenario expects, a client's signals
+reach its controller, another user is refused, bad requests are answered,
+and SIGTERM ends the daemon cleanly with its trace readable."""
+
+import json
+import os
+import re
+import signal
+import socket
+import stat
+import struct
+import subprocess
+import tempfile
+import time
+
+from harness import TCS_RUN, assert_nothing_left, check, demote, finish, main, prog, run, start
+
+COORDINATORD = os.environ.get("TCS_COORDINATORD", "coordinatord")
+TCS_TRACE = os.environ.get("TCS_TRACE", "tcs-trace")
+EXAMPLES = os.environ.get("TCS_EXAMPLES", "examples")
+CHECK = os.environ.get("TCS_MCAP_CHECK", "tests/mcap/check.mjs")
+PERIODIC = os.path.join(EXAMPLES, "periodic_controller")
+
+
+class Daemon:
+    """coordinatord serving a world from a temporary folder; ready when it
+    says READY=1 on its NOTIFY_SOCKET, as systemd would hear it."""
+
+    def __init__(self, world, *args):
+        self.dir = tempfile.mkdtemp(prefix="tcs-test-daemon-")
+        self.world = os.path.join(self.dir, "world.toml")
+        with open(self.world, "w") as f:
+            f.write(world)
+        self.socket = os.path.join(self.dir, "coordinatord.sock")
+        self.trace = os.path.join(self.dir, "world.mcap")
+        self.args = list(args)
+        self.notified = []
+
+    def __enter__(self):
+        self.notify = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
+        self.notify.bind(os.path.join(self.dir, "notify"))
+        self.log_path = os.path.join(self.dir, "log")
+        self.log_file = open(self.log_path, "w")
+        env = dict(os.environ, NOTIFY_SOCKET=os.path.join(self.dir, "notify"))
+        self.proc = subprocess.Popen(
+            [COORDINATORD, "--world", self.world, "--socket", self.socket, "--trace", self.trace] + self.args,
+            stdin=subprocess.DEVNULL, stdout=self.log_file, stderr=subprocess.STDOUT, env=env,
+            start_new_session=True, cwd=self.dir)
+        self.wait_notice("READY=1", 10)
+        return self
+
+    def wait_notice(self, what, timeout):
+        deadline = time.monotonic() + timeout
+        while not any(what in n for n in self.notified):
+            # What it sent before it exited is still queued: read on.
+            ended = self.proc.poll() is not None
+            left = deadline - time.monotonic()
+            self.notify.settimeout(max(min(left, 0.2), 0.001))
+            try:
+                self.notified.append(self.notify.recv(4096).decode())
+            except socket.timeout:
+                check(left > 0 and not ended,
+                      "coordinatord says %s (exit %s)\n%s" % (what, self.proc.poll(), self.log()))
+
+    def log(self):
+        with open(self.log_path) as f:
+            return f.read()
+
+    def wait_log(self, pattern, timeout=10):
+        deadline = time.monotonic() + timeout
+        while not re.search(pattern, self.log()):
+            check(time.monotonic() < deadline and self.proc.poll() is None,
+                  "coordinatord logs %r\n%s" % (pattern, self.log()))
+            time.sleep(0.02)
+
+    def connect(self, *program, opts=(), env=None, cwd=None):
+        """tcs-run --connect [opts] -- program..., started (not waited for)."""
+        p = start([TCS_RUN, "--connect", self.socket] + list(opts) + ["--"] + [str(a) for a in program], env=env)
+        p.t0 = time.monotonic()
+        return p
+
+    def controller_pids(self):
+        return [int(p) for p in re.findall(r"attached .* \(pid (\d+)\)", self.log())]
+
+    def stop(self, timeout=15):
+        self.proc.send_signal(signal.SIGTERM)
+        try:
+            self.proc.wait(timeout)
+        except subprocess.TimeoutExpired:
+            demote(self.proc.pid)
+            os.killpg(self.proc.pid, signal.SIGKILL)
+            self.proc.wait()
+            raise AssertionError("coordinatord did not end within %ss of SIGTERM\n%s" % (timeout, self.log()))
+        return self.proc.returncode
+
+    def __exit__(self, *exc):
+        if self.proc.poll() is None:
+            self.stop()
+        self.log_file.close()
+        self.notify.close()
+        assert_nothing_left(self.proc.pid)
+        for pid in self.controller_pids():
+            check(not os.path.exists("/proc/%d" % pid) or open("/proc/%d/stat" % pid).read().split(") ")[1][0] == "Z",
+                  "controller %d is gone" % pid)
+
+
+def cycles_line(r):
+    """periodic_controller's own report: (cycles, rate, misses)."""
+    m = re.search(r"(\d+) cycles in [\d.]+ s: ([\d.]+) Hz \(asked for [\d.]+ Hz\), (\d+) deadline misses", r.stdout)
+    check(m is not None, "the controller reports its loop", r)
+    return int(m.group(1)), float(m.group(2)), int(m.group(3))
+
+
+def trace_summary(path):
+    r = run([TCS_TRACE, "summary", "--json", path])
+    check(r.returncode == 0, "tcs-trace summary reads the daemon's trace", r)
+    return json.loads(r.stdout)
+
+
+def mcap_counts(path):
+    r = run(["node", CHECK, path], timeout=120)
+    check(r.returncode == 0, "the official MCAP reader reads the daemon's trace", r)
+    return json.loads(r.stdout.strip().splitlines()[-1])
+
+
+TWO_CONTROLLERS = """
+[sim]
+step = "1ms"
+model = "pendulum"
+
+[[controller]]
+command = "periodic_controller --rate 1000"
+
+[[controller]]
+command = "periodic_controller --rate 250"
+"""
+
+
+def test_two_controllers_share_one_world_and_keep_their_rates():
+    with Daemon(TWO_CONTROLLERS) as d:
+        fast = d.connect(PERIODIC, "--rate", 1000, "--work", 20, "--seconds", 2)
+        d.wait_log(r"attached .*periodic_controller .*1 of 2 expected")
+        # The world waits for the second: nothing may run meanwhile.
+        time.sleep(0.3)
+        check("the world runs" not in d.log(), "the world is held until both have attached", None)
+        slow = d.connect(PERIODIC, "--rate", 250, "--work", 40, "--seconds", 3)
+        a = finish(fast, 60, fast.t0)
+        b = finish(slow, 60, slow.t0)
+        check("every expected controller has attached: the world runs" in d.log(), "the world starts", None)
+        check(d.stop() == 0, "SIGTERM ends coordinatord with status 0", None)
+    for r, cycles, rate in ((a, 2000, 1000.0), (b, 750, 250.0)):
+        check(r.returncode == 0, "tcs-run --connect ends with the controller's status", r)
+        n, hz, misses = cycles_line(r)
+        check(n == cycles and abs(hz - rate) < 0.5, "%d cycles at %g Hz" % (cycles, rate), r)
+        # A VM pause charged as CPU may cost a miss (as in test_trace_tool).
+        check(misses <= 2, "the loop keeps its deadlines", r)
+        check(re.search(r"tcs-run: .* virtual in .* wall", r.stderr), "tcs-run prints its summary", r)
+    s = trace_summary(d.trace)
+    ctl = sorted(s["controllers"], key=lambda c: c["controller"])
+    check(len(ctl) == 2, "the trace has both controllers: %s" % ctl)
+    check([c["cycles"] for c in ctl] == [2000, 750], "the trace counts each one's cycles: %s" % ctl)
+    # Held until both had come, both began at virtual time 0.
+    check(all(c["start_ns"] == 0 for c in ctl), "both start at the world's time 0: %s" % ctl)
+    counts = mcap_counts(d.trace)
+    check(not counts["truncated"] and counts["topics"]["/tcs/controller"] == 2, "the trace is complete: %s" % counts)
+
+
+def test_a_controller_joins_a_running_world_at_its_time():
+    # No [[controller]]: the world runs at once, at real-time speed while
+    # nobody is attached.
+    with Daemon('[sim]\nmodel = "pendulum"\n', "--mode", "lockstep") as d:
+        time.sleep(0.5)
+        p = d.connect(PERIODIC, "--rate", 100, "--seconds", 1)
+        r = finish(p, 60, p.t0)
+        check(r.returncode == 0 and cycles_line(r)[0] == 100, "its loop runs", r)
+    ctl = trace_summary(d.trace)["controllers"]
+    check(len(ctl) == 1, "one controller: %s" % ctl)
+    # It began where the world was (> 0.3 s of real-time pace), not at 0.
+    check(ctl[0]["start_ns"] >= 300e6, "it joins at the world's time: %s" % ctl)
+
+
+def test_exit_statuses_environment_and_folder_come_back():
+    with Daemon('[sim]\nmodel = "pendulum"\n') as d:
+        runs = [
+            d.connect(prog("exit_with"), 7),
+            d.connect(prog("exit_with"), "abort"),
+            d.connect("/bin/sh", "-c", 'pwd; echo "FOO=$FOO"; read line; echo "got $line"; exit 3',
+                      env={"FOO": "bar"}),
+        ]
+        results = [finish(p, 60, p.t0) for p in runs]
+    seven, aborted, shell = results
+    check(seven.returncode == 7, "exit 7 comes back", seven)
+    check(aborted.returncode == 128 + signal.SIGABRT, "death by SIGABRT comes back as 134", aborted)
+    check("killed by SIGABRT" in aborted.stderr, "the summary says how it ended", aborted)
+    check(shell.returncode == 3, "the shell's exit 3 comes back", shell)
+    check("FOO=bar" in shell.stdout, "the caller's environment reaches the controller", shell)
+    # The daemon works in its own folder; the controller in its caller's.
+    check(shell.stdout.splitlines()[0] == os.getcwd(), "the caller's working directory", shell)
+    check("got " in shell.stdout, "stdin is the caller's (here /dev/null: an empty read)", shell)
+
+
+def test_ctrl_c_at_tcs_run_reaches_the_controller():
+    with Daemon('[sim]\nmodel = "pendulum"\n') as d:
+        p = d.connect(PERIODIC, "--rate", 1000, "--seconds", 1000)
+        d.wait_log(r"attached .*periodic_controller")
+        time.sleep(0.5)
+        p.send_signal(signal.SIGINT)
+        r = finish(p, 30, p.t0)
+        # periodic_controller ends its loop on SIGINT and reports it.
+        check(r.returncode == 0, "the controller's own status after its SIGINT handler", r)
+        n, hz, _ = cycles_line(r)
+        check(n > 0 and abs(hz - 1000) < 1, "it ran until Ctrl-C", r)
+
+        # One that ignores SIGINT: a second Ctrl-C kills it.
+        q = d.connect("/bin/sh", "-c", "trap '' INT; while :; do sleep 0.01; done")
+        d.wait_log(r"attached /bin/sh")
+        time.sleep(0.3)
+        q.send_signal(signal.SIGINT)
+        time.sleep(0.3)
+        check(q.poll() is None, "SIGINT ignored: it runs on", None)
+        q.send_signal(signal.SIGINT)
+        r = finish(q, 30, q.t0)
+        check(r.returncode == 128 + signal.SIGKILL, "the second Ctrl-C is SIGKILL", r)
+
+
+def test_a_client_gone_takes_its_controller():
+    with Daemon('[sim]\nmodel = "pendulum"\n') as d:
+        p = d.connect(PERIODIC, "--rate", 1000, "--seconds", 1000)
+        d.wait_log(r"attached .*periodic_controller")
+        pid = d.controller_pids()[-1]
+        os.killpg(p.pid, signal.SIGKILL)
+        p.communicate()
+        d.wait_log(r"\(controller 1\) ended", timeout=10)
+        check(not os.path.exists("/proc/%d/cmdline" % pid) or not open("/proc/%d/cmdline" % pid).read(),
+              "its controller has ended", None)
+        # The daemon serves on.
+        r = finish(d.connect(prog("exit_with"), 5), 60, time.monotonic())
+        check(r.returncode == 5, "the next client is served", r)
+
+
+def test_another_user_is_refused():
+    if os.geteuid() != 0:
+        raise AssertionError("this test switches to another uid and needs root")
+    with Daemon('[sim]\nmodel = "pendulum"\n') as d:
+        mode = stat.S_IMODE(os.stat(d.socket).st_mode)
+        check(mode == 0o600, "the socket is 0600, not %o" % mode)
+        # Past the file's permission (opened up by root), SO_PEERCRED refuses.
+        os.chmod(d.socket, 0o666)
+        os.chmod(d.dir, 0o711)
+        pid = os.fork()
+        if pid == 0:
+            try:
+                os.setgroups([])
+                os.setresgid(65534, 65534, 65534)
+                os.setresuid(65534, 65534, 65534)
+                s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+                s.settimeout(10)
+                s.connect(d.socket)
+                data = b""
+                while True:
+                    chunk = s.recv(4096)
+                    if not chunk:
+                        break
+                    data += chunk
+                magic, version, kind, length = struct.unpack("<IHHI", data[:12])
+                text = data[16:16 + length].decode()
+                os._exit(0 if kind == 4 and "serves uid 0 only, not uid 65534" in text else 1)
+            except Exception:
+                os._exit(2)
+        _, status = os.waitpid(pid, 0)
+        check(os.waitstatus_to_exitcode(status) == 0, "uid 65534 gets REFUSED naming both uids\n" + d.log())
+        check("refused a client (uid 65534)" in d.log(), "the daemon logs the refusal\n" + d.log())
+        os.chmod(d.socket, 0o600)
+        # And the daemon still serves its own user.
+        r = finish(d.connect(prog("exit_with"), 0), 60, time.monotonic())
+        check(r.returncode == 0, "its own user is served", r)
+
+
+def raw_request(path, data, fds=()):
+    """Sends bytes (with fds) and returns (kind, text) of the reply."""
+    s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    s.settimeout(10)
+    s.connect(path)
+    if fds:
+        s.sendmsg([data], [(socket.SOL_SOCKET, socket.SCM_RIGHTS, struct.pack("%di" % len(fds), *fds))])
+    else:
+        s.sendall(data)
+    reply = b""
+    while True:
+        chunk = s.recv(4096)
+        if not chunk:
+            break
+        reply += chunk
+    s.close()
+    _, _, kind, length = struct.unpack("<IHHI", reply[:12])
+    return kind, reply[16:16 + length].decode(errors="replace")
+
+
+def frame(kind, payload, magic=0x41534354, version=1, length=None):
+    return struct.pack("<IHHII", magic, version, kind, len(payload) if length is None else length, 0) + payload
+
+
+def run_payload(path, cwd, argv, env=()):
+    def s(b):
+        return struct.pack("<I", len(b)) + b
+    out = struct.pack("<d", 0.0) + s(path) + s(cwd) + struct.pack("<II", len(argv), len(env))
+    return out + b"".join(s(a) for a in argv) + b"".join(s(e) for e in env)
+
+
+def test_bad_requests_are_answered_and_the_daemon_serves_on():
+    REFUSED = 4
+    with Daemon('[sim]\nmodel = "pendulum"\n') as d:
+        cases = [
+            (b"GET / HTTP/1.0\r\n\r\n", (), "not a tcs attach request"),
+            (frame(1, b"", version=9), (), "version 9"),
+            (frame(1, b"", length=1 << 30), (), "the limit is"),
+            (frame(1, b"\x00" * 3), (), "malformed run request"),
+            (frame(1, run_payload(b"bin/true", b"/", [b"true"])), (), "not absolute"),
+            (frame(1, run_payload(b"/bin/true", b"/", [b"true"], [b"NOEQUALS"])), (), "without '='"),
+            (frame(1, run_payload(b"/bin/true", b"/", [b"true"])), (), "without stdin, stdout and stderr"),
+            (frame(2, struct.pack("<i", 2)), (), "unexpected frame"),
+        ]
+        for data, fds, words in cases:
+            kind, text = raw_request(d.socket, data, fds)
+            check(kind == REFUSED and words in text, "refused with %r: got %d %r" % (words, kind, text))
+        # A program that cannot be executed: exit 127 comes back, with why.
+        devnull = os.open("/dev/null", os.O_RDWR)
+        s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        s.connect(d.socket)
+        s.sendmsg([frame(1, run_payload(b"/nonexistent/program", b"/", [b"program"]))],
+                  [(socket.SOL_SOCKET, socket.SCM_RIGHTS, struct.pack("3i", devnull, devnull, devnull))])
+        os.close(devnull)
+        s.settimeout(20)
+        reply = b""
+        while True:
+            chunk = s.recv(4096)
+            if not chunk:
+                break
+            reply += chunk
+        kinds = []
+        while len(reply) >= 16:
+            _, _, kind, length = struct.unpack("<IHHI", reply[:12])
+            kinds.append((kind, reply[16:16 + length]))
+            reply = reply[16 + length:]
+        check([k for k, _ in kinds] == [3, 5], "STARTED then ENDED: %s" % kinds)
+        check(struct.unpack("<i", kinds[1][1][:4])[0] >> 8 == 127, "exit 127 for a program that is not there")
+        r = finish(d.connect(prog("exit_with"), 4), 60, time.monotonic())
+        check(r.returncode == 4, "the daemon serves on after bad requests", r)
+
+
+def test_command_line_errors():
+    r = run([COORDINATORD])
+    check(r.returncode == 2 and "--world FILE is required" in r.stderr, "--world is required", r)
+    r = run([COORDINATORD, "--world", "/nonexistent.toml"])
+    check(r.returncode == 2 and "/nonexistent.toml" in r.stderr, "a missing world is named", r)
+    r = run([COORDINATORD, "--help"])
+    check(r.returncode == 0 and "--socket" in r.stdout, "--help", r)
+    with tempfile.TemporaryDirectory() as tmp:
+        bad = os.path.join(tmp, "bad.toml")
+        with open(bad, "w") as f:
+            f.write('[sim]\nmodel = "pendulum"\nstep = "fast"\n')
+        r = run([COORDINATORD, "--world", bad, "--socket", os.path.join(tmp, "s")])
+        check(r.returncode == 2 and "bad.toml:3:" in r.stderr, "FILE:LINE for a bad scenario", r)
+        r = run([TCS_RUN, "--connect", os.path.join(tmp, "none.sock"), "--", "/bin/true"])
+        check(r.returncode == 2 and "no coordinatord there" in r.stderr, "no daemon: a clear error", r)
+    with Daemon('[sim]\nmodel = "pendulum"\n') as d:
+        r = run([COORDINATORD, "--world", d.world, "--socket", d.socket])
+        check(r.returncode == 2 and "another coordinatord is serving there" in r.stderr, "one daemon per socket", r)
+        for opt in (["-w", d.world], ["-m", "lockstep"], ["-d", "1s"], ["-t", "x.mcap"]):
+            r = run([TCS_RUN, "--connect", d.socket] + opt + ["--", "/bin/true"])
+            check(r.returncode == 2 and "cannot go with --connect" in r.stderr, "%s refused with --connect" % opt, r)
+        r = run([TCS_RUN, "--connect", d.socket])
+        check(r.returncode == 2 and "needs a PROGRAM" in r.stderr, "--connect without a program", r)
+
+
+def test_sigterm_ends_the_daemon_cleanly():
+    with Daemon('[sim]\nmodel = "pendulum"\n') as d:
+        p = d.connect(PERIODIC, "--rate", 1000, "--seconds", 1000)
+        d.wait_log(r"attached .*periodic_controller")
+        time.sleep(0.5)
+        t0 = time.monotonic()
+        check(d.stop() == 0, "exit 0 after SIGTERM\n" + d.log())
+        check(time.monotonic() - t0 < 5, "it ends within the 2 s grace (and a little)")
+        d.wait_notice("STOPPING=1", 1)
+        r = finish(p, 10, p.t0)
+        check(r.returncode == 0 and cycles_line(r)[0] > 0, "the controller got SIGTERM and reported", r)
+        check(not os.path.exists(d.socket), "the socket is removed")
+    counts = mcap_counts(d.trace)
+    check(not counts["truncated"] and counts["topics"].get("/tcs/slice", 0) > 0, "the trace is closed whole: %s" % counts)
+
+
+if __name__ == "__main__":
+    main(globals())
