@@ -49,6 +49,9 @@ struct CoordinatorConfig {
 	bool serve = false;
 	// Called when a controller tcs started (not a child of one) has ended.
 	std::function<void(const ControllerReport &)> on_controller_end;
+	// Called after each step of the world, with the time it has reached
+	// (may be empty; it must not block: the run's loop calls it).
+	std::function<void(int64_t sim_ns, const SimWorld &world)> on_step;
 };
 
 struct ControllerReport {

@@ -238,6 +238,8 @@ Status Coordinator::step_world()
 			trace_.step(sim_ns_ + cfg_.step_ns, wall_now() - wall_start_, world_->last_step_wall_ns(),
 				    std::move(joints));
 		}
+		if (cfg_.on_step)
+			cfg_.on_step(sim_ns_ + cfg_.step_ns, *world_);
 	}
 	sim_ns_ += cfg_.step_ns;
 	steps_++;

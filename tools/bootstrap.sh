@@ -20,7 +20,8 @@ if [[ $what != demo && $what != test && $what != bench ]]; then
 fi
 
 packages=(gcc g++ libc6-dev binutils pkg-config meson ninja-build python3 libcmocka-dev util-linux
-	libode-dev libccd-dev libeigen3-dev libtomlplusplus-dev libzstd-dev gnuplot-nox)
+	libode-dev libccd-dev libeigen3-dev libtomlplusplus-dev libzstd-dev gnuplot-nox
+	cyclonedds-dev cyclonedds-tools)
 [[ $what == bench ]] && packages+=(faketime)
 # Real programs nobody wrote for tcs, which the tests run under it.
 [[ $what == test ]] && packages+=(rt-tests stress-ng coreutils)

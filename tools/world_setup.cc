@@ -35,6 +35,10 @@ Result<WorldSetup> world_setup(const Scenario &sc)
 	for (size_t i = 0; i < (*world)->signal_count(); i++) {
 		const tcs_sim_signal_info &s = (*world)->signal(i);
 		known.push_back(s.name);
+		std::string name = s.name;
+		const std::string pos = ".position";
+		if (s.width == 1 && name.size() > pos.size() && name.compare(name.size() - pos.size(), pos.size(), pos) == 0)
+			out.joints.push_back(name.substr(0, name.size() - pos.size()));
 		char line[256];
 		snprintf(line, sizeof line, "%-36s %u value%s  %-10s %s", s.name, s.width, s.width == 1 ? " " : "s",
 			 s.unit ? s.unit : "", (s.flags & TCS_SIM_SIGNAL_WRITABLE) ? "writable" : "");

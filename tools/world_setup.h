@@ -16,6 +16,8 @@ struct WorldSetup {
 	std::vector<DeviceConfig> devices;
 	int64_t step_ns = 0;
 	std::vector<std::string> signal_lines; // for --list-signals
+	// Its scalar joints ("<model>.<joint>", those with a .position).
+	std::vector<std::string> joints;
 };
 
 Result<WorldSetup> world_setup(const Scenario &scenario);

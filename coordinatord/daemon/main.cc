@@ -2,9 +2,13 @@
 // controllers attached with `tcs-run --connect`. The one place where the
 // daemon's errors become messages and exit statuses.
 #include <getopt.h>
+#include <pthread.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <memory>
 #include <string>
 
 #include "attach_socket.h"
@@ -12,6 +16,7 @@
 #include "clients.h"
 #include "coordinator.h"
 #include "preload_path.h"
+#include "ros_bridge.h"
 #include "run_report.h"
 #include "scenario.h"
 #include "sd_notify.h"
@@ -34,6 +39,8 @@ const char kUsage[] =
 	"                         lockstep: computation is free (the status quo)\n"
 	"  -t, --trace FILE       write a trace of everything served (MCAP)\n"
 	"      --epoch TIME       virtual wall-clock start: RFC 3339 or seconds since 1970\n"
+	"      --dds-domain N     publish rt/clock and rt/joint_states for ROS 2 tools\n"
+	"                         on DDS domain N (0-232), one sample per step\n"
 	"  -q, --quiet            log only warnings and errors\n"
 	"  -h, --help             show this help\n"
 	"  -V, --version          show the version\n"
@@ -62,13 +69,14 @@ void log_line(const std::string &msg)
 
 int main(int argc, char **argv)
 {
-	enum { OPT_EPOCH = 256 };
+	enum { OPT_EPOCH = 256, OPT_DDS_DOMAIN };
 	static const struct option longopts[] = {
 		{ "world", required_argument, nullptr, 'w' },
 		{ "socket", required_argument, nullptr, 's' },
 		{ "mode", required_argument, nullptr, 'm' },
 		{ "trace", required_argument, nullptr, 't' },
 		{ "epoch", required_argument, nullptr, OPT_EPOCH },
+		{ "dds-domain", required_argument, nullptr, OPT_DDS_DOMAIN },
 		{ "quiet", no_argument, nullptr, 'q' },
 		{ "help", no_argument, nullptr, 'h' },
 		{ "version", no_argument, nullptr, 'V' },
@@ -76,6 +84,7 @@ int main(int argc, char **argv)
 	};
 	CoordinatorConfig cfg;
 	std::string world_file, socket_path;
+	int dds_domain = -1;
 	bool quiet = false;
 	int opt;
 	opterr = 0;
@@ -104,6 +113,15 @@ int main(int argc, char **argv)
 			if (!v)
 				return usage_error("--epoch: " + v.error().message);
 			cfg.epoch_ns = *v;
+			break;
+		}
+		case OPT_DDS_DOMAIN: {
+			char *end = nullptr;
+			long d = strtol(arg.c_str(), &end, 10);
+			// DDS maps domains to UDP ports: 232 is the highest that fits.
+			if (arg.empty() || *end || d < 0 || d > 232)
+				return usage_error("--dds-domain: '" + arg + "' is not a domain id (0 to 232)");
+			dds_domain = (int)d;
 			break;
 		}
 		case 'q':
@@ -158,6 +176,26 @@ int main(int argc, char **argv)
 	if (!listening)
 		return fail(listening.error().message);
 
+	// Before the coordinator: DDS's threads and the bridge's must not
+	// inherit its SCHED_FIFO and core (ros_bridge.h).
+	// Nor may they take the signals that end the daemon (the coordinator
+	// reads them from a signalfd): blocked before they exist.
+	sigset_t ending;
+	sigemptyset(&ending);
+	for (int sig : { SIGINT, SIGTERM, SIGHUP, SIGQUIT })
+		sigaddset(&ending, sig);
+	pthread_sigmask(SIG_BLOCK, &ending, nullptr);
+	std::unique_ptr<RosBridge> bridge;
+	if (dds_domain >= 0) {
+		auto b = RosBridge::start((uint32_t)dds_domain, setup->joints);
+		if (!b) {
+			unlink(socket_path.c_str());
+			return fail(b.error().message);
+		}
+		bridge = std::move(*b);
+		cfg.on_step = [&bridge](int64_t sim_ns, const SimWorld &world) { bridge->step(sim_ns, world); };
+	}
+
 	Clients *clients = nullptr;
 	cfg.on_controller_end = [&clients](const ControllerReport &r) {
 		if (clients)
@@ -176,6 +214,7 @@ int main(int argc, char **argv)
 	}
 	std::string waiting = served.waiting_for();
 	log("serving " + world_file + " on " + socket_path +
+	    (dds_domain >= 0 ? " and on DDS domain " + std::to_string(dds_domain) : "") +
 	    (waiting.empty() ? "" : "; the world waits for " + waiting + " to attach"));
 	notify_systemd("READY=1\nSTATUS=serving " + world_file + " on " + socket_path);
 
@@ -183,6 +222,11 @@ int main(int argc, char **argv)
 	notify_systemd("STOPPING=1");
 	unlink(socket_path.c_str());
 	clients = nullptr;
+	if (bridge) {
+		uint64_t dropped = bridge->stop();
+		if (dropped)
+			log_line("warning: " + std::to_string(dropped) + " steps were not published on DDS (it fell behind)");
+	}
 	if (!report)
 		return fail(report.error().message);
 	if (!quiet)
