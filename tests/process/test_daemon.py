@@ -174,6 +174,22 @@ def test_two_controllers_share_one_world_and_keep_their_rates():
     check(not counts["truncated"] and counts["topics"]["/tcs/controller"] == 2, "the trace is complete: %s" % counts)
 
 
+def test_the_pendulum_experiment_comes_out_as_in_process():
+    # The built-in world, written out, expecting the controller: held until
+    # it attaches, the run is the in-process one, bit for bit in lockstep.
+    src = os.environ.get("TCS_SCENARIOS", "scenarios")
+    with open(os.path.join(src, "pendulum.toml")) as f:
+        world = f.read() + '\n[[controller]]\ncommand = "pendulum_pd"\n'
+    pd = os.path.join(EXAMPLES, "pendulum_pd")
+    alone = run([TCS_RUN, "-q", "-m", "lockstep", "--", pd, "--seconds", "10"])
+    with Daemon(world, "--mode", "lockstep") as d:
+        p = d.connect(pd, "--seconds", 10, opts=["-q"])
+        shared = finish(p, 60, p.t0)
+    for r in (alone, shared):
+        check(r.returncode == 0 and "balanced=1" in r.stdout, "the pendulum is balanced", r)
+    check(alone.values() == shared.values(), "the same outcome, figure for figure:\n%s\n%s" % (alone.stdout, shared.stdout))
+
+
 def test_a_controller_joins_a_running_world_at_its_time():
     # No [[controller]]: the world runs at once, at real-time speed while
     # nobody is attached.
