@@ -105,6 +105,34 @@ def sleep_round_trip(b):
                 m["tcs"] <= 1.5 * m["pingpong"], "world: the built-in pendulum, stepped once per 1000 sleeps")]
 
 
+def dds_barrier(b):
+    """One step barrier with a remote agent: StepGrant out, StepDone back,
+    over Cyclone DDS between two processes on loopback; against the same
+    ping-pong floor as the sleep round trip, in the same rounds."""
+    prog = b.path("bench", "dds_barrier")
+    if not os.path.exists(prog):
+        return [row("step barrier over DDS (loopback)", None, "us", None, "", None, "\u2014", None,
+                    "bench/dds_barrier not built")]
+    n = 20000 if b.quick else 100000
+    barriers = 2000 if b.quick else 5000
+    p99s = []
+
+    def barrier():
+        v = b.values([prog, "--rounds", barriers])
+        p99s.append(v["p99_us"])
+        return v["median_us"]
+
+    m, _ = b.interleaved([
+        ("pingpong", lambda: b.values([b.path("bench", "seqpacket_pingpong"), n])["seqpacket_roundtrip_ns"]),
+        ("dds", barrier),
+    ])
+    median, p99, pingpong = m["dds"], statistics.median(p99s), m["pingpong"] / 1e3
+    return [row("step barrier over DDS (loopback)", median, "us", pingpong,
+                "same-core SOCK_SEQPACKET ping-pong", median / pingpong, "\u2014", None,
+                "median of %d runs of %d barriers (4 signals, 1 command, one core); p99 %.0f us; "
+                "a 1 ms step world with one agent: at most %.1fx real time" % (b.rounds, barriers, p99, 1e3 / median))]
+
+
 def pendulum_speed(b):
     seconds = 20 if b.quick else 60
     pd = b.path("examples", "pendulum_pd")
@@ -223,7 +251,7 @@ def trace_cost(b):
                 "%.0f KB of trace per 1,000 cycles" % kb)]
 
 
-BENCHES = [("clock", clock_reads), ("sleep", sleep_round_trip), ("pendulum", pendulum_speed),
+BENCHES = [("clock", clock_reads), ("sleep", sleep_round_trip), ("dds", dds_barrier), ("pendulum", pendulum_speed),
            ("overshoot", preemption_overshoot), ("error", timing_error), ("boxes", box_world),
            ("memory", peak_memory), ("trace", trace_cost)]
 
