@@ -1,0 +1,513 @@
+// The fuzz target for the attach protocol (coordinatord/attach_protocol.h):
+// an input is what a client wrote on coordinatord's socket. It is taken
+// apart by take_frame() whole and in pieces, as recv_some() delivers a
+// stream, and every payload goes through each decoder, as the daemon (RUN,
+// SIGNAL) and tcs-run (STARTED, ENDED) decode them. A frame taken is
+// exactly its header and payload; a value decoded holds what the daemon
+// relies on (absolute paths, argv[0], environment entries, CPU scale) and
+// is encoded again byte for byte. A new frame type needs its decoder here
+// and a seed.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "attach_protocol.h"
+#include "fuzz_target.h"
+
+namespace {
+
+using tcs::AttachType;
+using tcs_fuzz::check;
+
+// The header's fields, at these offsets (attach_protocol.cc writes them in
+// the host's byte order, read here as little-endian: x86-64 and arm64).
+constexpr size_t kMagicAt = 0, kVersionAt = 4, kTypeAt = 6, kLengthAt = 8;
+
+// An ended reply's text length: after two 32-bit and six 64-bit fields.
+constexpr size_t kEndedTextAt = 4 + 4 + 6 * 8;
+
+// recv_some() reads this much at a time.
+constexpr size_t kRecvSize = 16384;
+
+// An error the daemon sends back as REFUSED and logs: one printable line.
+void check_reason(const std::string &why)
+{
+	check(!why.empty() && why.size() < 200);
+	for (char c : why)
+		check(c >= ' ' && c < 0x7F);
+}
+
+// What take_frame() must say of a buffer, worked out from the header alone.
+enum class Verdict { Incomplete, Whole, Foreign };
+
+Verdict expected_verdict(const std::string &buf, uint32_t *length)
+{
+	if (buf.size() < tcs::kAttachHeader)
+		return Verdict::Incomplete;
+	const uint64_t type = tcs_fuzz::get_le(buf, kTypeAt, 2);
+	*length = uint32_t(tcs_fuzz::get_le(buf, kLengthAt, 4));
+	if (tcs_fuzz::get_le(buf, kMagicAt, 4) != tcs::kAttachMagic ||
+	    tcs_fuzz::get_le(buf, kVersionAt, 2) != tcs::kAttachVersion || type < uint64_t(AttachType::Run) ||
+	    type > uint64_t(AttachType::Ended) || *length > tcs::kAttachMaxFrame)
+		return Verdict::Foreign;
+	return buf.size() < tcs::kAttachHeader + *length ? Verdict::Incomplete : Verdict::Whole;
+}
+
+struct Outcome {
+	std::vector<tcs::AttachFrame> frames;
+	std::optional<std::string> error; // the stream was refused here
+	std::string left;                 // what waits for more bytes
+};
+
+// One call of take_frame() on buf, which holds bytes[consumed, ...): what
+// it promises of the buffer. Its bytes are compared with the stream's at
+// the end of feed(), not here, which would make a long stream quadratic.
+tcs::Result<std::optional<tcs::AttachFrame>> take_checked(std::string &buf, const std::string &bytes,
+							    size_t consumed)
+{
+	const size_t had = buf.size();
+	uint32_t length = 0;
+	const Verdict v = expected_verdict(buf, &length);
+	auto f = tcs::take_frame(buf);
+	if (!f) {
+		check(v == Verdict::Foreign && buf.size() == had);
+		check_reason(f.error().message);
+		return f;
+	}
+	if (!*f) {
+		// Nothing consumed, and nothing kept beyond one frame's worth.
+		check(v == Verdict::Incomplete && buf.size() == had);
+		check(had < tcs::kAttachHeader + tcs::kAttachMaxFrame);
+		return f;
+	}
+	// Exactly one whole frame off the front: its header and payload.
+	const tcs::AttachFrame &frame = **f;
+	check(v == Verdict::Whole && frame.payload.size() == length);
+	check(had - buf.size() == tcs::kAttachHeader + length);
+	check(bytes.compare(consumed + tcs::kAttachHeader, length, frame.payload) == 0);
+	check(uint64_t(frame.type) == tcs_fuzz::get_le(bytes, consumed + kTypeAt, 2));
+	// Written again, the same header (but its reserved word, which is not
+	// read) and payload.
+	const std::string again = tcs::encode_frame(frame.type, frame.payload);
+	check(again.size() == tcs::kAttachHeader + length);
+	check(again.compare(0, 12, bytes, consumed, 12) == 0);
+	check(again.compare(tcs::kAttachHeader, length, frame.payload) == 0);
+	return f;
+}
+
+// The stream as it arrives in pieces of `piece` bytes: after each, frames
+// are taken until none is whole, as Clients::on_readable does.
+Outcome feed(const std::string &bytes, size_t piece)
+{
+	Outcome o;
+	size_t consumed = 0, fed = 0;
+	while (fed < bytes.size() && !o.error) {
+		const size_t n = std::min(piece, bytes.size() - fed);
+		o.left.append(bytes, fed, n);
+		fed += n;
+		for (;;) {
+			auto f = take_checked(o.left, bytes, consumed);
+			if (!f) {
+				o.error = f.error().message;
+				break;
+			}
+			if (!*f)
+				break;
+			consumed += tcs::kAttachHeader + (**f).payload.size();
+			o.frames.push_back(std::move(**f));
+		}
+	}
+	// The buffer is the stream's bytes not yet taken, unchanged.
+	check(o.left.size() == fed - consumed && bytes.compare(consumed, fed - consumed, o.left) == 0);
+	return o;
+}
+
+bool same_outcome(const Outcome &a, const Outcome &b)
+{
+	if (a.frames.size() != b.frames.size() || a.error != b.error)
+		return false;
+	for (size_t i = 0; i < a.frames.size(); i++)
+		if (a.frames[i].type != b.frames[i].type || a.frames[i].payload != b.frames[i].payload)
+			return false;
+	// A refused stream stops where its bad header arrived; the rest differs.
+	return a.error || a.left == b.left;
+}
+
+bool same_bits(double a, double b)
+{
+	return memcmp(&a, &b, sizeof a) == 0;
+}
+
+bool same_run(const tcs::RunRequest &a, const tcs::RunRequest &b)
+{
+	return same_bits(a.cpu_scale, b.cpu_scale) && a.path == b.path && a.cwd == b.cwd && a.argv == b.argv &&
+	       a.env == b.env;
+}
+
+bool same_started(const tcs::StartedReply &a, const tcs::StartedReply &b)
+{
+	return a.id == b.id && a.pid == b.pid && a.mode == b.mode && a.fifo_cpu == b.fifo_cpu && a.v_start == b.v_start;
+}
+
+bool same_ended(const tcs::EndedReply &a, const tcs::EndedReply &b)
+{
+	return a.wait_status == b.wait_status && a.flags == b.flags && a.v_end == b.v_end &&
+	       a.charged_ns == b.charged_ns && a.waits == b.waits && a.periodic_waits == b.periodic_waits &&
+	       a.deadline_misses == b.deadline_misses && a.preemptions == b.preemptions && a.dropped == b.dropped;
+}
+
+bool c_string(const std::string &s)
+{
+	return s.find('\0') == std::string::npos;
+}
+
+// A refusal names what was malformed.
+void check_refusal(const tcs::Error &e, const char *what)
+{
+	check_reason(e.message);
+	check(e.message.rfind(std::string("malformed ") + what, 0) == 0);
+}
+
+// A run request the daemon hands to spawn: it execs path in cwd with
+// argv and env as C strings, and takes cpu_scale as a factor.
+void check_run(const std::string &payload)
+{
+	auto r = tcs::decode_run(payload);
+	if (!r) {
+		check_refusal(r.error(), "run request");
+		return;
+	}
+	check(!r->path.empty() && r->path[0] == '/' && c_string(r->path));
+	check(!r->cwd.empty() && r->cwd[0] == '/' && c_string(r->cwd));
+	check(!r->argv.empty());
+	for (const auto &a : r->argv)
+		check(c_string(a));
+	for (const auto &e : r->env)
+		check(c_string(e) && e.find('=') != std::string::npos);
+	check(r->cpu_scale == 0 || (std::isfinite(r->cpu_scale) && r->cpu_scale > 0));
+	const std::string again = tcs::encode_run(*r);
+	check(again == payload); // one way to write each request
+	auto back = tcs::decode_run(again);
+	check(back && same_run(*back, *r));
+}
+
+void check_started(const std::string &payload)
+{
+	auto r = tcs::decode_started(payload);
+	if (!r) {
+		check_refusal(r.error(), "started reply");
+		return;
+	}
+	const std::string again = tcs::encode_started(*r);
+	check(again == payload);
+	auto back = tcs::decode_started(again);
+	check(back && same_started(*back, *r));
+}
+
+void check_ended(const std::string &payload)
+{
+	auto r = tcs::decode_ended(payload);
+	if (!r) {
+		check_refusal(r.error(), "ended reply");
+		return;
+	}
+	const std::string again = tcs::encode_ended(*r);
+	check(again == payload);
+	auto back = tcs::decode_ended(again);
+	check(back && same_ended(*back, *r));
+}
+
+void check_signal(const std::string &payload)
+{
+	auto r = tcs::decode_signal(payload);
+	if (!r) {
+		check_refusal(r.error(), "signal request");
+		return;
+	}
+	check(*r >= 1 && *r <= 64); // kill()'s range, 0 (a probe) excluded
+	const std::string again = tcs::encode_signal(*r);
+	check(again == payload);
+	auto back = tcs::decode_signal(again);
+	check(back && *back == *r);
+}
+
+// ---- Seeds ----
+
+std::string le(uint64_t v, int bytes)
+{
+	std::string s(size_t(bytes), '\0');
+	tcs_fuzz::put_le(s, 0, v, bytes);
+	return s;
+}
+
+std::string f64(double v)
+{
+	std::string s(sizeof v, '\0');
+	memcpy(s.data(), &v, sizeof v);
+	return s;
+}
+
+// A header as anyone may write it, true or not.
+std::string header(uint64_t magic, uint64_t version, uint64_t type, uint64_t length, uint64_t reserved = 0)
+{
+	return le(magic, 4) + le(version, 2) + le(type, 2) + le(length, 4) + le(reserved, 4);
+}
+
+std::string frame(AttachType type, const std::string &payload)
+{
+	return tcs::encode_frame(type, payload);
+}
+
+tcs::RunRequest typical_run()
+{
+	tcs::RunRequest r;
+	r.path = "/usr/local/bin/pendulum_pd";
+	r.cwd = "/home/robot/work";
+	r.argv = { "pendulum_pd", "--seconds", "10" };
+	r.env = { "PATH=/usr/local/bin:/usr/bin", "HOME=/home/robot", "EMPTY=", "A==b" };
+	return r;
+}
+
+std::string run_payload(void (*edit)(tcs::RunRequest &))
+{
+	tcs::RunRequest r = typical_run();
+	edit(r);
+	return tcs::encode_run(r);
+}
+
+// Where a payload's 4-byte counts and lengths are, read as a run request
+// as far as it goes (cpu_scale, path, cwd, argc, envc, then the strings).
+std::vector<size_t> run_length_fields(const std::string &p)
+{
+	std::vector<size_t> at;
+	size_t pos = 8;
+	auto string_at = [&]() {
+		if (pos + 4 > p.size())
+			return false;
+		at.push_back(pos);
+		pos += 4 + tcs_fuzz::get_le(p, pos, 4);
+		return pos <= p.size();
+	};
+	if (!string_at() || !string_at() || pos + 8 > p.size())
+		return at;
+	uint64_t count = tcs_fuzz::get_le(p, pos, 4) + tcs_fuzz::get_le(p, pos + 4, 4);
+	at.push_back(pos);
+	at.push_back(pos + 4);
+	pos += 8;
+	while (count-- > 0 && string_at())
+		; // each string at least its length: this ends with the payload
+	return at;
+}
+
+} // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+	const std::string bytes(reinterpret_cast<const char *>(data), size);
+	// As recv_some() reads it, then in other pieces: the same frames and the
+	// same refusal however the stream is cut. Whole and byte by byte only
+	// where that stays quick (each frame taken moves the rest of the buffer).
+	const Outcome as_read = feed(bytes, kRecvSize);
+	if (size <= 4 * kRecvSize)
+		check(same_outcome(as_read, feed(bytes, size ? size : 1)));
+	if (size <= 20000)
+		check(same_outcome(as_read, feed(bytes, 1)));
+	else
+		check(same_outcome(as_read, feed(bytes, 4093)));
+
+	// Each payload, through every decoder: any frame may carry anything.
+	for (const auto &f : as_read.frames) {
+		check_run(f.payload);
+		check_started(f.payload);
+		check_ended(f.payload);
+		check_signal(f.payload);
+	}
+	// Left over behind the frames: a payload as well, as a decoder sees it.
+	if (as_read.left.size() <= tcs::kAttachMaxFrame) {
+		check_run(as_read.left);
+		check_signal(as_read.left);
+	}
+	return 0;
+}
+
+const char *tcs_fuzz_name()
+{
+	return "attach_fuzz";
+}
+
+std::vector<std::string> tcs_fuzz_seeds()
+{
+	using T = AttachType;
+	const uint32_t M = tcs::kAttachMagic, V = tcs::kAttachVersion;
+
+	tcs::StartedReply started;
+	started.id = 3;
+	started.pid = 4242;
+	started.mode = 1;
+	started.fifo_cpu = 7;
+	started.v_start = 5'000'000'000;
+	tcs::StartedReply no_fifo;
+	no_fifo.fifo_cpu = -1;
+	no_fifo.v_start = INT64_MAX;
+	tcs::EndedReply ended;
+	ended.wait_status = 0x100; // exited 1
+	ended.flags = tcs::kEndedAttached;
+	ended.v_end = 15'000'000'000;
+	ended.charged_ns = 63'778'000;
+	ended.waits = 10001;
+	ended.periodic_waits = 10001;
+	ended.deadline_misses = 2;
+	ended.preemptions = 5;
+	tcs::EndedReply dropped;
+	dropped.wait_status = -1;
+	dropped.flags = tcs::kEndedByTcs;
+	dropped.dropped = "it sent a malformed message";
+	dropped.waits = UINT64_MAX;
+
+	const std::string run = tcs::encode_run(typical_run());
+	const std::string run_frame = frame(T::Run, run);
+	std::vector<std::string> v = {
+		// Every type, valid.
+		run_frame,
+		frame(T::Run, run_payload([](tcs::RunRequest &r) {
+			      r.cpu_scale = 3;
+			      r.argv.push_back("");
+			      r.env.clear();
+		      })),
+		frame(T::Signal, tcs::encode_signal(2)),
+		frame(T::Signal, tcs::encode_signal(64)),
+		frame(T::Started, tcs::encode_started(started)),
+		frame(T::Started, tcs::encode_started(no_fifo)),
+		frame(T::Refused, "coordinatord serves uid 1000 only, not uid 0"),
+		frame(T::Ended, tcs::encode_ended(ended)),
+		frame(T::Ended, tcs::encode_ended(dropped)),
+		// A conversation in one stream, each way.
+		run_frame + frame(T::Signal, tcs::encode_signal(2)) + frame(T::Signal, tcs::encode_signal(9)),
+		frame(T::Started, tcs::encode_started(started)) + frame(T::Ended, tcs::encode_ended(ended)),
+		// Requests the daemon refuses.
+		frame(T::Run, run_payload([](tcs::RunRequest &r) { r.path = "pendulum_pd"; })),
+		frame(T::Run, run_payload([](tcs::RunRequest &r) { r.cwd = ""; })),
+		frame(T::Run, run_payload([](tcs::RunRequest &r) { r.path += std::string("\0x", 2); })),
+		frame(T::Run, run_payload([](tcs::RunRequest &r) { r.argv.clear(); })),
+		frame(T::Run, run_payload([](tcs::RunRequest &r) { r.argv[1] = std::string("--sec\0onds", 10); })),
+		frame(T::Run, run_payload([](tcs::RunRequest &r) { r.env.push_back("NOEQUALS"); })),
+		frame(T::Run, run_payload([](tcs::RunRequest &r) { r.cpu_scale = -1; })),
+		frame(T::Run, run_payload([](tcs::RunRequest &r) { r.cpu_scale = NAN; })),
+		frame(T::Run, run_payload([](tcs::RunRequest &r) { r.cpu_scale = INFINITY; })),
+		frame(T::Run, run_payload([](tcs::RunRequest &r) { r.cpu_scale = -0.0; })),
+		frame(T::Signal, tcs::encode_signal(0)),
+		frame(T::Signal, tcs::encode_signal(65)),
+		frame(T::Signal, tcs::encode_signal(-1)),
+		frame(T::Run, run + "x"), // one byte too many
+		frame(T::Run, run.substr(0, run.size() - 1)),
+		frame(T::Started, ""),
+		frame(T::Ended, ""),
+		// Counts and lengths that lie: argc, a string's length.
+		frame(T::Run, f64(0) + le(4, 4) + "/a/b" + le(1, 4) + "/" + le(UINT32_MAX, 4) + le(UINT32_MAX, 4)),
+		frame(T::Run, f64(0) + le(1u << 30, 4) + "/a"),
+		frame(T::Ended, tcs::encode_ended(ended).substr(0, kEndedTextAt) + le(1000, 4) + "short"),
+		// Headers that lie or are foreign.
+		header(M, V, uint16_t(T::Run), tcs::kAttachMaxFrame + 1),
+		header(M, V, uint16_t(T::Run), UINT32_MAX) + run,
+		header(M, V, uint16_t(T::Run), tcs::kAttachMaxFrame) + run, // incomplete, never whole
+		header(M, V, uint16_t(T::Run), run.size() + 100) + run,
+		header(M, V + 1, uint16_t(T::Run), run.size()) + run,
+		header(M, 0, uint16_t(T::Signal), 4) + le(2, 4),
+		header(M ^ 0xFF000000u, V, uint16_t(T::Run), run.size()) + run,
+		header(M, V, 0, 0),
+		header(M, V, uint16_t(T::Ended) + 1, 0),
+		header(M, V, uint16_t(T::Signal), 4, UINT32_MAX) + le(15, 4), // reserved word set
+		header(M, V, uint16_t(T::Refused), 0),
+		run_frame.substr(0, tcs::kAttachHeader - 1),
+		"GET / HTTP/1.1\r\nHost: localhost\r\n\r\n",
+		"",
+	};
+	// A large environment, as a login shell's may be.
+	tcs::RunRequest big = typical_run();
+	for (int i = 0; i < 600; i++)
+		big.env.push_back("VAR_" + std::to_string(i) + "=" + std::string(100, char('a' + i % 26)));
+	v.push_back(frame(T::Run, tcs::encode_run(big)));
+	return v;
+}
+
+std::vector<std::string> tcs_fuzz_tokens()
+{
+	return { le(tcs::kAttachMagic, 4),
+		 le(tcs::kAttachVersion, 2),
+		 le(uint16_t(AttachType::Run), 2),
+		 le(uint16_t(AttachType::Signal), 2),
+		 le(uint16_t(AttachType::Ended), 2),
+		 le(uint16_t(AttachType::Ended) + 1, 2),
+		 le(tcs::kAttachMaxFrame, 4),
+		 le(tcs::kAttachMaxFrame + 1, 4),
+		 le(UINT32_MAX, 4),
+		 le(0, 4),
+		 header(tcs::kAttachMagic, tcs::kAttachVersion, uint16_t(AttachType::Run), 0),
+		 "/",
+		 "=",
+		 std::string(1, '\0'),
+		 "PATH=/usr/bin",
+		 f64(NAN),
+		 f64(-1),
+		 f64(-0.0),
+		 f64(INFINITY),
+		 f64(5e-324) };
+}
+
+// A length, count or field of one frame made to lie: the header's length
+// or type, a run request's counts or string lengths, its CPU scale, an
+// ended reply's text length, a signal number.
+bool tcs_fuzz_mutate(std::string &s, tcs_fuzz::Rng &rng)
+{
+	// The frames the input holds, by their own lengths.
+	std::vector<size_t> starts;
+	for (size_t at = 0; at + tcs::kAttachHeader <= s.size();) {
+		starts.push_back(at);
+		at += tcs::kAttachHeader + tcs_fuzz::get_le(s, at + kLengthAt, 4);
+	}
+	if (starts.empty())
+		return false;
+	const size_t at = starts[rng.below(starts.size())];
+	const size_t payload_at = at + tcs::kAttachHeader;
+	const std::string payload =
+		s.substr(payload_at, size_t(std::min<uint64_t>(tcs_fuzz::get_le(s, at + kLengthAt, 4), s.size())));
+	switch (rng.below(5)) {
+	case 0: // the header's length
+		tcs_fuzz::put_le(s, at + kLengthAt,
+				 rng.below(2) ? tcs_fuzz::lying_value(rng, payload.size())
+					      : payload.size() + rng.below(9) - 4,
+				 4);
+		break;
+	case 1: // the header's type or version
+		tcs_fuzz::put_le(s, at + (rng.below(4) ? kTypeAt : kVersionAt), rng.below(8), 2);
+		break;
+	case 2: { // a run request's count or string length
+		const std::vector<size_t> fields = run_length_fields(payload);
+		if (fields.empty())
+			return false;
+		const size_t f = fields[rng.below(fields.size())];
+		const uint64_t now = tcs_fuzz::get_le(payload, f, 4);
+		tcs_fuzz::put_le(s, payload_at + f,
+				 rng.below(2) ? tcs_fuzz::lying_value(rng, payload.size()) : now + rng.below(5) - 2, 4);
+		break;
+	}
+	case 3: { // a run request's CPU scale
+		const double scales[] = { 0.0, -0.0, 1.0, -1.0, NAN, -NAN, INFINITY, -INFINITY, 5e-324, 1e308 };
+		uint64_t bits;
+		memcpy(&bits, &scales[rng.below(sizeof scales / sizeof scales[0])], sizeof bits);
+		tcs_fuzz::put_le(s, payload_at, bits, 8);
+		break;
+	}
+	case 4: // a signal number, or an ended reply's text length
+		tcs_fuzz::put_le(s, payload_at + (rng.below(2) ? 0 : kEndedTextAt),
+				 rng.below(2) ? tcs_fuzz::lying_value(rng, payload.size()) : rng.below(67), 4);
+		break;
+	}
+	return true;
+}

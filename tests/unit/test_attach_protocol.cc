@@ -1,0 +1,513 @@
+// Unit tests for coordinatord's attach protocol and socket
+// (coordinatord/attach_protocol.h, attach_socket.h): every frame encoded
+// and decoded back, each thing a decoder refuses and why, frames taken off
+// a stream only when whole; and the socket as both ends open it, in a
+// temporary folder: its mode, a live daemon's socket kept, a stale one
+// replaced, the errors a client sees, the peer's uid and descriptors that
+// ride along. Inputs found by tests/fuzz/attach_fuzz are kept here.
+#include <fcntl.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+extern "C" {
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+
+#include <cmocka.h>
+}
+
+#include "attach_protocol.h"
+#include "attach_socket.h"
+#include "result_checks.h"
+
+using namespace tcs;
+
+namespace {
+
+tcs::RunRequest typical_run()
+{
+	tcs::RunRequest r;
+	r.path = "/usr/local/bin/pendulum_pd";
+	r.cwd = "/home/robot/work";
+	r.argv = { "pendulum_pd", "--seconds", "10", "" };
+	r.env = { "PATH=/usr/local/bin:/usr/bin", "HOME=/home/robot", "EMPTY=", "A==b" };
+	r.cpu_scale = 3;
+	return r;
+}
+
+void assert_same_run(const RunRequest &a, const RunRequest &b)
+{
+	assert_memory_equal(&a.cpu_scale, &b.cpu_scale, sizeof a.cpu_scale);
+	assert_true(a.path == b.path);
+	assert_true(a.cwd == b.cwd);
+	assert_true(a.argv == b.argv);
+	assert_true(a.env == b.env);
+}
+
+// A header as anyone may write it, in the host's byte order.
+std::string header(uint32_t magic, uint16_t version, uint16_t type, uint32_t length)
+{
+	std::string h(kAttachHeader, '\0');
+	memcpy(&h[0], &magic, 4);
+	memcpy(&h[4], &version, 2);
+	memcpy(&h[6], &type, 2);
+	memcpy(&h[8], &length, 4);
+	return h;
+}
+
+std::string u32(uint32_t v)
+{
+	return std::string(reinterpret_cast<const char *>(&v), sizeof v);
+}
+
+std::string f64(double v)
+{
+	return std::string(reinterpret_cast<const char *>(&v), sizeof v);
+}
+
+// take_frame's error for a buffer, which it must leave as it was.
+std::string frame_error(const std::string &bytes)
+{
+	std::string buf = bytes;
+	auto f = take_frame(buf);
+	assert_false(f.ok());
+	assert_true(buf == bytes);
+	return f.error().message;
+}
+
+bool contains(const std::string &s, const char *part)
+{
+	if (s.find(part) != std::string::npos)
+		return true;
+	print_error("'%s' does not contain '%s'\n", s.c_str(), part);
+	return false;
+}
+
+// decode_run's refusal of a request edited from the typical one.
+std::string run_refusal(void (*edit)(RunRequest &))
+{
+	RunRequest r = typical_run();
+	edit(r);
+	auto d = decode_run(encode_run(r));
+	assert_false(d.ok());
+	return d.error().message;
+}
+
+// ---- Frames ----
+
+void round_trip_frames(void **)
+{
+	StartedReply s;
+	s.id = 3;
+	s.pid = 4242;
+	s.mode = 1;
+	s.fifo_cpu = -1;
+	s.v_start = INT64_MAX;
+	EndedReply e;
+	e.wait_status = 0x8b; // killed by SIGSEGV, core dumped
+	e.flags = kEndedByTcs | kEndedAttached;
+	e.v_end = -5;
+	e.charged_ns = 63778000;
+	e.waits = UINT64_MAX;
+	e.periodic_waits = 10001;
+	e.deadline_misses = 2;
+	e.preemptions = 5;
+	e.dropped = "it sent a malformed message";
+
+	std::string stream = encode_frame(AttachType::Run, encode_run(typical_run())) +
+			     encode_frame(AttachType::Signal, encode_signal(64)) +
+			     encode_frame(AttachType::Started, encode_started(s)) +
+			     encode_frame(AttachType::Refused, "no: not today") +
+			     encode_frame(AttachType::Ended, encode_ended(e));
+
+	auto f = MUST(take_frame(stream));
+	assert_true(f && f->type == AttachType::Run);
+	assert_same_run(MUST(decode_run(f->payload)), typical_run());
+
+	f = MUST(take_frame(stream));
+	assert_true(f && f->type == AttachType::Signal);
+	assert_int_equal(MUST(decode_signal(f->payload)), 64);
+
+	f = MUST(take_frame(stream));
+	assert_true(f && f->type == AttachType::Started);
+	StartedReply s2 = MUST(decode_started(f->payload));
+	assert_int_equal(s2.id, 3);
+	assert_int_equal(s2.pid, 4242);
+	assert_int_equal(s2.mode, 1);
+	assert_int_equal(s2.fifo_cpu, -1);
+	assert_true(s2.v_start == INT64_MAX);
+
+	f = MUST(take_frame(stream));
+	assert_true(f && f->type == AttachType::Refused);
+	assert_string_equal(f->payload.c_str(), "no: not today");
+
+	f = MUST(take_frame(stream));
+	assert_true(f && f->type == AttachType::Ended);
+	EndedReply e2 = MUST(decode_ended(f->payload));
+	assert_int_equal(e2.wait_status, 0x8b);
+	assert_int_equal(e2.flags, kEndedByTcs | kEndedAttached);
+	assert_true(e2.v_end == -5 && e2.charged_ns == 63778000);
+	assert_true(e2.waits == UINT64_MAX && e2.periodic_waits == 10001);
+	assert_true(e2.deadline_misses == 2 && e2.preemptions == 5);
+	assert_string_equal(e2.dropped.c_str(), "it sent a malformed message");
+
+	assert_true(stream.empty());
+	assert_false(MUST(take_frame(stream)).has_value());
+
+	// An ended reply with nothing dropped, and empty payloads.
+	EndedReply plain;
+	EndedReply plain2 = MUST(decode_ended(encode_ended(plain)));
+	assert_int_equal(plain2.wait_status, -1);
+	assert_true(plain2.dropped.empty());
+	std::string empty = encode_frame(AttachType::Refused, "");
+	assert_int_equal(empty.size(), kAttachHeader);
+	f = MUST(take_frame(empty));
+	assert_true(f && f->payload.empty() && empty.empty());
+}
+
+// A CPU scale of 0 (the daemon's choice) and the smallest positive one
+// travel exactly.
+void run_cpu_scales(void **)
+{
+	for (double scale : { 0.0, 5e-324, 1.0, 1e6 }) {
+		RunRequest r = typical_run();
+		r.cpu_scale = scale;
+		assert_same_run(MUST(decode_run(encode_run(r))), r);
+	}
+}
+
+// A login shell's environment, and more: 200 KiB in one frame.
+void run_large_environment(void **)
+{
+	RunRequest r = typical_run();
+	size_t bytes = 0;
+	for (int i = 0; bytes < 200 * 1024; i++) {
+		r.env.push_back("VAR_" + std::to_string(i) + "=" + std::string(200, char('a' + i % 26)));
+		bytes += r.env.back().size();
+	}
+	std::string stream = encode_frame(AttachType::Run, encode_run(r));
+	assert_true(stream.size() > 200 * 1024 && stream.size() < kAttachMaxFrame);
+	// As a socket delivers it: nothing until the last byte is there.
+	std::string buf;
+	for (size_t at = 0; at < stream.size(); at += 16384) {
+		assert_false(MUST(take_frame(buf)).has_value());
+		buf.append(stream, at, 16384);
+	}
+	auto f = MUST(take_frame(buf));
+	assert_true(f && buf.empty());
+	assert_same_run(MUST(decode_run(f->payload)), r);
+}
+
+// A frame and a half: the whole one is taken, exactly the half stays.
+void one_and_a_half_frames(void **)
+{
+	const std::string first = encode_frame(AttachType::Run, encode_run(typical_run()));
+	const std::string second = encode_frame(AttachType::Signal, encode_signal(2));
+	const std::string half = second.substr(0, second.size() / 2 + 3); // past the header
+	std::string buf = first + half;
+	auto f = MUST(take_frame(buf));
+	assert_true(f && f->type == AttachType::Run);
+	assert_true(buf == half);
+	assert_false(MUST(take_frame(buf)).has_value());
+	assert_true(buf == half);
+	buf += second.substr(half.size());
+	f = MUST(take_frame(buf));
+	assert_true(f && f->type == AttachType::Signal && buf.empty());
+	// A header alone, cut short, waits too.
+	buf = first.substr(0, kAttachHeader - 1);
+	assert_false(MUST(take_frame(buf)).has_value());
+	assert_int_equal(buf.size(), kAttachHeader - 1);
+}
+
+// ---- Refusals ----
+
+void refused_headers(void **)
+{
+	const std::string payload = encode_signal(2);
+	const std::string foreign = header(0x50545448, kAttachVersion, 2, 4) + payload;
+	assert_true(contains(frame_error(foreign), "not a tcs attach request"));
+	assert_true(contains(frame_error("GET / HTTP/1.1\r\nHost: x\r\n\r\n"), "not a tcs attach request"));
+
+	// Another version names both, and what differs.
+	std::string why = frame_error(header(kAttachMagic, 2, 2, 4) + payload);
+	assert_true(contains(why, "version 2"));
+	assert_true(contains(why, "version 1"));
+	assert_true(contains(why, "tcs-run and coordinatord differ"));
+	why = frame_error(header(kAttachMagic, 0, 2, 4) + payload);
+	assert_true(contains(why, "version 0"));
+
+	assert_true(contains(frame_error(header(kAttachMagic, kAttachVersion, 0, 0)), "unknown attach frame type 0"));
+	assert_true(contains(frame_error(header(kAttachMagic, kAttachVersion, 6, 0)), "unknown attach frame type 6"));
+
+	// Oversized: refused from the header, before anything more arrives.
+	why = frame_error(header(kAttachMagic, kAttachVersion, 1, kAttachMaxFrame + 1));
+	assert_true(contains(why, "1048577 bytes"));
+	assert_true(contains(why, "the limit is 1048576"));
+	assert_true(contains(frame_error(header(kAttachMagic, kAttachVersion, 1, UINT32_MAX)), "4294967295"));
+	// The limit itself is a frame still to come.
+	std::string buf = header(kAttachMagic, kAttachVersion, 1, kAttachMaxFrame) + "abc";
+	assert_false(MUST(take_frame(buf)).has_value());
+	assert_int_equal(buf.size(), kAttachHeader + 3);
+}
+
+void refused_truncated(void **)
+{
+	// A frame whose payload has not all come is not taken.
+	const std::string whole = encode_frame(AttachType::Run, encode_run(typical_run()));
+	std::string buf = whole.substr(0, whole.size() - 1);
+	assert_false(MUST(take_frame(buf)).has_value());
+	assert_int_equal(buf.size(), whole.size() - 1);
+
+	// A payload cut short, or with a byte too many, is malformed.
+	const std::string run = encode_run(typical_run());
+	for (size_t cut : { size_t(0), size_t(7), size_t(8), size_t(12), run.size() - 1 }) {
+		auto d = decode_run(run.substr(0, cut));
+		assert_false(d.ok());
+		assert_true(contains(d.error().message, "malformed run request"));
+	}
+	assert_false(decode_run(run + "x").ok());
+
+	StartedReply s;
+	const std::string started = encode_started(s);
+	assert_int_equal(started.size(), 24);
+	assert_true(contains(decode_started(started.substr(0, 23)).error().message, "malformed started reply"));
+	assert_false(decode_started(started + "x").ok());
+
+	EndedReply e;
+	e.dropped = "why";
+	const std::string ended = encode_ended(e);
+	assert_true(contains(decode_ended(ended.substr(0, ended.size() - 1)).error().message, "malformed ended reply"));
+	assert_int_equal(ended.size(), 56 + 4 + 3);
+	assert_false(decode_ended(ended.substr(0, 56)).ok()); // no text length at all
+	assert_false(decode_ended(ended + "x").ok());
+
+	assert_true(contains(decode_signal(encode_signal(2).substr(0, 3)).error().message, "malformed signal request"));
+	assert_false(decode_signal("").ok());
+}
+
+void refused_counts(void **)
+{
+	// argc and envc beyond what the payload can hold: refused before
+	// anything is reserved for them.
+	const std::string head = f64(0) + u32(4) + "/a/b" + u32(1) + "/";
+	for (auto counts : { u32(UINT32_MAX) + u32(0), u32(0) + u32(UINT32_MAX), u32(UINT32_MAX) + u32(UINT32_MAX),
+			     u32(2) + u32(0) + u32(1) + "x" }) {
+		auto d = decode_run(head + counts);
+		assert_false(d.ok());
+		assert_true(contains(d.error().message, "counts larger than its payload"));
+	}
+	// A string's length beyond the payload.
+	auto d = decode_run(f64(0) + u32(1u << 30) + "/a");
+	assert_false(d.ok());
+	assert_true(contains(d.error().message, "malformed run request"));
+	// Counts that fit but strings that do not come.
+	d = decode_run(head + u32(1) + u32(0) + u32(10) + "short");
+	assert_false(d.ok());
+}
+
+void refused_run_requests(void **)
+{
+	assert_true(contains(run_refusal([](RunRequest &r) { r.path = "pendulum_pd"; }),
+			     "the program's path is not absolute"));
+	assert_true(contains(run_refusal([](RunRequest &r) { r.path = ""; }), "the program's path is not absolute"));
+	assert_true(contains(run_refusal([](RunRequest &r) { r.path += std::string("\0x", 2); }), "path"));
+	assert_true(contains(run_refusal([](RunRequest &r) { r.cwd = "work"; }),
+			     "the working directory is not absolute"));
+	assert_true(contains(run_refusal([](RunRequest &r) { r.cwd = std::string("/tmp\0/x", 7); }),
+			     "the working directory"));
+	assert_true(contains(run_refusal([](RunRequest &r) { r.argv.clear(); }), "no argv[0]"));
+	assert_true(contains(run_refusal([](RunRequest &r) { r.argv[1] = std::string("--sec\0onds", 10); }),
+			     "a NUL inside an argument"));
+	assert_true(contains(run_refusal([](RunRequest &r) { r.env.push_back("NOEQUALS"); }),
+			     "an environment entry without '='"));
+	assert_true(contains(run_refusal([](RunRequest &r) { r.env.push_back(""); }), "without '='"));
+	assert_false(decode_run(encode_run([] {
+			     RunRequest r = typical_run();
+			     r.env.push_back(std::string("A=b\0c", 5));
+			     return r;
+		     }())).ok());
+	for (double bad : { -1.0, -5e-324, (double)NAN, -(double)NAN, (double)INFINITY, -(double)INFINITY }) {
+		RunRequest r = typical_run();
+		r.cpu_scale = bad;
+		auto d = decode_run(encode_run(r));
+		assert_false(d.ok());
+		assert_true(contains(d.error().message, "the CPU scale"));
+	}
+}
+
+void refused_signals(void **)
+{
+	for (int32_t bad : { 0, 65, -1, INT32_MIN, INT32_MAX }) {
+		auto d = decode_signal(encode_signal(bad));
+		assert_false(d.ok());
+		assert_true(contains(d.error().message, "malformed signal request"));
+	}
+	assert_int_equal(MUST(decode_signal(encode_signal(1))), 1);
+	assert_int_equal(MUST(decode_signal(encode_signal(64))), 64);
+}
+
+// ---- The socket ----
+
+struct TempDir {
+	TempDir()
+	{
+		char tmpl[] = "/tmp/tcs-attach-XXXXXX";
+		assert_non_null(mkdtemp(tmpl));
+		path = tmpl;
+	}
+	~TempDir() { (void)!system(("rm -rf '" + path + "'").c_str()); }
+	std::string path;
+};
+
+mode_t mode_of(const std::string &path)
+{
+	struct stat st;
+	if (lstat(path.c_str(), &st) < 0)
+		return 0;
+	return st.st_mode;
+}
+
+void socket_listen_connect(void **)
+{
+	TempDir tmp;
+	// The folder is made for its owner alone, the socket 0600.
+	const std::string dir = tmp.path + "/tcs";
+	const std::string path = dir + "/coordinatord.sock";
+	UniqueFd listening = MUST(listen_socket(path));
+	assert_true(S_ISDIR(mode_of(dir)));
+	assert_int_equal(mode_of(dir) & 07777, 0700);
+	assert_true(S_ISSOCK(mode_of(path)));
+	assert_int_equal(mode_of(path) & 07777, 0600);
+	assert_true(fcntl(listening.get(), F_GETFL) & O_NONBLOCK);
+	assert_true(fcntl(listening.get(), F_GETFD) & FD_CLOEXEC);
+
+	UniqueFd client = MUST(connect_socket(path));
+	UniqueFd served(accept4(listening.get(), nullptr, nullptr, SOCK_CLOEXEC));
+	assert_true(served.get() >= 0);
+	assert_int_equal(MUST(peer_uid(served.get())), geteuid());
+	assert_int_equal(MUST(peer_uid(client.get())), geteuid());
+	assert_false(peer_uid(-1).ok());
+
+	// A live daemon's socket is kept.
+	auto second = listen_socket(path);
+	assert_false(second.ok());
+	assert_true(contains(second.error().message, "another coordinatord is serving there"));
+	assert_true(contains(second.error().message, path.c_str()));
+	assert_true(S_ISSOCK(mode_of(path)));
+	UniqueFd again = MUST(connect_socket(path)); // and still answers
+	again.reset();
+
+	// Its daemon gone, the socket file stays: stale, and replaced.
+	listening.reset();
+	served.reset();
+	client.reset();
+	assert_true(S_ISSOCK(mode_of(path)));
+	auto stale = connect_socket(path);
+	assert_false(stale.ok());
+	assert_true(contains(stale.error().message, "no coordinatord answers there"));
+	listening = MUST(listen_socket(path));
+	assert_int_equal(mode_of(path) & 07777, 0600);
+	client = MUST(connect_socket(path));
+	unlink(path.c_str());
+}
+
+void socket_errors(void **)
+{
+	TempDir tmp;
+	auto missing = connect_socket(tmp.path + "/nobody.sock");
+	assert_false(missing.ok());
+	assert_true(contains(missing.error().message, "no coordinatord there"));
+	assert_true(contains(missing.error().message, "nobody.sock"));
+
+	// Longer than sun_path holds: refused by both ends, saying the limit.
+	const size_t limit = sizeof(sockaddr_un{}.sun_path) - 1;
+	const std::string longest = tmp.path + "/" + std::string(limit - tmp.path.size() - 1, 's');
+	assert_int_equal(longest.size(), limit);
+	MUST(listen_socket(longest)).reset();
+	unlink(longest.c_str());
+	const std::string too_long = longest + "s";
+	const std::string expected = "a socket path must be 1 to " + std::to_string(limit) + " bytes long";
+	auto l = listen_socket(too_long);
+	assert_false(l.ok());
+	assert_true(contains(l.error().message, expected.c_str()));
+	auto c = connect_socket(too_long);
+	assert_false(c.ok());
+	assert_true(contains(c.error().message, expected.c_str()));
+	assert_false(listen_socket("").ok());
+
+	// Something else at the path is left alone.
+	const std::string file = tmp.path + "/file";
+	UniqueFd f(open(file.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0600));
+	assert_true(f.get() >= 0);
+	auto on_file = listen_socket(file);
+	assert_false(on_file.ok());
+	assert_true(contains(on_file.error().message, "exists and is not a socket"));
+	assert_true(S_ISREG(mode_of(file)));
+}
+
+// A frame with stdin, stdout and stderr riding along, as tcs-run sends its
+// RUN; the receiver keeps no more descriptors than it asks for.
+void socket_frames_with_fds(void **)
+{
+	int sv[2];
+	assert_int_equal(socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv), 0);
+	UniqueFd a(sv[0]), b(sv[1]);
+	const std::string frame = encode_frame(AttachType::Run, encode_run(typical_run()));
+	CHECK_OK(send_frame(a.get(), frame, { 0, 1, 2 }));
+	CHECK_OK(send_frame(a.get(), encode_frame(AttachType::Signal, encode_signal(2)), { 0, 1, 2 }));
+
+	std::string in;
+	std::vector<UniqueFd> fds;
+	while (in.size() < frame.size())
+		assert_true(recv_some(b.get(), in, fds, 3) > 0);
+	assert_int_equal(fds.size(), 3);
+	for (auto &fd : fds)
+		assert_true(fcntl(fd.get(), F_GETFD) & FD_CLOEXEC);
+	auto f = MUST(take_frame(in));
+	assert_true(f && f->type == AttachType::Run);
+
+	// The second frame's descriptors are closed, not kept.
+	std::vector<UniqueFd> more;
+	while (in.size() < kAttachHeader + 4)
+		assert_true(recv_some(b.get(), in, more, 0) > 0);
+	assert_true(more.empty());
+	f = MUST(take_frame(in));
+	assert_true(f && f->type == AttachType::Signal);
+
+	// Nothing more: EAGAIN, then the end of the stream.
+	assert_int_equal(recv_some(b.get(), in, more, 0), -1);
+	assert_int_equal(errno, EAGAIN);
+	a.reset();
+	assert_int_equal(recv_some(b.get(), in, more, 0), 0);
+}
+
+} // namespace
+
+int main()
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(round_trip_frames),
+		cmocka_unit_test(run_cpu_scales),
+		cmocka_unit_test(run_large_environment),
+		cmocka_unit_test(one_and_a_half_frames),
+		cmocka_unit_test(refused_headers),
+		cmocka_unit_test(refused_truncated),
+		cmocka_unit_test(refused_counts),
+		cmocka_unit_test(refused_run_requests),
+		cmocka_unit_test(refused_signals),
+		cmocka_unit_test(socket_listen_connect),
+		cmocka_unit_test(socket_errors),
+		cmocka_unit_test(socket_frames_with_fds),
+	};
+	return cmocka_run_group_tests(tests, nullptr, nullptr);
+}
