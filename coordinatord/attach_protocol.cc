@@ -143,18 +143,23 @@ Result<RunRequest> decode_run(std::string_view payload)
 		r.env.push_back(rd.str());
 	if (!rd.done())
 		return bad("run request");
-	if (r.path.empty() || r.path[0] != '/' || !clean(r.path))
+	if (r.path.empty() || r.path[0] != '/')
 		return bad("run request (the program's path is not absolute)");
-	if (r.cwd.empty() || r.cwd[0] != '/' || !clean(r.cwd))
+	if (r.cwd.empty() || r.cwd[0] != '/')
 		return bad("run request (the working directory is not absolute)");
 	if (r.argv.empty())
 		return bad("run request (no argv[0])");
+	if (!clean(r.path) || !clean(r.cwd))
+		return bad("run request (a NUL inside a path)");
 	for (const auto &s : r.argv)
 		if (!clean(s))
 			return bad("run request (a NUL inside an argument)");
-	for (const auto &s : r.env)
-		if (!clean(s) || s.find('=') == std::string::npos)
+	for (const auto &s : r.env) {
+		if (!clean(s))
+			return bad("run request (a NUL inside an environment entry)");
+		if (s.find('=') == std::string::npos)
 			return bad("run request (an environment entry without '=')");
+	}
 	if (!(r.cpu_scale == 0 || (std::isfinite(r.cpu_scale) && r.cpu_scale > 0)))
 		return bad("run request (the CPU scale)");
 	return r;

@@ -44,7 +44,8 @@ Result<UniqueFd> listen_socket(const std::string &path)
 	if (!addr)
 		return addr.error();
 	// The default folder is made for the daemon's user alone.
-	std::string dir = path.substr(0, path.find_last_of('/'));
+	size_t slash = path.find_last_of('/');
+	std::string dir = slash == std::string::npos ? "" : path.substr(0, slash);
 	if (!dir.empty() && mkdir(dir.c_str(), 0700) < 0 && errno != EEXIST)
 		return errno_error("cannot create " + dir);
 	UniqueFd fd(socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0));
@@ -55,8 +56,14 @@ Result<UniqueFd> listen_socket(const std::string &path)
 		if (!S_ISSOCK(st.st_mode))
 			return Error{ path + ": exists and is not a socket" };
 		UniqueFd probe(socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
-		if (probe && connect(probe.get(), (const sockaddr *)&*addr, sizeof *addr) == 0)
+		if (!probe)
+			return errno_error("socket");
+		if (connect(probe.get(), (const sockaddr *)&*addr, sizeof *addr) == 0)
 			return Error{ path + ": another coordinatord is serving there" };
+		// Only a refusal says nobody listens; anything else (another
+		// user's live daemon: EACCES) is not ours to remove.
+		if (errno != ECONNREFUSED)
+			return errno_error(path + ": cannot tell whether a coordinatord serves there");
 		unlink(path.c_str()); // stale: its daemon is gone
 	}
 	// 0600 from the start: no moment where another user could connect.

@@ -656,6 +656,8 @@ void Coordinator::begin_end(EndReason reason, int signo)
 	if (ending_)
 		return;
 	ending_ = true;
+	if (cfg_.on_ending)
+		cfg_.on_ending();
 	budget_timer_.disarm();
 	if (running_) {
 		// Its slice ends with the run (what it does after is not traced).

@@ -47,6 +47,8 @@ struct CoordinatorConfig {
 	// coordinatord: the run lasts until a signal ends it, controllers come
 	// and go (attach()), and a world without any runs at real-time speed.
 	bool serve = false;
+	// Called when the run's end begins (a signal, the duration).
+	std::function<void()> on_ending;
 	// Called when a controller tcs started (not a child of one) has ended.
 	std::function<void(const ControllerReport &)> on_controller_end;
 	// Called after each step of the world, with the time it has reached

@@ -66,6 +66,11 @@ void Coordinator::end_controller(int id)
 	Controller *c = top_level(id);
 	if (!c || c->state == CtlState::Exited)
 		return;
+	// One that has not begun (held before its exec) has nothing to tidy.
+	if (!c->attached && c->stopped) {
+		kill(c->pid, SIGKILL);
+		return;
+	}
 	c->kill_after = wall_now() + kEndGrace;
 	signal_controller(id, SIGTERM);
 }

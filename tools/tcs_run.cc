@@ -157,6 +157,8 @@ int main(int argc, char **argv)
 			break;
 		}
 		case OPT_CONNECT:
+			if (arg.empty())
+				return usage_error("--connect: the socket's path is empty");
 			connect_socket = arg;
 			break;
 		case 'q':

@@ -98,6 +98,7 @@ void Clients::on_readable(Client *c)
 		if (c->controller == 0)
 			return close_client(c);
 		log_(c->name + ": its tcs-run has gone, so it is ended");
+		leave_slot(*c);
 		co_.end_controller(c->controller);
 		return;
 	}
@@ -162,6 +163,7 @@ void Clients::start(Client &c, RunRequest req)
 	std::string count;
 	if (e) {
 		e->attached = true;
+		c.slot = e;
 		size_t n = (size_t)std::count_if(expected_.begin(), expected_.end(), [](auto &x) { return x.attached; });
 		count = ", " + std::to_string(n) + " of " + std::to_string(expected_.size()) + " expected";
 	}
@@ -213,10 +215,22 @@ void Clients::controller_ended(const ControllerReport &r)
 		if (c->fd)
 			reply(c->fd.get(), AttachType::Ended, encode_ended(e));
 		log_(c->name + " (controller " + std::to_string(r.id) + ") ended");
+		leave_slot(*c);
 		c->controller = 0;
 		close_client(c.get());
 		return;
 	}
+}
+
+// A controller gone before the world started leaves its [[controller]] to
+// be filled again: the world still waits for one.
+void Clients::leave_slot(Client &c)
+{
+	if (held_ && c.slot) {
+		c.slot->attached = false;
+		log_("the world waits for " + waiting_for() + " again");
+	}
+	c.slot = nullptr;
 }
 
 void Clients::close_client(Client *c)

@@ -33,6 +33,12 @@ public:
 	std::string waiting_for() const;
 
 private:
+	struct Expected {
+		std::string program; // basename of the scenario's command
+		std::optional<double> cpu_scale;
+		int line = 0;
+		bool attached = false;
+	};
 	struct Client {
 		UniqueFd fd;
 		uid_t uid = 0;
@@ -40,12 +46,7 @@ private:
 		std::vector<UniqueFd> fds; // stdin, stdout, stderr of the RUN
 		int controller = 0;        // its controller's id, once started
 		std::string name;
-	};
-	struct Expected {
-		std::string program; // basename of the scenario's command
-		std::optional<double> cpu_scale;
-		int line = 0;
-		bool attached = false;
+		Expected *slot = nullptr; // the [[controller]] it fills
 	};
 	void on_accept();
 	void on_readable(Client *c);
@@ -53,6 +54,7 @@ private:
 	void start(Client &c, RunRequest req);
 	void refuse(Client &c, const std::string &why);
 	void close_client(Client *c);
+	void leave_slot(Client &c);
 	Expected *expected_for(const std::string &argv0);
 
 	Coordinator &co_;

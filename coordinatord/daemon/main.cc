@@ -45,7 +45,8 @@ const char kUsage[] =
 	"  -h, --help             show this help\n"
 	"  -V, --version          show the version\n"
 	"\n"
-	"SIGTERM or SIGINT ends it: controllers are ended, the trace is closed.\n"
+	"SIGTERM, SIGINT, SIGHUP or SIGQUIT ends it: controllers are ended, the\n"
+	"trace is closed, the socket removed.\n"
 	"Exit status: 0 after such an end, 2 for errors. See coordinatord(8).\n";
 
 int fail(const std::string &msg)
@@ -196,6 +197,7 @@ int main(int argc, char **argv)
 		cfg.on_step = [&bridge](int64_t sim_ns, const SimWorld &world) { bridge->step(sim_ns, world); };
 	}
 
+	cfg.on_ending = [] { notify_systemd("STOPPING=1"); };
 	Clients *clients = nullptr;
 	cfg.on_controller_end = [&clients](const ControllerReport &r) {
 		if (clients)
@@ -219,7 +221,6 @@ int main(int argc, char **argv)
 	notify_systemd("READY=1\nSTATUS=serving " + world_file + " on " + socket_path);
 
 	auto report = (*co)->run();
-	notify_systemd("STOPPING=1");
 	unlink(socket_path.c_str());
 	clients = nullptr;
 	if (bridge) {

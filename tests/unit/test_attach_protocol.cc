@@ -320,11 +320,13 @@ void refused_run_requests(void **)
 	assert_true(contains(run_refusal([](RunRequest &r) { r.path = "pendulum_pd"; }),
 			     "the program's path is not absolute"));
 	assert_true(contains(run_refusal([](RunRequest &r) { r.path = ""; }), "the program's path is not absolute"));
-	assert_true(contains(run_refusal([](RunRequest &r) { r.path += std::string("\0x", 2); }), "path"));
+	assert_true(contains(run_refusal([](RunRequest &r) { r.path += std::string("\0x", 2); }), "a NUL inside a path"));
 	assert_true(contains(run_refusal([](RunRequest &r) { r.cwd = "work"; }),
 			     "the working directory is not absolute"));
 	assert_true(contains(run_refusal([](RunRequest &r) { r.cwd = std::string("/tmp\0/x", 7); }),
-			     "the working directory"));
+			     "a NUL inside a path"));
+	assert_true(contains(run_refusal([](RunRequest &r) { r.env.push_back(std::string("A=\0b", 4)); }),
+			     "a NUL inside an environment entry"));
 	assert_true(contains(run_refusal([](RunRequest &r) { r.argv.clear(); }), "no argv[0]"));
 	assert_true(contains(run_refusal([](RunRequest &r) { r.argv[1] = std::string("--sec\0onds", 10); }),
 			     "a NUL inside an argument"));
