@@ -117,6 +117,12 @@ Status Coordinator::init()
 			st = loop_.add(fd, std::move(h));
 	};
 	watch(signal_fd_.get(), [this](uint32_t) { on_signal(); });
+	if (cfg_.step_host)
+		watch(cfg_.step_host->fd(), [this](uint32_t) { on_step_host(); });
+	if (cfg_.step_agent) {
+		watch(cfg_.step_agent->fd(), [this](uint32_t) { on_step_agent(); });
+		awaiting_grant_ = true; // no world time until the host's first grant
+	}
 	watch(budget_timer_.fd(), [this](uint32_t) { on_budget(); });
 	watch(progress_timer_.fd(), [this](uint32_t) { on_progress(); });
 	watch(idle_timer_.fd(), [this](uint32_t) { on_idle(); });
@@ -190,6 +196,7 @@ Result<RunReport> Coordinator::run()
 	RunReport r;
 	r.reason = end_reason_;
 	r.signal = end_signal_;
+	r.lost = lost_;
 	// Where the world is, or the furthest a controller got when they all
 	// exited without waiting for it.
 	r.virtual_ns = sim_ns_;
@@ -573,6 +580,7 @@ void Coordinator::on_exit(Controller &c, int wait_status)
 				kill(o->pid, SIGKILL);
 		if (cfg_.on_controller_end)
 			cfg_.on_controller_end(report_of(c));
+		word_of_controllers();
 	}
 	schedule();
 }
@@ -627,6 +635,8 @@ void Coordinator::on_progress()
 		if (c->kill_after != 0 && now > c->kill_after && c->state != CtlState::Exited)
 			kill(c->pid, SIGKILL);
 	}
+	if (cfg_.step_agent && !granted_ && !ending_)
+		word_of_controllers(); // the host may not have heard the last
 	if (cfg_.on_progress && !ending_)
 		cfg_.on_progress(sim_ns_, clock_ns(CLOCK_MONOTONIC) - wall_start_);
 	if (cfg_.mode == TCS_MODE_LOCKSTEP && running_ &&

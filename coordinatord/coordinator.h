@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <tuple>
 #include <functional>
 #include <memory>
@@ -19,6 +20,7 @@
 #include "duration_stats.h"
 #include "device.h"
 #include "sim_world.h"
+#include "step_peers.h"
 #include "trace.h"
 #include "error.h"
 #include "event_loop.h"
@@ -49,6 +51,15 @@ struct CoordinatorConfig {
 	bool serve = false;
 	// Called when the run's end begins (a signal, the duration).
 	std::function<void()> on_ending;
+	// A world shared with agents on other hosts (the host's end), or the
+	// world of a host elsewhere (an agent's end: the models are then only
+	// a mirror its grants fill). At most one; owned by the caller.
+	StepHost *step_host = nullptr;
+	StepAgent *step_agent = nullptr;
+	// Host: the programs an agent runs now (the world may wait for them).
+	std::function<void(const std::string &agent, const std::vector<std::string> &programs)> on_agent_controllers;
+	// What a daemon logs: agents joining and leaving.
+	std::function<void(const std::string &)> on_info;
 	// Called when a controller tcs started (not a child of one) has ended.
 	std::function<void(const ControllerReport &)> on_controller_end;
 	// Called after each step of the world, with the time it has reached
@@ -73,7 +84,8 @@ struct ControllerReport {
 	uint64_t preemptions = 0;
 };
 
-enum class EndReason { AllExited, Duration, Signal };
+// Lost: a peer of the step protocol went silent (RunReport::lost says which).
+enum class EndReason { AllExited, Duration, Signal, Lost };
 
 struct RunReport {
 	EndReason reason = EndReason::AllExited;
@@ -85,6 +97,7 @@ struct RunReport {
 	int64_t step_wall_min = 0, step_wall_median = 0, step_wall_max = 0;
 	RealtimePlan realtime;
 	std::vector<ControllerReport> controllers;
+	std::string lost; // EndReason::Lost: who, and what it means
 };
 
 class Coordinator {
@@ -134,6 +147,15 @@ private:
 	void drop(Controller &c, const std::string &why);
 	ControllerReport report_of(const Controller &c) const;
 	Controller *top_level(int id);
+	// Remote peers (remote.cc).
+	void on_step_host();
+	void on_step_agent();
+	bool agents_answered() const;
+	void grant_now();
+	void answer_grant();
+	void word_of_controllers();
+	std::vector<std::string> programs() const;
+	void lose(const std::string &why);
 	bool descends_from(const Controller &o, int root) const;
 	void warn_once(const std::string &what);
 
@@ -261,6 +283,18 @@ private:
 	Controller *running_ = nullptr;
 	bool ending_ = false;
 	bool held_ = false;
+	// Host: the agents taking part, and the step each last answered.
+	struct AgentState {
+		uint64_t answered = Done::kNoStep;
+		std::vector<std::string> programs;
+	};
+	std::map<std::string, AgentState> agents_;
+	std::deque<RemoteCommand> remote_commands_; // theirs, not yet in force
+	std::vector<double> signal_values_;         // a grant's, reused
+	// Agent: answered, and the next grant not here yet (at first: none yet).
+	bool awaiting_grant_ = false;
+	bool granted_ = false;
+	std::string lost_; // a peer gone: why the run ended
 	EndReason end_reason_ = EndReason::AllExited;
 	int end_signal_ = 0;
 	int64_t wall_start_ = 0;

@@ -221,6 +221,11 @@ void Coordinator::apply_commands(int64_t boundary)
 		}
 		commands_.pop_front();
 	}
+	// Agents' commands (remote.cc checked them), in the order written.
+	while (!remote_commands_.empty() && remote_commands_.front().v <= boundary) {
+		world_->write(remote_commands_.front().signal, &remote_commands_.front().value);
+		remote_commands_.pop_front();
+	}
 }
 
 Status Coordinator::step_world()
@@ -244,6 +249,7 @@ Status Coordinator::step_world()
 	sim_ns_ += cfg_.step_ns;
 	steps_++;
 	fill_streams(sim_ns_ + cfg_.step_ns);
+	grant_now();
 	return Ok{};
 }
 

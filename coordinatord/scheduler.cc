@@ -52,7 +52,7 @@ constexpr int64_t kIdleCatchUp = 50 * TCS_NS_PER_MS;
 
 void Coordinator::schedule()
 {
-	if (running_ || ending_ || held_ || !fatal_)
+	if (running_ || ending_ || held_ || awaiting_grant_ || !fatal_)
 		return;
 	for (;;) {
 		const int64_t target = sim_ns_ + cfg_.step_ns;
@@ -81,7 +81,13 @@ void Coordinator::schedule()
 		}
 		if (!any) {
 			// Everyone has exited: run() notices; served, the world goes
-			// on at real-time speed until someone attaches.
+			// on at real-time speed until someone attaches, or at the
+			// pace of the step protocol when it has peers.
+			if (cfg_.step_agent || !agents_.empty()) {
+				if (!advance_to(target))
+					return;
+				continue;
+			}
 			if (cfg_.serve)
 				arm_idle_step();
 			return;
@@ -130,8 +136,9 @@ void Coordinator::schedule()
 			return;
 		}
 		int64_t next = target;
-		if (!recheck && next_event > target)
-			next = next_event - next_event % cfg_.step_ns; // skip steps nobody acts in
+		// Skip steps nobody acts in (not with peers: each step is a barrier).
+		if (!recheck && next_event > target && agents_.empty() && !cfg_.step_agent)
+			next = next_event - next_event % cfg_.step_ns;
 		if (!advance_to(next))
 			return;
 	}
@@ -206,6 +213,14 @@ void Coordinator::trace_slice_end(Controller &c, const char *why, int64_t cpu, i
 
 bool Coordinator::advance_to(int64_t next)
 {
+	// An agent's world is stepped by its host: answer its grant instead.
+	if (cfg_.step_agent) {
+		answer_grant();
+		return false;
+	}
+	// A host steps only when every agent has answered (on_step_host goes on).
+	if (!agents_answered())
+		return false;
 	if (cfg_.duration_ns >= 0 && next >= cfg_.duration_ns)
 		next = std::max(cfg_.duration_ns, sim_ns_);
 	if (!world_) {
@@ -228,6 +243,8 @@ bool Coordinator::advance_to(int64_t next)
 			fatal_ = s;
 			break;
 		}
+		if (!agents_answered())
+			break; // the next step waits for the agents' answers
 		if (sim_ns_ < next && wall_now() >= yield_at) {
 			continue_timer_.arm(1);
 			yielded = true;
@@ -242,7 +259,7 @@ bool Coordinator::advance_to(int64_t next)
 		begin_end(EndReason::Duration);
 		return false;
 	}
-	return true;
+	return agents_answered();
 }
 
 // The next step of a world that runs at real-time speed, on a wall clock

@@ -20,6 +20,7 @@ Result<Coordinator::Attached> Coordinator::attach(const ControllerSpec &spec)
 	// from here, since it is behind the next step until it has run.
 	c.v = sim_ns_;
 	idle_timer_.disarm();
+	word_of_controllers();
 	schedule();
 	return Attached{ c.id, c.pid };
 }
@@ -27,8 +28,10 @@ Result<Coordinator::Attached> Coordinator::attach(const ControllerSpec &spec)
 void Coordinator::hold(bool on)
 {
 	held_ = on;
-	if (!on)
+	if (!on) {
+		grant_now(); // agents start with the world
 		schedule();
+	}
 }
 
 Controller *Coordinator::top_level(int id)

@@ -3,6 +3,8 @@
 
 #include <time.h>
 
+#include <algorithm>
+
 #include "tcs/vtime.h"
 
 namespace tcs {
@@ -78,8 +80,43 @@ long SimWorld::find(const std::string &name) const
 void SimWorld::read(size_t index, std::vector<double> &out) const
 {
 	size_t at = out.size();
-	out.resize(at + signal(index).width);
+	size_t width = signal(index).width;
+	out.resize(at + width);
+	if (!mirror_.empty()) {
+		std::copy_n(mirror_.begin() + (long)offsets_[index], width, out.begin() + (long)at);
+		return;
+	}
 	plugin_->read(sim_, index, out.data() + at);
+}
+
+void SimWorld::read_all(std::vector<double> &out) const
+{
+	out.clear();
+	for (size_t i = 0, n = signal_count(); i < n; i++)
+		read(i, out);
+}
+
+void SimWorld::mirror(const std::vector<double> &all)
+{
+	if (offsets_.empty()) {
+		size_t at = 0;
+		for (size_t i = 0, n = signal_count(); i < n; i++) {
+			offsets_.push_back(at);
+			at += signal(i).width;
+		}
+		offsets_.push_back(at); // the total
+	}
+	// A grant of another size is another world's: the caller checked.
+	if (all.size() == offsets_.back())
+		mirror_ = all;
+}
+
+size_t SimWorld::value_count() const
+{
+	size_t n = 0;
+	for (size_t i = 0, count = signal_count(); i < count; i++)
+		n += signal(i).width;
+	return n;
 }
 
 void SimWorld::write(size_t index, const double *values)

@@ -43,6 +43,14 @@ public:
 	void read(size_t index, std::vector<double> &out) const;
 	// Sets a writable signal (held from the next step on).
 	void write(size_t index, const double *values);
+	// Every signal's values, in order: the world as read from something
+	// that steps it elsewhere (an agent's view of its host's world). From
+	// then on read() returns these.
+	void mirror(const std::vector<double> &all);
+	// How many values all the signals have together.
+	size_t value_count() const;
+	// Every signal's values now, in order (what mirror() takes).
+	void read_all(std::vector<double> &out) const;
 
 private:
 	SimWorld() = default;
@@ -51,6 +59,8 @@ private:
 	int64_t step_ns_ = 0;
 	int64_t steps_ = 0;
 	int64_t last_wall_ = 0;
+	std::vector<double> mirror_;   // empty: not a mirror
+	std::vector<size_t> offsets_;  // of each signal in mirror_
 };
 
 } // namespace tcs

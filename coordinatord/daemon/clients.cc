@@ -168,11 +168,35 @@ void Clients::start(Client &c, RunRequest req)
 		count = ", " + std::to_string(n) + " of " + std::to_string(expected_.size()) + " expected";
 	}
 	log_("attached " + c.name + " (pid " + std::to_string(made->pid) + ")" + count);
+	release_if_complete();
+}
+
+void Clients::release_if_complete()
+{
 	if (held_ && waiting_for().empty()) {
 		held_ = false;
 		log_("every expected controller has attached: the world runs");
 		co_.hold(false);
 	}
+}
+
+void Clients::agent_programs(const std::string &agent, const std::vector<std::string> &programs)
+{
+	if (!held_)
+		return; // the world runs: it waits for nobody now
+	std::vector<Expected *> &slots = agent_slots_[agent];
+	for (Expected *e : slots)
+		e->attached = false;
+	slots.clear();
+	for (const auto &p : programs)
+		if (Expected *e = expected_for(p)) {
+			e->attached = true;
+			slots.push_back(e);
+		}
+	size_t n = (size_t)std::count_if(expected_.begin(), expected_.end(), [](auto &x) { return x.attached; });
+	log_("agent " + agent + " runs " + std::to_string(programs.size()) + " controller(s); " + std::to_string(n) +
+	     " of " + std::to_string(expected_.size()) + " expected");
+	release_if_complete();
 }
 
 // The scenario's first [[controller]] not yet attached whose program has

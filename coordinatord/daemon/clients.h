@@ -8,6 +8,7 @@
 #include <sys/types.h>
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -31,6 +32,9 @@ public:
 	void controller_ended(const ControllerReport &r);
 	// What the world still waits for ("" when it runs).
 	std::string waiting_for() const;
+	// The programs an agent on another host runs now: they fill the
+	// scenario's [[controller]] entries as local ones do.
+	void agent_programs(const std::string &agent, const std::vector<std::string> &programs);
 
 private:
 	struct Expected {
@@ -55,6 +59,7 @@ private:
 	void refuse(Client &c, const std::string &why);
 	void close_client(Client *c);
 	void leave_slot(Client &c);
+	void release_if_complete();
 	Expected *expected_for(const std::string &argv0);
 
 	Coordinator &co_;
@@ -62,6 +67,7 @@ private:
 	UniqueFd listening_;
 	std::vector<std::unique_ptr<Client>> clients_;
 	std::vector<Expected> expected_;
+	std::map<std::string, std::vector<Expected *>> agent_slots_;
 	bool held_ = false;
 };
 

@@ -8,6 +8,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <memory>
 #include <string>
 
@@ -16,7 +17,9 @@
 #include "clients.h"
 #include "coordinator.h"
 #include "preload_path.h"
+#include "read_file.h"
 #include "ros_bridge.h"
+#include "step_link.h"
 #include "run_report.h"
 #include "scenario.h"
 #include "sd_notify.h"
@@ -28,7 +31,9 @@ namespace {
 
 const char kUsage[] =
 	"Usage: coordinatord --world FILE [OPTIONS]\n"
-	"Serve one simulated world to controllers attached with tcs-run --connect.\n"
+	"       coordinatord --agent --dds-domain N [OPTIONS]\n"
+	"Serve one simulated world to controllers attached with tcs-run --connect;\n"
+	"as an agent, run controllers here for a world hosted on another machine.\n"
 	"\n"
 	"  -w, --world FILE       scenario; its [[controller]] entries are the\n"
 	"                         controllers the world waits for before it starts\n"
@@ -40,7 +45,11 @@ const char kUsage[] =
 	"  -t, --trace FILE       write a trace of everything served (MCAP)\n"
 	"      --epoch TIME       virtual wall-clock start: RFC 3339 or seconds since 1970\n"
 	"      --dds-domain N     publish rt/clock and rt/joint_states for ROS 2 tools\n"
-	"                         on DDS domain N (0-232), one sample per step\n"
+	"                         on DDS domain N (0-232), one sample per step, and\n"
+	"                         let agents on other hosts join the world there\n"
+	"      --agent            join the world hosted on --dds-domain N; controllers\n"
+	"                         attached here run here, in its step protocol\n"
+	"      --name NAME        the agent's name (default: HOSTNAME-PID)\n"
 	"  -q, --quiet            log only warnings and errors\n"
 	"  -h, --help             show this help\n"
 	"  -V, --version          show the version\n"
@@ -66,11 +75,22 @@ void log_line(const std::string &msg)
 	fprintf(stderr, "coordinatord: %s\n", msg.c_str());
 }
 
+std::string host_name()
+{
+	char name[256] = "";
+	gethostname(name, sizeof name - 1);
+	return name[0] ? name : "localhost";
+}
+
+// How long an agent waits for its world to be published.
+constexpr int64_t kJoinWait = 30LL * 1000000000;
+constexpr size_t kMaxScenario = 1 << 20;
+
 } // namespace
 
 int main(int argc, char **argv)
 {
-	enum { OPT_EPOCH = 256, OPT_DDS_DOMAIN };
+	enum { OPT_EPOCH = 256, OPT_DDS_DOMAIN, OPT_AGENT, OPT_NAME };
 	static const struct option longopts[] = {
 		{ "world", required_argument, nullptr, 'w' },
 		{ "socket", required_argument, nullptr, 's' },
@@ -78,6 +98,8 @@ int main(int argc, char **argv)
 		{ "trace", required_argument, nullptr, 't' },
 		{ "epoch", required_argument, nullptr, OPT_EPOCH },
 		{ "dds-domain", required_argument, nullptr, OPT_DDS_DOMAIN },
+		{ "agent", no_argument, nullptr, OPT_AGENT },
+		{ "name", required_argument, nullptr, OPT_NAME },
 		{ "quiet", no_argument, nullptr, 'q' },
 		{ "help", no_argument, nullptr, 'h' },
 		{ "version", no_argument, nullptr, 'V' },
@@ -86,7 +108,8 @@ int main(int argc, char **argv)
 	CoordinatorConfig cfg;
 	std::string world_file, socket_path;
 	int dds_domain = -1;
-	bool quiet = false;
+	bool quiet = false, agent = false, mode_given = false;
+	std::string agent_name;
 	int opt;
 	opterr = 0;
 	while ((opt = getopt_long(argc, argv, ":w:s:m:t:qhV", longopts, nullptr)) != -1) {
@@ -105,6 +128,13 @@ int main(int argc, char **argv)
 				cfg.mode = TCS_MODE_LOCKSTEP;
 			else
 				return usage_error("--mode: '" + arg + "' is not a mode (cpu or lockstep)");
+			mode_given = true;
+			break;
+		case OPT_AGENT:
+			agent = true;
+			break;
+		case OPT_NAME:
+			agent_name = arg;
 			break;
 		case 't':
 			cfg.trace_path = arg;
@@ -143,15 +173,53 @@ int main(int argc, char **argv)
 	if (optind < argc)
 		return usage_error(std::string("unexpected argument '") + argv[optind] +
 				   "' (controllers attach with tcs-run --connect)");
-	if (world_file.empty())
+	if (agent && (dds_domain < 0 || !world_file.empty() || mode_given))
+		return usage_error(dds_domain < 0 ? "--agent needs --dds-domain N: where the world is hosted"
+						  : "--agent takes the host's world and mode: no --world or --mode");
+	if (!agent && world_file.empty())
 		return usage_error("--world FILE is required");
+	if (!agent && !agent_name.empty())
+		return usage_error("--name is an agent's (--agent)");
 
-	auto scenario = parse_scenario_file(world_file);
+	// Before anything makes threads (DDS does): the signals that end the
+	// daemon are the coordinator's to read from a signalfd, and threads made
+	// before it takes SCHED_FIFO and its core keep the normal policy and
+	// every CPU (ros_bridge.h).
+	sigset_t ending;
+	sigemptyset(&ending);
+	for (int sig : { SIGINT, SIGTERM, SIGHUP, SIGQUIT })
+		sigaddset(&ending, sig);
+	pthread_sigmask(SIG_BLOCK, &ending, nullptr);
+
+	// The world: from the file, or, for an agent, from its host.
+	std::unique_ptr<StepAgent> agent_link;
+	std::string world_text, world_name = world_file;
+	Result<Scenario> scenario = Error{ "" };
+	if (agent) {
+		if (agent_name.empty())
+			agent_name = host_name() + "-" + std::to_string(getpid());
+		auto joined = join_world((uint32_t)dds_domain, agent_name, kJoinWait);
+		if (!joined)
+			return fail("DDS domain " + std::to_string(dds_domain) + ": " + joined.error().message);
+		agent_link = std::move(joined->link);
+		world_name = "the world of " + joined->world.host;
+		scenario = parse_scenario_text(joined->world.scenario, world_name);
+		cfg.mode = joined->world.mode;
+		cfg.step_agent = agent_link.get();
+	} else {
+		auto text = read_file(world_file, kMaxScenario);
+		if (!text)
+			return fail(text.error().message);
+		world_text = *text;
+		scenario = parse_scenario_file(world_file);
+	}
 	if (!scenario)
 		return fail(scenario.error().message);
 	auto setup = world_setup(*scenario);
 	if (!setup)
 		return fail(setup.error().message);
+	if (agent)
+		scenario->controllers.clear(); // the host waits for them, not we
 	cfg.models = setup->models;
 	cfg.devices = setup->devices;
 	cfg.step_ns = setup->step_ns;
@@ -177,17 +245,17 @@ int main(int argc, char **argv)
 	if (!listening)
 		return fail(listening.error().message);
 
-	// Before the coordinator: DDS's threads and the bridge's must not
-	// inherit its SCHED_FIFO and core (ros_bridge.h).
-	// Nor may they take the signals that end the daemon (the coordinator
-	// reads them from a signalfd): blocked before they exist.
-	sigset_t ending;
-	sigemptyset(&ending);
-	for (int sig : { SIGINT, SIGTERM, SIGHUP, SIGQUIT })
-		sigaddset(&ending, sig);
-	pthread_sigmask(SIG_BLOCK, &ending, nullptr);
 	std::unique_ptr<RosBridge> bridge;
-	if (dds_domain >= 0) {
+	std::unique_ptr<StepHost> host_link;
+	if (dds_domain >= 0 && !agent) {
+		HostedWorldInfo w{ (uint32_t)getpid() ^ (uint32_t)time(nullptr), host_name(), world_text, cfg.mode };
+		auto h = open_step_host((uint32_t)dds_domain, w);
+		if (!h) {
+			unlink(socket_path.c_str());
+			return fail("DDS domain " + std::to_string(dds_domain) + ": " + h.error().message);
+		}
+		host_link = std::move(*h);
+		cfg.step_host = host_link.get();
 		auto b = RosBridge::start((uint32_t)dds_domain, setup->joints);
 		if (!b) {
 			unlink(socket_path.c_str());
@@ -203,6 +271,11 @@ int main(int argc, char **argv)
 		if (clients)
 			clients->controller_ended(r);
 	};
+	cfg.on_agent_controllers = [&clients](const std::string &who, const std::vector<std::string> &programs) {
+		if (clients)
+			clients->agent_programs(who, programs);
+	};
+	cfg.on_info = log;
 	auto co = Coordinator::create(cfg);
 	if (!co) {
 		unlink(socket_path.c_str());
@@ -215,10 +288,10 @@ int main(int argc, char **argv)
 		return fail(s.error().message);
 	}
 	std::string waiting = served.waiting_for();
-	log("serving " + world_file + " on " + socket_path +
-	    (dds_domain >= 0 ? " and on DDS domain " + std::to_string(dds_domain) : "") +
+	log((agent ? "agent " + agent_name + " in " : "serving ") + world_name + " on " + socket_path +
+	    (dds_domain >= 0 ? (agent ? ", by DDS domain " : " and on DDS domain ") + std::to_string(dds_domain) : "") +
 	    (waiting.empty() ? "" : "; the world waits for " + waiting + " to attach"));
-	notify_systemd("READY=1\nSTATUS=serving " + world_file + " on " + socket_path);
+	notify_systemd("READY=1\nSTATUS=serving " + world_name + " on " + socket_path);
 
 	auto report = (*co)->run();
 	unlink(socket_path.c_str());
@@ -232,5 +305,7 @@ int main(int argc, char **argv)
 		return fail(report.error().message);
 	if (!quiet)
 		fputs(summary(*report, cfg.mode, "coordinatord").c_str(), stderr);
+	if (report->reason == EndReason::Lost)
+		return fail(report->lost);
 	return 0;
 }
