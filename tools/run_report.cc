@@ -107,6 +107,8 @@ int exit_status(const RunReport &r)
 			return 2;
 	if (r.reason == EndReason::Signal)
 		return 128 + r.signal;
+	if (r.reason == EndReason::Lost)
+		return 2;
 	for (const auto &c : r.controllers)
 		if (!c.child && !c.ended_by_tcs && c.wait_status >= 0 && status_code(c.wait_status) != 0)
 			return status_code(c.wait_status);
