@@ -2,6 +2,7 @@
 #include "realtime.h"
 #include "tcs/protocol.h"
 
+#include <dirent.h>
 #include <sched.h>
 #include <time.h>
 #if defined(__x86_64__)
@@ -9,6 +10,7 @@
 #endif
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 
@@ -117,6 +119,29 @@ void apply_controller_realtime(const RealtimePlan &plan)
 	struct sched_param sp = {};
 	sp.sched_priority = plan.controller_prio;
 	sched_setscheduler(0, SCHED_FIFO, &sp);
+}
+
+std::vector<pid_t> own_threads()
+{
+	std::vector<pid_t> tids;
+	if (DIR *d = opendir("/proc/self/task")) {
+		while (struct dirent *e = readdir(d))
+			if (e->d_name[0] != '.')
+				tids.push_back((pid_t)atoi(e->d_name));
+		closedir(d);
+	}
+	return tids;
+}
+
+void pin_threads(const std::vector<pid_t> &tids, int cpu)
+{
+	if (cpu < 0)
+		return;
+	cpu_set_t set;
+	CPU_ZERO(&set);
+	CPU_SET(cpu, &set);
+	for (pid_t t : tids)
+		sched_setaffinity(t, sizeof set, &set);
 }
 
 } // namespace tcs

@@ -6,6 +6,9 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
+
+#include <sys/types.h>
 
 namespace tcs {
 
@@ -34,5 +37,13 @@ void coordinator_fifo(const RealtimePlan &plan, bool on);
 // In a freshly forked controller, before exec: one priority below the
 // coordinator. Async-signal-safe.
 void apply_controller_realtime(const RealtimePlan &plan);
+
+// The threads of this process (their tids), and moving some to one core
+// (their policy stays as it is). A library's threads that hand the
+// coordinator its messages (DDS's) wake it fastest from its own core: on
+// another, each hand-off is an inter-processor interrupt, several times the
+// cost of the hand-off itself on a virtual machine.
+std::vector<pid_t> own_threads();
+void pin_threads(const std::vector<pid_t> &tids, int cpu);
 
 } // namespace tcs

@@ -193,6 +193,7 @@ int main(int argc, char **argv)
 
 	// The world: from the file, or, for an agent, from its host.
 	std::unique_ptr<StepAgent> agent_link;
+	std::vector<pid_t> step_threads; // DDS's, for the step protocol
 	std::string world_text, world_name = world_file;
 	Result<Scenario> scenario = Error{ "" };
 	if (agent) {
@@ -202,6 +203,7 @@ int main(int argc, char **argv)
 		if (!joined)
 			return fail("DDS domain " + std::to_string(dds_domain) + ": " + joined.error().message);
 		agent_link = std::move(joined->link);
+		step_threads = own_threads();
 		world_name = "the world of " + joined->world.host;
 		scenario = parse_scenario_text(joined->world.scenario, world_name);
 		cfg.mode = joined->world.mode;
@@ -256,6 +258,7 @@ int main(int argc, char **argv)
 		}
 		host_link = std::move(*h);
 		cfg.step_host = host_link.get();
+		step_threads = own_threads();
 		auto b = RosBridge::start((uint32_t)dds_domain, setup->joints);
 		if (!b) {
 			unlink(socket_path.c_str());
@@ -281,6 +284,12 @@ int main(int argc, char **argv)
 		unlink(socket_path.c_str());
 		return fail(co.error().message);
 	}
+	// The step protocol's DDS threads join the coordinator on its core
+	// (at their normal priority): a barrier then costs a quarter of what it
+	// does with them elsewhere (docs/PERFORMANCE.md). The main thread is
+	// there already; the ROS bridge's threads stay off it.
+	std::erase(step_threads, getpid());
+	pin_threads(step_threads, (*co)->fifo_cpu());
 	Clients served(**co, *scenario, log);
 	clients = &served;
 	if (auto s = served.serve(std::move(*listening)); !s) {
