@@ -133,6 +133,54 @@ def dds_barrier(b):
                 "a 1 ms step world with one agent: at most %.1fx real time" % (b.rounds, barriers, p99, 1e3 / median))]
 
 
+LOOPBACK_DDS = {"CYCLONEDDS_URI": '<General><Interfaces><NetworkInterface name="lo"/></Interfaces>'
+                '<AllowMulticast>false</AllowMulticast></General><Discovery><ParticipantIndex>auto'
+                '</ParticipantIndex><Peers><Peer address="127.0.0.1"/></Peers></Discovery>'}
+
+
+def pendulum_through_agent(b):
+    """The 1 kHz pendulum run by coordinatord --agent for a world another
+    coordinatord hosts (both on loopback, lockstep): one DDS barrier per
+    step, against the same controller in-process, in the same rounds."""
+    seconds = 5 if b.quick else 20
+    daemon = b.path("coordinatord", "daemon", "coordinatord")
+    pd = b.path("examples", "pendulum_pd")
+    here = os.path.dirname(os.path.abspath(__file__))
+    with open(os.path.join(here, "..", "scenarios", "pendulum.toml")) as f:
+        world = f.read() + '\n[[controller]]\ncommand = "pendulum_pd"\n'
+    world_file = os.path.join(b.tmp, "agent-world.toml")
+    with open(world_file, "w") as f:
+        f.write(world)
+    env = dict(os.environ, **LOOPBACK_DDS)
+    domain = str(200 + os.getpid() % 30)
+
+    def through_agent():
+        host_sock, agent_sock = os.path.join(b.tmp, "host.sock"), os.path.join(b.tmp, "agent.sock")
+        procs = [subprocess.Popen([daemon, "-q", "-m", "lockstep", "-w", world_file, "-s", host_sock,
+                                   "--dds-domain", domain], env=env, stderr=subprocess.DEVNULL)]
+        try:
+            procs.append(subprocess.Popen([daemon, "-q", "--agent", "--dds-domain", domain, "-s", agent_sock],
+                                          env=env, stderr=subprocess.DEVNULL))
+            for _ in range(500):
+                if os.path.exists(agent_sock):
+                    break
+                time.sleep(0.02)
+            return b.run(b.tcs("-q", "--connect", agent_sock, "--", pd, "--seconds", seconds))[1]
+        finally:
+            for p in reversed(procs):
+                p.terminate()
+                p.wait(30)
+
+    m, _ = b.interleaved([
+        ("inprocess", lambda: b.run(b.tcs("-q", "-m", "lockstep", "--", pd, "--seconds", seconds))[1]),
+        ("agent", through_agent),
+    ])
+    return [row("1 kHz pendulum through an agent (DDS, loopback, lockstep)", m["agent"], "s wall", m["inprocess"],
+                "the same in-process", m["agent"] / m["inprocess"], "\u2014", None,
+                "%d s virtual: %.1fx real time through the agent, %.1fx in-process" %
+                (seconds, seconds / m["agent"], seconds / m["inprocess"]))]
+
+
 def pendulum_speed(b):
     seconds = 20 if b.quick else 60
     pd = b.path("examples", "pendulum_pd")
@@ -251,7 +299,8 @@ def trace_cost(b):
                 "%.0f KB of trace per 1,000 cycles" % kb)]
 
 
-BENCHES = [("clock", clock_reads), ("sleep", sleep_round_trip), ("dds", dds_barrier), ("pendulum", pendulum_speed),
+BENCHES = [("clock", clock_reads), ("sleep", sleep_round_trip), ("dds", dds_barrier), ("agent", pendulum_through_agent),
+           ("pendulum", pendulum_speed),
            ("overshoot", preemption_overshoot), ("error", timing_error), ("boxes", box_world),
            ("memory", peak_memory), ("trace", trace_cost)]
 
