@@ -81,9 +81,12 @@ void Coordinator::schedule()
 		}
 		if (!any) {
 			// Everyone has exited: run() notices; served, the world goes
-			// on at real-time speed until someone attaches, or at the
-			// pace of the step protocol when it has peers.
-			if (cfg_.step_agent || !agents_.empty()) {
+			// on at real-time speed until someone attaches, here or at an
+			// agent; with controllers at an agent, at the step protocol's
+			// pace (an agent answers at once: its host sets the pace).
+			bool remote = std::any_of(agents_.begin(), agents_.end(),
+						  [](const auto &a) { return !a.second.programs.empty(); });
+			if (cfg_.step_agent || remote) {
 				if (!advance_to(target))
 					return;
 				continue;

@@ -124,5 +124,29 @@ def test_a_lost_agent_stops_the_world():
     check(not counts["truncated"], "the host's trace is closed whole: %s" % counts)
 
 
+def test_an_agent_whose_host_is_lost_ends_its_controllers():
+    domain = 150 + (os.getpid() + 12) % 50
+    with Hosts() as hosts:
+        with Daemon(pendulum_world(), "--dds-domain", str(domain), env=hosts.host_env) as host:
+            with Daemon(None, *agent_args(domain), env=hosts.agent_env, prefix=hosts.prefix) as agent:
+                host.wait_log(r"agent far has joined", timeout=20)
+                p = agent.connect(PENDULUM_PD, "--seconds", 1000)
+                agent.wait_log(r"attached .*pendulum_pd")
+                time.sleep(0.5)
+                host.proc.send_signal(signal.SIGKILL)
+                host.proc.wait()
+                agent.wait_log(r"the world's host is gone", timeout=10)
+                try:
+                    agent.proc.wait(10)
+                except subprocess.TimeoutExpired:
+                    raise AssertionError("the agent runs on without its host\n" + agent.log())
+                client = finish(p, 30, p.t0)
+            check(agent.proc.returncode == 2, "the agent ends with an error\n" + agent.log())
+            check("its controllers here are ended" in agent.log().strip().splitlines()[-1], "a clear last word\n" +
+                  agent.log())
+    # pendulum_pd ends its loop on SIGTERM and reports: its own status.
+    check(client.returncode == 0 and "cycles=" in client.stdout, "the controller was ended and reported", client)
+
+
 if __name__ == "__main__":
     main(globals())
