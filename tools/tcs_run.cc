@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_errors.h"
 #include "cli_time.h"
 #include "connect_run.h"
 #include "coordinator.h"
@@ -46,14 +47,12 @@ const char kUsage[] =
 
 int fail(const std::string &msg)
 {
-	fprintf(stderr, "tcs-run: %s\n", msg.c_str());
-	return 2;
+	return report_error("tcs-run", msg);
 }
 
 int usage_error(const std::string &msg)
 {
-	fprintf(stderr, "tcs-run: %s\nTry 'tcs-run --help' for more information.\n", msg.c_str());
-	return 2;
+	return report_usage_error("tcs-run", msg);
 }
 
 // --connect: the world, its mode, duration, trace and epoch are the

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "attach_socket.h"
+#include "cli_errors.h"
 #include "cli_time.h"
 #include "clients.h"
 #include "coordinator.h"
@@ -60,14 +61,12 @@ const char kUsage[] =
 
 int fail(const std::string &msg)
 {
-	fprintf(stderr, "coordinatord: %s\n", msg.c_str());
-	return 2;
+	return report_error("coordinatord", msg);
 }
 
 int usage_error(const std::string &msg)
 {
-	fprintf(stderr, "coordinatord: %s\nTry 'coordinatord --help' for more information.\n", msg.c_str());
-	return 2;
+	return report_usage_error("coordinatord", msg);
 }
 
 void log_line(const std::string &msg)

@@ -5,6 +5,7 @@ controller for a world its host steps, through the step protocol over DDS.
 The pendulum experiment comes out as it does in-process, and an agent that
 dies stops the world with a clear error within DDS's liveliness lease."""
 
+import contextlib
 import os
 import signal
 import subprocess
@@ -93,25 +94,40 @@ def test_an_agent_runs_the_pendulum_as_in_process():
     check(far.values() == alone.values(), "the same outcome, figure for figure:\n%s\n%s" % (alone.stdout, far.stdout))
 
 
+@contextlib.contextmanager
+def pendulum_on_an_agent(hosts, domain):
+    """A host, an agent that has joined it, and a long pendulum run there
+    (its tcs-run started): (host, agent, tcs-run)."""
+    with Daemon(pendulum_world(), "--dds-domain", str(domain), env=hosts.host_env) as host:
+        with Daemon(None, *agent_args(domain), env=hosts.agent_env, prefix=hosts.prefix) as agent:
+            host.wait_log(r"agent far has joined", timeout=20)
+            p = agent.connect(PENDULUM_PD, "--seconds", 1000)
+            agent.wait_log(r"attached .*pendulum_pd")
+            time.sleep(0.5)
+            yield host, agent, p
+
+
+def kill_and_wait_for(victim, survivor, said):
+    """SIGKILL to one side; the other must say so and end by itself.
+    Returns how long the saying took."""
+    t0 = time.monotonic()
+    victim.proc.send_signal(signal.SIGKILL)
+    victim.proc.wait()
+    survivor.wait_log(said, timeout=10)
+    took = time.monotonic() - t0
+    try:
+        survivor.proc.wait(10)
+    except subprocess.TimeoutExpired:
+        raise AssertionError("it runs on without its peer\n" + survivor.log())
+    return took
+
+
 def test_a_lost_agent_stops_the_world():
     domain = 150 + (os.getpid() + 25) % 50
     with Hosts() as hosts:
-        with Daemon(pendulum_world(), "--dds-domain", str(domain), env=hosts.host_env) as host:
-            with Daemon(None, *agent_args(domain), env=hosts.agent_env, prefix=hosts.prefix) as agent:
-                host.wait_log(r"agent far has joined", timeout=20)
-                p = agent.connect(PENDULUM_PD, "--seconds", 1000)
-                agent.wait_log(r"attached .*pendulum_pd")
-                time.sleep(0.5)
-                t0 = time.monotonic()
-                agent.proc.send_signal(signal.SIGKILL)
-                agent.proc.wait()
-                host.wait_log(r"agent far is gone", timeout=10)
-                took = time.monotonic() - t0
-                try:
-                    host.proc.wait(10)
-                except subprocess.TimeoutExpired:
-                    raise AssertionError("the host runs on without its agent\n" + host.log())
-                client = finish(p, 30, p.t0)
+        with pendulum_on_an_agent(hosts, domain) as (host, agent, p):
+            took = kill_and_wait_for(agent, host, r"agent far is gone")
+            client = finish(p, 30, p.t0)
             check(host.proc.returncode == 2, "the host ends with an error\n" + host.log())
             last = host.log().strip().splitlines()[-1]
             check(last.startswith("coordinatord: agent far is gone (no sign of life for 1000 ms): the world stops"),
@@ -127,20 +143,9 @@ def test_a_lost_agent_stops_the_world():
 def test_an_agent_whose_host_is_lost_ends_its_controllers():
     domain = 150 + (os.getpid() + 12) % 50
     with Hosts() as hosts:
-        with Daemon(pendulum_world(), "--dds-domain", str(domain), env=hosts.host_env) as host:
-            with Daemon(None, *agent_args(domain), env=hosts.agent_env, prefix=hosts.prefix) as agent:
-                host.wait_log(r"agent far has joined", timeout=20)
-                p = agent.connect(PENDULUM_PD, "--seconds", 1000)
-                agent.wait_log(r"attached .*pendulum_pd")
-                time.sleep(0.5)
-                host.proc.send_signal(signal.SIGKILL)
-                host.proc.wait()
-                agent.wait_log(r"the world's host is gone", timeout=10)
-                try:
-                    agent.proc.wait(10)
-                except subprocess.TimeoutExpired:
-                    raise AssertionError("the agent runs on without its host\n" + agent.log())
-                client = finish(p, 30, p.t0)
+        with pendulum_on_an_agent(hosts, domain) as (host, agent, p):
+            kill_and_wait_for(host, agent, r"the world's host is gone")
+            client = finish(p, 30, p.t0)
             check(agent.proc.returncode == 2, "the agent ends with an error\n" + agent.log())
             check("its controllers here are ended" in agent.log().strip().splitlines()[-1], "a clear last word\n" +
                   agent.log())

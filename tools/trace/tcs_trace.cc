@@ -7,6 +7,7 @@
 #include <cstring>
 #include <string>
 
+#include "cli_errors.h"
 #include "trace_data.h"
 #include "trace_export.h"
 #include "trace_plot.h"
@@ -46,14 +47,12 @@ const char kUsage[] =
 
 int fail(const std::string &msg)
 {
-	fprintf(stderr, "tcs-trace: %s\n", msg.c_str());
-	return 2;
+	return report_error("tcs-trace", msg);
 }
 
 int usage_error(const std::string &msg)
 {
-	fprintf(stderr, "tcs-trace: %s\nTry 'tcs-trace --help' for more information.\n", msg.c_str());
-	return 2;
+	return report_usage_error("tcs-trace", msg);
 }
 
 // Writes through a temporary file renamed into place on success, so a
