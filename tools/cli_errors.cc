@@ -3,6 +3,8 @@
 
 #include <cstdio>
 
+#include "tcs/clock_page.h"
+
 namespace tcs {
 
 int report_error(const char *prog, const std::string &msg)
@@ -15,6 +17,18 @@ int report_usage_error(const char *prog, const std::string &msg)
 {
 	fprintf(stderr, "%s: %s\nTry '%s --help' for more information.\n", prog, msg.c_str(), prog);
 	return 2;
+}
+
+std::string getopt_complaint(int opt, char **argv, int optind)
+{
+	if (opt == ':')
+		return std::string("option '") + argv[optind - 1] + "' needs a value";
+	return std::string("unknown option '") + argv[optind - 1] + "'";
+}
+
+int parse_mode(const std::string &text)
+{
+	return text == "cpu" ? TCS_MODE_CPU : text == "lockstep" ? TCS_MODE_LOCKSTEP : -1;
 }
 
 } // namespace tcs

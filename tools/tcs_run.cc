@@ -121,11 +121,8 @@ int main(int argc, char **argv)
 			list_signals = true;
 			break;
 		case 'm':
-			if (arg == "cpu")
-				cfg.mode = TCS_MODE_CPU;
-			else if (arg == "lockstep")
-				cfg.mode = TCS_MODE_LOCKSTEP;
-			else
+			cfg.mode = parse_mode(arg);
+			if (cfg.mode < 0)
 				return usage_error("--mode: '" + arg + "' is not a mode (cpu or lockstep)");
 			break;
 		case OPT_CPU_SCALE: {
@@ -169,10 +166,8 @@ int main(int argc, char **argv)
 		case 'V':
 			printf("tcs-run %s\n", TCS_VERSION);
 			return 0;
-		case ':':
-			return usage_error(std::string("option '") + argv[optind - 1] + "' needs a value");
 		default:
-			return usage_error(std::string("unknown option '") + argv[optind - 1] + "'");
+			return usage_error(getopt_complaint(opt, argv, optind));
 		}
 	}
 	if (!connect_socket.empty())

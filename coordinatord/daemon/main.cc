@@ -121,11 +121,8 @@ int main(int argc, char **argv)
 			socket_path = arg;
 			break;
 		case 'm':
-			if (arg == "cpu")
-				cfg.mode = TCS_MODE_CPU;
-			else if (arg == "lockstep")
-				cfg.mode = TCS_MODE_LOCKSTEP;
-			else
+			cfg.mode = parse_mode(arg);
+			if (cfg.mode < 0)
 				return usage_error("--mode: '" + arg + "' is not a mode (cpu or lockstep)");
 			mode_given = true;
 			break;
@@ -163,10 +160,8 @@ int main(int argc, char **argv)
 		case 'V':
 			printf("coordinatord %s\n", TCS_VERSION);
 			return 0;
-		case ':':
-			return usage_error(std::string("option '") + argv[optind - 1] + "' needs a value");
 		default:
-			return usage_error(std::string("unknown option '") + argv[optind - 1] + "'");
+			return usage_error(getopt_complaint(opt, argv, optind));
 		}
 	}
 	if (optind < argc)
