@@ -25,6 +25,8 @@ packages=(gcc g++ libc6-dev binutils pkg-config meson ninja-build python3 libcmo
 [[ $what == bench ]] && packages+=(faketime)
 # Real programs nobody wrote for tcs, which the tests run under it.
 [[ $what == test ]] && packages+=(rt-tests stress-ng coreutils)
+# The agent tests put an agent in a network namespace of its own.
+[[ $what == test ]] && packages+=(iproute2)
 missing=()
 for p in "${packages[@]}"; do
 	dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

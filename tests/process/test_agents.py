@@ -44,9 +44,13 @@ class Hosts:
                  ["ip", "netns", "exec", self.ns, "ip", "link", "set", "lo", "up"]]
         self.made = False
         for cmd in steps:
-            r = subprocess.run(cmd, capture_output=True, text=True)
-            if r.returncode != 0:
-                print("  no network namespace (%s: %s): the agent runs on loopback" % (" ".join(cmd), r.stderr.strip()))
+            try:
+                r = subprocess.run(cmd, capture_output=True, text=True)
+                why = r.stderr.strip() if r.returncode != 0 else None
+            except FileNotFoundError:
+                why = "no ip command (iproute2)"
+            if why is not None:
+                print("  no network namespace (%s: %s): the agent runs on loopback" % (" ".join(cmd), why))
                 self.cleanup()
                 self.host_env, self.agent_env, self.prefix = DDS_ENV, DDS_ENV, []
                 return self
