@@ -133,13 +133,18 @@ void Coordinator::on_step_agent()
 }
 
 // All our controllers have reached the step's end: what they commanded
-// goes to the host, and we wait for its next grant.
+// in it goes to the host, and we wait for its next grant. A controller that
+// ran on past the step's end (nobody else needed the core) keeps what it
+// commanded later for the answers to come, as the world would apply it
+// only then.
 void Coordinator::answer_grant()
 {
 	Done d;
 	d.step = (uint64_t)steps_;
 	d.controllers = programs();
-	for (auto &[at, dev, values] : commands_) {
+	const int64_t end = sim_ns_ + cfg_.step_ns;
+	while (!commands_.empty() && std::get<0>(commands_.front()) <= end) {
+		auto &[at, dev, values] = commands_.front();
 		dev->command = values;
 		size_t off = 0;
 		for (size_t i : dev->signals) {
@@ -148,8 +153,8 @@ void Coordinator::answer_grant()
 				d.commands.push_back({ at, (uint32_t)i, values[off + k] });
 			off += width;
 		}
+		commands_.pop_front();
 	}
-	commands_.clear();
 	cfg_.step_agent->answer(d);
 	awaiting_grant_ = true;
 }
