@@ -172,8 +172,12 @@ void Controller::take_wait(const SideWait &w)
 	in_block = true;
 }
 
+// After release() (an ended controller) there is no page: what follows
+// touches nothing.
 void Controller::set_page_flag(uint32_t flag, bool on)
 {
+	if (!page_)
+		return;
 	if (on)
 		__atomic_fetch_or(&page_->flags, flag, __ATOMIC_RELEASE);
 	else
@@ -183,12 +187,14 @@ void Controller::set_page_flag(uint32_t flag, bool on)
 void Controller::publish_slice(int64_t cpu_base)
 {
 	slice_ = tcs_slice{ v, cpu_base, charged };
-	tcs_page_write_slice(page_, slice_);
+	if (page_)
+		tcs_page_write_slice(page_, slice_);
 }
 
 int64_t Controller::slice_cpu(int64_t cpu) const
 {
-	return tcs_slice_cpu(slice_.cpu_base, __atomic_load_n(&page_->exit_cpu, __ATOMIC_RELAXED), cpu);
+	int64_t exit_cpu = page_ ? __atomic_load_n(&page_->exit_cpu, __ATOMIC_RELAXED) : 0;
+	return tcs_slice_cpu(slice_.cpu_base, exit_cpu, cpu);
 }
 
 void Controller::account(int64_t cpu, int mode)
@@ -208,22 +214,39 @@ void Controller::timers_changed()
 
 void Controller::coordinator_ran()
 {
-	tcs_page_bump_gen(page_);
+	if (page_)
+		tcs_page_bump_gen(page_);
 }
 
 bool Controller::multithreaded() const
 {
-	return !threads.empty() || __atomic_load_n(&page_->threads_started, __ATOMIC_RELAXED) != 0;
+	return !threads.empty() || (page_ && __atomic_load_n(&page_->threads_started, __ATOMIC_RELAXED) != 0);
 }
 
 uint64_t Controller::quick_waits() const
 {
-	return __atomic_load_n(&page_->quick_returns, __ATOMIC_RELAXED);
+	return page_ ? __atomic_load_n(&page_->quick_returns, __ATOMIC_RELAXED) : final_quick_waits_;
 }
 
 uint64_t Controller::past_deadlines() const
 {
-	return __atomic_load_n(&page_->past_deadlines, __ATOMIC_RELAXED);
+	return page_ ? __atomic_load_n(&page_->past_deadlines, __ATOMIC_RELAXED) : final_past_deadlines_;
+}
+
+void Controller::release()
+{
+	final_quick_waits_ = quick_waits();
+	final_past_deadlines_ = past_deadlines();
+	channel.reset();
+	pidfd.reset();
+	awaiting_child_fd.reset();
+	page_fd_for_child.reset();
+	threads.clear();
+	devices.clear();
+	if (page_) {
+		munmap(page_, TCS_SHARED_SIZE);
+		page_ = nullptr;
+	}
 }
 
 } // namespace tcs

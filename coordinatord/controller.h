@@ -160,6 +160,9 @@ public:
 	void coordinator_ran();
 	uint64_t quick_waits() const;
 	uint64_t past_deadlines() const;
+	// Ended: its descriptors and shared memory go back (a daemon serves
+	// controllers for as long as it runs); what the report needs stays.
+	void release();
 
 	// Scheduling state.
 	CtlState state = CtlState::Ready;
@@ -246,6 +249,7 @@ private:
 				   const RealtimePlan &rt, const std::vector<BoundDevice> &bound);
 	Status take_pid(pid_t p);
 	tcs_clock_page *page_ = nullptr;
+	uint64_t final_quick_waits_ = 0, final_past_deadlines_ = 0; // once released
 	clockid_t cpu_clock_ = 0;
 	tcs_slice slice_ = {};
 };

@@ -582,6 +582,8 @@ void Coordinator::on_exit(Controller &c, int wait_status)
 			cfg_.on_controller_end(report_of(c));
 		word_of_controllers();
 	}
+	if (cfg_.serve)
+		c.release(); // served for long: its fds and memory go back now
 	schedule();
 }
 

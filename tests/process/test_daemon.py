@@ -164,6 +164,18 @@ def test_a_controller_gone_before_the_start_is_waited_for_again():
         check(d.log().count("2 of 2 expected") == 1, "the world started with both\n" + d.log())
 
 
+def test_a_long_served_daemon_keeps_no_descriptors_of_ended_controllers():
+    with Daemon('[sim]\nmodel = "pendulum"\n') as d:
+        fds = lambda: len(os.listdir("/proc/%d/fd" % d.proc.pid))
+        r = finish(d.connect(prog("exit_with"), 0), 60, time.monotonic())
+        before = fds()
+        for _ in range(60):
+            r = finish(d.connect(prog("exit_with"), 0), 60, time.monotonic())
+            check(r.returncode == 0, "each one is served", r)
+        after = fds()
+        check(after <= before + 2, "descriptors: %d after one controller, %d after 60 more" % (before, after))
+
+
 def test_another_user_is_refused():
     if os.geteuid() != 0:
         raise AssertionError("this test switches to another uid and needs root")
