@@ -240,24 +240,25 @@ int main(int argc, char **argv)
 	auto listening = listen_socket(socket_path);
 	if (!listening)
 		return fail(listening.error().message);
+	// From here, whatever ends the daemon takes its socket file with it.
+	struct Unlink {
+		std::string path;
+		~Unlink() { unlink(path.c_str()); }
+	} socket_file{ socket_path };
 
 	std::unique_ptr<RosBridge> bridge;
 	std::unique_ptr<StepHost> host_link;
 	if (dds_domain >= 0 && !agent) {
 		HostedWorldInfo w{ (uint32_t)getpid() ^ (uint32_t)time(nullptr), host_name(), world_text, cfg.mode };
 		auto h = open_step_host((uint32_t)dds_domain, w);
-		if (!h) {
-			unlink(socket_path.c_str());
+		if (!h)
 			return fail("DDS domain " + std::to_string(dds_domain) + ": " + h.error().message);
-		}
 		host_link = std::move(*h);
 		cfg.step_host = host_link.get();
 		step_threads = own_threads();
 		auto b = RosBridge::start((uint32_t)dds_domain, setup->joints);
-		if (!b) {
-			unlink(socket_path.c_str());
+		if (!b)
 			return fail(b.error().message);
-		}
 		bridge = std::move(*b);
 		cfg.on_step = [&bridge](int64_t sim_ns, const SimWorld &world) { bridge->step(sim_ns, world); };
 	}
@@ -274,10 +275,8 @@ int main(int argc, char **argv)
 	};
 	cfg.on_info = log;
 	auto co = Coordinator::create(cfg);
-	if (!co) {
-		unlink(socket_path.c_str());
+	if (!co)
 		return fail(co.error().message);
-	}
 	// The step protocol's DDS threads join the coordinator on its core
 	// (at their normal priority): a barrier then costs a quarter of what it
 	// does with them elsewhere (docs/PERFORMANCE.md). The main thread is
@@ -286,10 +285,8 @@ int main(int argc, char **argv)
 	pin_threads(step_threads, (*co)->fifo_cpu());
 	Clients served(**co, *scenario, log);
 	clients = &served;
-	if (auto s = served.serve(std::move(*listening)); !s) {
-		unlink(socket_path.c_str());
+	if (auto s = served.serve(std::move(*listening)); !s)
 		return fail(s.error().message);
-	}
 	std::string waiting = served.waiting_for();
 	log((agent ? "agent " + agent_name + " in " : "serving ") + world_name + " on " + socket_path +
 	    (dds_domain >= 0 ? (agent ? ", by DDS domain " : " and on DDS domain ") + std::to_string(dds_domain) : "") +
@@ -297,7 +294,6 @@ int main(int argc, char **argv)
 	notify_systemd("READY=1\nSTATUS=serving " + world_name + " on " + socket_path);
 
 	auto report = (*co)->run();
-	unlink(socket_path.c_str());
 	clients = nullptr;
 	if (bridge) {
 		uint64_t dropped = bridge->stop();
