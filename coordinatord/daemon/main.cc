@@ -193,6 +193,9 @@ int main(int argc, char **argv)
 	if (agent) {
 		if (agent_name.empty())
 			agent_name = host_name() + "-" + std::to_string(getpid());
+		if (!quiet)
+			log_line("looking for a world on DDS domain " + std::to_string(dds_domain) + " (up to " +
+				 std::to_string(kJoinWait / 1000000000) + " s)");
 		auto joined = join_world((uint32_t)dds_domain, agent_name, kJoinWait);
 		if (!joined)
 			return fail("DDS domain " + std::to_string(dds_domain) + ": " + joined.error().message);
