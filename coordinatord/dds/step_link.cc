@@ -74,6 +74,22 @@ public:
 		});
 		return Ok{};
 	}
+	// The participant and the protocol's three topics.
+	Status open_topics(uint32_t domain)
+	{
+		if (auto s = open(domain); !s)
+			return s;
+		auto w = topic(&tcs_dds__HostedWorld_desc, tcs_dds__WORLD_TOPIC);
+		auto g = topic(&tcs_dds__StepGrant_desc, tcs_dds__STEP_GRANT_TOPIC);
+		auto d = topic(&tcs_dds__StepDone_desc, tcs_dds__STEP_DONE_TOPIC);
+		for (auto *t : { &w, &g, &d })
+			if (!*t)
+				return t->error();
+		world_topic = *w;
+		grant_topic = *g;
+		done_topic = *d;
+		return Ok{};
+	}
 	Result<dds_entity_t> topic(const dds_topic_descriptor_t *desc, const char *name)
 	{
 		dds_entity_t t = dds_create_topic(participant, desc, name, nullptr, nullptr);
@@ -109,6 +125,7 @@ public:
 		(void)!read(wake.get(), &n, sizeof n);
 	}
 	dds_entity_t participant = 0;
+	dds_entity_t world_topic = 0, grant_topic = 0, done_topic = 0;
 	dds_listener_t *listener = nullptr;
 	UniqueFd wake;
 };
@@ -138,17 +155,11 @@ public:
 	Status open(uint32_t domain, const HostedWorldInfo &w)
 	{
 		world_ = w.world;
-		if (auto s = ep_.open(domain); !s)
+		if (auto s = ep_.open_topics(domain); !s)
 			return s;
-		auto world_topic = ep_.topic(&tcs_dds__HostedWorld_desc, tcs_dds__WORLD_TOPIC);
-		auto grant_topic = ep_.topic(&tcs_dds__StepGrant_desc, tcs_dds__STEP_GRANT_TOPIC);
-		auto done_topic = ep_.topic(&tcs_dds__StepDone_desc, tcs_dds__STEP_DONE_TOPIC);
-		for (auto *t : { &world_topic, &grant_topic, &done_topic })
-			if (!*t)
-				return t->error();
-		auto world_writer = ep_.writer(*world_topic, world_qos());
-		auto grant_writer = ep_.writer(*grant_topic, grant_qos());
-		auto done_reader = ep_.reader(*done_topic, done_qos(), true);
+		auto world_writer = ep_.writer(ep_.world_topic, world_qos());
+		auto grant_writer = ep_.writer(ep_.grant_topic, grant_qos());
+		auto done_reader = ep_.reader(ep_.done_topic, done_qos(), true);
 		for (auto *e : { &world_writer, &grant_writer, &done_reader })
 			if (!*e)
 				return e->error();
@@ -206,23 +217,17 @@ public:
 	Result<HostedWorldInfo> open(uint32_t domain, const std::string &agent, int64_t timeout_ns)
 	{
 		agent_ = agent;
-		if (auto s = ep_.open(domain); !s)
+		if (auto s = ep_.open_topics(domain); !s)
 			return s.error();
-		auto world_topic = ep_.topic(&tcs_dds__HostedWorld_desc, tcs_dds__WORLD_TOPIC);
-		auto grant_topic = ep_.topic(&tcs_dds__StepGrant_desc, tcs_dds__STEP_GRANT_TOPIC);
-		auto done_topic = ep_.topic(&tcs_dds__StepDone_desc, tcs_dds__STEP_DONE_TOPIC);
-		for (auto *t : { &world_topic, &grant_topic, &done_topic })
-			if (!*t)
-				return t->error();
-		auto world_reader = ep_.reader(*world_topic, world_qos(), false);
+		auto world_reader = ep_.reader(ep_.world_topic, world_qos(), false);
 		if (!world_reader)
 			return world_reader.error();
 		HostedWorldInfo w;
 		if (auto s = wait_world(*world_reader, timeout_ns, w); !s)
 			return s.error();
 		world_ = w.world;
-		auto grant_reader = ep_.reader(*grant_topic, grant_qos(), true);
-		auto done_writer = ep_.writer(*done_topic, done_qos());
+		auto grant_reader = ep_.reader(ep_.grant_topic, grant_qos(), true);
+		auto done_writer = ep_.writer(ep_.done_topic, done_qos());
 		for (auto *e : { &grant_reader, &done_writer })
 			if (!*e)
 				return e->error();

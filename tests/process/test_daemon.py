@@ -194,15 +194,8 @@ def test_another_user_is_refused():
                 s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
                 s.settimeout(10)
                 s.connect(d.socket)
-                data = b""
-                while True:
-                    chunk = s.recv(4096)
-                    if not chunk:
-                        break
-                    data += chunk
-                magic, version, kind, length = struct.unpack("<IHHI", data[:12])
-                text = data[16:16 + length].decode()
-                os._exit(0 if kind == 4 and "serves uid 0 only, not uid 65534" in text else 1)
+                kind, text = read_frames(s)[0]
+                os._exit(0 if kind == 4 and b"serves uid 0 only, not uid 65534" in text else 1)
             except Exception:
                 os._exit(2)
         _, status = os.waitpid(pid, 0)
@@ -214,6 +207,22 @@ def test_another_user_is_refused():
         check(r.returncode == 0, "its own user is served", r)
 
 
+def read_frames(s):
+    """Every frame (kind, payload) the daemon sends on s until it closes."""
+    data = b""
+    while True:
+        chunk = s.recv(4096)
+        if not chunk:
+            break
+        data += chunk
+    frames = []
+    while len(data) >= 16:
+        _, _, kind, length = struct.unpack("<IHHI", data[:12])
+        frames.append((kind, data[16:16 + length]))
+        data = data[16 + length:]
+    return frames
+
+
 def raw_request(path, data, fds=()):
     """Sends bytes (with fds) and returns (kind, text) of the reply."""
     s = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
@@ -223,15 +232,9 @@ def raw_request(path, data, fds=()):
         s.sendmsg([data], [(socket.SOL_SOCKET, socket.SCM_RIGHTS, struct.pack("%di" % len(fds), *fds))])
     else:
         s.sendall(data)
-    reply = b""
-    while True:
-        chunk = s.recv(4096)
-        if not chunk:
-            break
-        reply += chunk
+    kind, payload = read_frames(s)[0]
     s.close()
-    _, _, kind, length = struct.unpack("<IHHI", reply[:12])
-    return kind, reply[16:16 + length].decode(errors="replace")
+    return kind, payload.decode(errors="replace")
 
 
 def frame(kind, payload, magic=0x41534354, version=1, length=None):
@@ -269,17 +272,7 @@ def test_bad_requests_are_answered_and_the_daemon_serves_on():
                   [(socket.SOL_SOCKET, socket.SCM_RIGHTS, struct.pack("3i", devnull, devnull, devnull))])
         os.close(devnull)
         s.settimeout(20)
-        reply = b""
-        while True:
-            chunk = s.recv(4096)
-            if not chunk:
-                break
-            reply += chunk
-        kinds = []
-        while len(reply) >= 16:
-            _, _, kind, length = struct.unpack("<IHHI", reply[:12])
-            kinds.append((kind, reply[16:16 + length]))
-            reply = reply[16 + length:]
+        kinds = read_frames(s)
         check([k for k, _ in kinds] == [3, 5], "STARTED then ENDED: %s" % kinds)
         check(struct.unpack("<i", kinds[1][1][:4])[0] >> 8 == 127, "exit 127 for a program that is not there")
         r = finish(d.connect(prog("exit_with"), 4), 60, time.monotonic())
