@@ -501,9 +501,13 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	if (c.state == CtlState::Running) {
 		budget_timer_.disarm();
 		running_ = nullptr;
-		// Charged up to the hook's entry, never past what the clock says.
+		// Charged up to the hook's entry, never past what the clock says;
+		// with threads, up to now: the CPU clock is the process's, and
+		// another thread may have computed since this one's hook began
+		// (a worker that held the core for 20 ms before main's BLOCK went
+		// out, seen: all of it went uncharged).
 		int64_t cpu = c.cpu_now();
-		c.account(std::min<int64_t>(m.cpu, cpu), cfg_.mode);
+		c.account(c.multithreaded() ? cpu : std::min<int64_t>(m.cpu, cpu), cfg_.mode);
 		trace_slice_end(c, "blocked", cpu);
 		c.cpu_at_block = cpu;
 	}
