@@ -154,7 +154,6 @@ private:
 	void grant_now();
 	void answer_grant();
 	void word_of_controllers();
-	std::vector<std::string> programs() const;
 	void lose(const std::string &why);
 	bool descends_from(const Controller &o, int root) const;
 	void warn_once(const std::string &what);
@@ -290,10 +289,11 @@ private:
 	};
 	std::map<std::string, AgentState> agents_;
 	std::deque<RemoteCommand> remote_commands_; // theirs, not yet in force
-	std::vector<double> signal_values_;         // a grant's, reused
+	Grant grant_;                               // the last one made (its buffer reused)
 	// Agent: answered, and the next grant not here yet (at first: none yet).
 	bool awaiting_grant_ = false;
 	bool granted_ = false;
+	std::vector<std::string> programs_; // its controllers' programs, as last told
 	std::string lost_; // a peer gone: why the run ended
 	EndReason end_reason_ = EndReason::AllExited;
 	int end_signal_ = 0;

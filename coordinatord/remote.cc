@@ -8,6 +8,7 @@
 // the next.
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "coordinator.h"
 
@@ -53,8 +54,14 @@ void Coordinator::on_step_host()
 			bool ok = c.signal < world_->signal_count() && world_->signal(c.signal).width == 1 &&
 				  (world_->signal(c.signal).flags & TCS_SIM_SIGNAL_WRITABLE) && std::isfinite(c.value) &&
 				  c.v >= sim_ns_ && c.v <= sim_ns_ + cfg_.step_ns;
+			// Several agents' answers interleave: kept in time order, as
+			// apply_commands takes them from the front.
 			if (ok)
-				remote_commands_.push_back(c);
+				remote_commands_.insert(std::upper_bound(remote_commands_.begin(), remote_commands_.end(), c,
+									 [](const RemoteCommand &x, const RemoteCommand &y) {
+										 return x.v < y.v;
+									 }),
+							c);
 			else
 				warn_once("agent " + d.agent + " sent a command the world cannot take (signal " +
 					  std::to_string(c.signal) + "): ignored");
@@ -80,12 +87,10 @@ void Coordinator::grant_now()
 {
 	if (!cfg_.step_host || !world_ || held_ || agents_.empty())
 		return;
-	world_->read_all(signal_values_);
-	Grant g;
-	g.step = (uint64_t)steps_;
-	g.sim_ns = sim_ns_;
-	g.signals = signal_values_;
-	cfg_.step_host->grant(g);
+	grant_.step = (uint64_t)steps_;
+	grant_.sim_ns = sim_ns_;
+	world_->read_all(grant_.signals);
+	cfg_.step_host->grant(grant_);
 }
 
 void Coordinator::lose(const std::string &why)
@@ -114,7 +119,7 @@ void Coordinator::on_step_agent()
 		if (!world_ || g.signals.size() != world_->value_count())
 			return lose("the host's grants do not fit its world (" + std::to_string(g.signals.size()) +
 				    " values): the world stops");
-		world_->mirror(g.signals);
+		world_->mirror(std::move(g.signals));
 		sim_ns_ = g.sim_ns;
 		steps_ = (int64_t)g.step;
 		if (!granted_) {
@@ -141,7 +146,7 @@ void Coordinator::answer_grant()
 {
 	Done d;
 	d.step = (uint64_t)steps_;
-	d.controllers = programs();
+	d.controllers = programs_;
 	const int64_t end = sim_ns_ + cfg_.step_ns;
 	while (!commands_.empty() && std::get<0>(commands_.front()) <= end) {
 		auto &[at, dev, values] = commands_.front();
@@ -160,24 +165,20 @@ void Coordinator::answer_grant()
 }
 
 // Word of our controllers, before the first grant (the host may wait for
-// them) and when they come or go.
+// them) and when they come or go: the list every answer then carries, made
+// here rather than once a step.
 void Coordinator::word_of_controllers()
 {
 	if (!cfg_.step_agent)
 		return;
-	Done d;
-	d.step = Done::kNoStep;
-	d.controllers = programs();
-	cfg_.step_agent->answer(d);
-}
-
-std::vector<std::string> Coordinator::programs() const
-{
-	std::vector<std::string> names;
+	programs_.clear();
 	for (const auto &c : ctls_)
 		if (c->parent_id == 0 && c->state != CtlState::Exited)
-			names.push_back(c->name.substr(c->name.find_last_of('/') + 1));
-	return names;
+			programs_.push_back(c->name.substr(c->name.find_last_of('/') + 1));
+	Done d;
+	d.step = Done::kNoStep;
+	d.controllers = programs_;
+	cfg_.step_agent->answer(d);
 }
 
 } // namespace tcs

@@ -83,7 +83,7 @@ void SimWorld::read(size_t index, std::vector<double> &out) const
 	size_t width = signal(index).width;
 	out.resize(at + width);
 	if (!mirror_.empty()) {
-		std::copy_n(mirror_.begin() + (long)offsets_[index], width, out.begin() + (long)at);
+		std::copy_n(mirror_.begin() + (long)offsets()[index], width, out.begin() + (long)at);
 		return;
 	}
 	plugin_->read(sim_, index, out.data() + at);
@@ -96,7 +96,9 @@ void SimWorld::read_all(std::vector<double> &out) const
 		read(i, out);
 }
 
-void SimWorld::mirror(const std::vector<double> &all)
+// Where each signal's values begin in read_all()'s order, and the total
+// last: the signal table never changes, so made once.
+const std::vector<size_t> &SimWorld::offsets() const
 {
 	if (offsets_.empty()) {
 		size_t at = 0;
@@ -104,19 +106,21 @@ void SimWorld::mirror(const std::vector<double> &all)
 			offsets_.push_back(at);
 			at += signal(i).width;
 		}
-		offsets_.push_back(at); // the total
+		offsets_.push_back(at);
 	}
+	return offsets_;
+}
+
+void SimWorld::mirror(std::vector<double> all)
+{
 	// A grant of another size is another world's: the caller checked.
-	if (all.size() == offsets_.back())
-		mirror_ = all;
+	if (all.size() == value_count())
+		mirror_ = std::move(all);
 }
 
 size_t SimWorld::value_count() const
 {
-	size_t n = 0;
-	for (size_t i = 0, count = signal_count(); i < count; i++)
-		n += signal(i).width;
-	return n;
+	return offsets().back();
 }
 
 void SimWorld::write(size_t index, const double *values)

@@ -46,7 +46,7 @@ public:
 	// Every signal's values, in order: the world as read from something
 	// that steps it elsewhere (an agent's view of its host's world). From
 	// then on read() returns these.
-	void mirror(const std::vector<double> &all);
+	void mirror(std::vector<double> all);
 	// How many values all the signals have together.
 	size_t value_count() const;
 	// Every signal's values now, in order (what mirror() takes).
@@ -59,8 +59,9 @@ private:
 	int64_t step_ns_ = 0;
 	int64_t steps_ = 0;
 	int64_t last_wall_ = 0;
-	std::vector<double> mirror_;   // empty: not a mirror
-	std::vector<size_t> offsets_;  // of each signal in mirror_
+	const std::vector<size_t> &offsets() const;
+	std::vector<double> mirror_;          // empty: not a mirror
+	mutable std::vector<size_t> offsets_; // see offsets()
 };
 
 } // namespace tcs

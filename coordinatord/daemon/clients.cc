@@ -1,9 +1,7 @@
 // coordinatord's clients: attach requests in, STARTED/ENDED out.
 #include "clients.h"
 
-#include <signal.h>
 #include <sys/socket.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -33,7 +31,7 @@ void reply(int fd, AttachType type, const std::string &payload)
 Clients::Clients(Coordinator &co, const Scenario &scenario, Log log) : co_(co), log_(std::move(log))
 {
 	for (const auto &entry : scenario.controllers)
-		expected_.push_back(Expected{ basename_of(entry.argv[0]), entry.cpu_scale, entry.line, false });
+		expected_.push_back(Expected{ basename_of(entry.argv[0]), entry.cpu_scale, false });
 	held_ = !expected_.empty();
 	co_.hold(held_);
 }
@@ -76,7 +74,6 @@ void Clients::on_accept()
 		      "coordinatord serves uid " + std::to_string(geteuid()) + " only, not " + who);
 		return;
 	}
-	c->uid = *uid;
 	Client *raw = c.get();
 	if (auto s = co_.watch(raw->fd.get(), [this, raw] { on_readable(raw); }); !s) {
 		log_("cannot serve a client: " + s.error().message);

@@ -40,12 +40,10 @@ private:
 	struct Expected {
 		std::string program; // basename of the scenario's command
 		std::optional<double> cpu_scale;
-		int line = 0;
 		bool attached = false;
 	};
 	struct Client {
 		UniqueFd fd;
-		uid_t uid = 0;
 		std::string in;
 		std::vector<UniqueFd> fds; // stdin, stdout, stderr of the RUN
 		int controller = 0;        // its controller's id, once started
