@@ -326,9 +326,14 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 			tcs_sys1(SYS_close, fd);
 		break;
 	}
-	/* From here on the hook's own cost is not charged to the program (but
-	 * for a thread woken while others run: their CPU is theirs). */
-	if (reply->flags & TCS_WAKE_STARTS_SLICE)
+	/* From here on the hook's own cost is not charged to the program. The
+	 * mark is the process's CPU, which only means this hook's cost while
+	 * the process has one thread: with more, another may have computed
+	 * between the coordinator's resume and this thread's turn, and that is
+	 * theirs to be charged (as on_block charges a threaded BLOCK to the
+	 * coordinator's reading, not the hook's entry). */
+	if ((reply->flags & TCS_WAKE_STARTS_SLICE) &&
+	    __atomic_load_n(&tcs_rt.page->threads_started, __ATOMIC_RELAXED) == 0)
 		__atomic_store_n(&tcs_rt.page->exit_cpu, tcs_process_cpu(), __ATOMIC_RELAXED);
 	return early;
 }
