@@ -50,8 +50,6 @@ Result<dds_entity_t> make_writer(dds_entity_t participant, const dds_topic_descr
 	dds_delete_qos(q);
 	if (w < 0)
 		return dds_error(std::string("creating the writer of ") + topic_name, w);
-	// For wait_for_subscriber's waitset.
-	dds_set_status_mask(w, DDS_PUBLICATION_MATCHED_STATUS);
 	return w;
 }
 
@@ -137,30 +135,6 @@ void RosPublisher::joint_states(int64_t sim_ns, const double *position, const do
 	sample.effort = lent(effort, n);
 	if (dds_write(joints_writer_, &sample) < 0)
 		dropped_++;
-}
-
-Status RosPublisher::wait_for_subscriber(int64_t timeout_ns)
-{
-	dds_entity_t ws = dds_create_waitset(participant_);
-	if (ws < 0)
-		return dds_error("creating a waitset", ws);
-	dds_waitset_attach(ws, clock_writer_, 0);
-	dds_waitset_attach(ws, joints_writer_, 0);
-	const dds_time_t deadline = dds_time() + timeout_ns;
-	Status result = Error{ "no DDS reader of rt/clock or rt/joint_states appeared within the time allowed" };
-	for (;;) {
-		dds_publication_matched_status_t c{}, j{};
-		dds_get_publication_matched_status(clock_writer_, &c);
-		dds_get_publication_matched_status(joints_writer_, &j);
-		if (c.current_count > 0 || j.current_count > 0) {
-			result = Ok{};
-			break;
-		}
-		if (dds_waitset_wait_until(ws, nullptr, 0, deadline) <= 0)
-			break;
-	}
-	dds_delete(ws);
-	return result;
 }
 
 } // namespace tcs

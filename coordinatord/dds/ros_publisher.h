@@ -42,10 +42,6 @@ public:
 	// reliable reader too slow to acknowledge) or failed otherwise.
 	uint64_t dropped() const { return dropped_; }
 
-	// Waits (on DDS's matched status, no polling) until some reader matches
-	// either topic; for programs that want their first samples seen.
-	Status wait_for_subscriber(int64_t timeout_ns);
-
 private:
 	RosPublisher() = default;
 	// dds_entity_t, kept out of this header (the .cc checks the type).
