@@ -50,6 +50,7 @@ Result<UniqueFd> Controller::make_page(const ControllerSpec &spec, int mode, con
 		e.kind = (uint32_t)d.cfg.kind;
 		e.format = (uint32_t)d.cfg.format;
 		e.latest = d.cfg.latest ? 1 : 0;
+		e.width = (uint32_t)d.width;
 	}
 	return page_fd;
 }
@@ -203,6 +204,13 @@ void Controller::account(int64_t cpu, int mode)
 	charged = std::max(charged, tcs_ns_add(slice_.charged_base, used));
 	if (mode == TCS_MODE_CPU)
 		v = std::max(v, tcs_ns_add(slice_.v_base, used));
+}
+
+uint64_t Controller::take_lazy_handles()
+{
+	if (!page_ || __atomic_load_n(&page_->lazy_handles, __ATOMIC_RELAXED) == 0)
+		return 0;
+	return __atomic_exchange_n(&page_->lazy_handles, 0, __ATOMIC_ACQ_REL);
 }
 
 void Controller::timers_changed()

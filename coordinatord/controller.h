@@ -158,6 +158,8 @@ public:
 	// The coordinator ran on the controller's core: its CPU-time estimates
 	// from before are stale (TCS_PAGE_CPU_ESTIMATE).
 	void coordinator_ran();
+	// Device handles it wrote without a round trip (lockstep), cleared.
+	uint64_t take_lazy_handles();
 	uint64_t quick_waits() const;
 	uint64_t past_deadlines() const;
 	// Ended: its descriptors and shared memory go back (a daemon serves

@@ -393,6 +393,7 @@ void Coordinator::on_channel(Controller &c, ThreadChannel *t)
 		return;
 	UniqueFd passed(n > 0 ? tcs_msg_io_fd(&io) : -1);
 	if (n == 0 || (n < 0 && errno == ECONNRESET)) {
+		take_lazy_commands(c, -1);
 		// Every copy of this end is closed: the thread has ended, or the
 		// controller is exiting (its pidfd tells when).
 		if (t)
@@ -403,9 +404,14 @@ void Coordinator::on_channel(Controller &c, ThreadChannel *t)
 	}
 	struct tcs_msg m;
 	if (const char *why = tcs_msg_check(buf, (long)n, &m)) {
+		take_lazy_commands(c, -1);
 		drop(c, std::string("bad message on its channel: ") + why);
 		return;
 	}
+	// Records it wrote since its last request carry the time it has now,
+	// before anything it asks moves that. (A device it asks to take what
+	// it wrote: that request takes them, and judges them with its write.)
+	take_lazy_commands(c, m.type == TCS_MSG_DEV_SYNC && m.kind == TCS_SYNC_WRITE ? m.arg : -1);
 	if (!t && m.type == TCS_MSG_CHILD && !(m.flags & TCS_CHILD_PARENT)) {
 		// From a new child, not from c: it waits on its own channel.
 		on_child(c, m, std::move(passed));
@@ -539,6 +545,7 @@ void Coordinator::on_pidfd(Controller &c)
 
 void Coordinator::on_exit(Controller &c, int wait_status)
 {
+	take_lazy_commands(c, -1); // its last commands count
 	c.state = CtlState::Exited;
 	c.exit_status = wait_status;
 	// A parent waiting for its children learns of it at the child's

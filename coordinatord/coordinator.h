@@ -232,7 +232,11 @@ private:
 	void deliver(Controller &c);
 	void fill_streams(int64_t until);
 	void make_records(OpenDevice &d, int64_t until);
-	void take_commands(Controller &c, OpenDevice &d);
+	// The records written to d, stamped c.v; false if one was malformed.
+	bool take_commands(Controller &c, OpenDevice &d, bool written_lazily);
+	// Those written without a round trip (lockstep), before c's time moves;
+	// but for handle `except`, whose request will take them.
+	void take_lazy_commands(Controller &c, int64_t except);
 	void apply_commands(int64_t boundary);
 	int64_t next_record_due(const Controller &c) const;
 	void reply_now(Controller &c, int64_t arg);

@@ -183,12 +183,16 @@ int64_t Coordinator::next_record_due(const Controller &c) const
 	return due;
 }
 
-void Coordinator::take_commands(Controller &c, OpenDevice &d)
+bool Coordinator::take_commands(Controller &c, OpenDevice &d, bool written_lazily)
 {
 	char buf[4096];
 	ssize_t n;
-	while ((n = recv(d.sock.get(), buf, sizeof buf, MSG_DONTWAIT)) > 0)
-		d.input.append(buf, (size_t)n);
+	// A short read has emptied the socket: the writer is not running.
+	do {
+		n = recv(d.sock.get(), buf, sizeof buf, MSG_DONTWAIT);
+		if (n > 0)
+			d.input.append(buf, (size_t)n);
+	} while (n == (ssize_t)sizeof buf);
 	BoundDevice &dev = *d.dev;
 	std::vector<std::vector<double>> records;
 	std::string why;
@@ -205,9 +209,22 @@ void Coordinator::take_commands(Controller &c, OpenDevice &d)
 		if (trace_.is_open())
 			trace_.command(c.id, dev.cfg.path, c.v, {}, true);
 		dev.malformed++;
-		c.wake_arg = -EINVAL;
-		warn_once(c.name + ": " + dev.cfg.path + ": malformed record (" + why +
-			  "): the write fails with EINVAL and the last valid command stays in force");
+		// The preload vouched for a lazy write's records: only a write
+		// around its hooks (a raw system call) can get here.
+		warn_once(c.name + ": " + dev.cfg.path + ": malformed record (" + why + "): " +
+			  (written_lazily ? "written around tcs's hooks, it is dropped"
+					  : "the write fails with EINVAL") +
+			  " and the last valid command stays in force");
+	}
+	return ok;
+}
+
+void Coordinator::take_lazy_commands(Controller &c, int64_t except)
+{
+	for (uint64_t bits = c.take_lazy_handles(); bits != 0; bits &= bits - 1) {
+		size_t h = (size_t)__builtin_ctzll(bits);
+		if ((int64_t)h != except && h < c.devices.size() && c.devices[h]->dev->cfg.kind == TCS_DEVICE_ACTUATOR)
+			take_commands(c, *c.devices[h], true);
 	}
 }
 
@@ -271,8 +288,8 @@ void Coordinator::on_dev_sync(Controller &c, const ::tcs_msg &m)
 	}
 	if (m.kind == TCS_SYNC_WRITE) {
 		OpenDevice &d = *c.devices[(size_t)m.arg];
-		if (d.dev->cfg.kind == TCS_DEVICE_ACTUATOR)
-			take_commands(c, d);
+		if (d.dev->cfg.kind == TCS_DEVICE_ACTUATOR && !take_commands(c, d, false))
+			c.wake_arg = -EINVAL;
 		reply_now(c, c.wake_arg);
 		return;
 	}

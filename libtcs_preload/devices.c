@@ -46,6 +46,11 @@ int tcs_device_kind(int fd)
 	return tcs_device_handle(fd) < 0 ? 0 : tcs_fd_kind[fd] & ~TCS_FD_STREAM;
 }
 
+const struct tcs_device_entry *tcs_device_entry(int fd)
+{
+	return &tcs_rt.devices->dev[tcs_fd_dev[fd]];
+}
+
 int tcs_device_streams(int fd)
 {
 	return tcs_device_handle(fd) >= 0 && (tcs_fd_kind[fd] & TCS_FD_STREAM);
@@ -114,6 +119,7 @@ long tcs_device_open(int dev, int oflags)
 	tcs_fd_dev[fd] = (uint8_t)dev;
 	__atomic_store_n(&tcs_fd_handle[fd], (int32_t)w.arg + 1, __ATOMIC_RELAXED);
 	__atomic_add_fetch(&tcs_open_devices, 1, __ATOMIC_RELAXED);
+	tcs_lazy_device_opened((int)w.arg);
 	return fd;
 }
 

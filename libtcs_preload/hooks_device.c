@@ -104,12 +104,14 @@ static long tcs_before_read(int fd)
 }
 
 /* After writing a device: the coordinator takes the records, stamped with
- * the virtual time of the write; a malformed one fails the write. */
-static long tcs_after_write(int fd, long written)
+ * the virtual time of the write; a malformed one fails the write. `last`
+ * is the last byte written. */
+static long tcs_after_write(int fd, long written, char last)
 {
 	int h = tcs_device_handle(fd);
 	if (h < 0 || written <= 0 || !tcs_active())
 		return written;
+	tcs_lazy_note_written(fd, written, last);
 	long r = tcs_device_sync(h, fd, TCS_SYNC_WRITE);
 	return r < 0 && r != -EINTR ? r : written;
 }
@@ -157,14 +159,25 @@ TCS_EXPORT ssize_t write(int fd, const void *buf, size_t n)
 {
 	if (tcs_write_refused(fd))
 		return tcs_errno_result(-EBADF);
-	return tcs_errno_result(tcs_after_write(fd, tcs_sys3(SYS_write, fd, buf, n)));
+	int lazy = tcs_lazy_write_begin(fd, buf, n);
+	long w = tcs_sys3(SYS_write, fd, buf, n);
+	if (lazy && w == (long)n) {
+		tcs_lazy_write_done(fd, n);
+		return w;
+	}
+	return tcs_errno_result(tcs_after_write(fd, w, w > 0 ? ((const char *)buf)[w - 1] : 0));
 }
 
 TCS_EXPORT ssize_t writev(int fd, const struct iovec *iov, int n)
 {
 	if (tcs_write_refused(fd))
 		return tcs_errno_result(-EBADF);
-	return tcs_errno_result(tcs_after_write(fd, tcs_sys3(SYS_writev, fd, iov, n)));
+	long w = tcs_sys3(SYS_writev, fd, iov, n);
+	char last = 0;
+	for (long left = w, i = 0; left > 0 && i < n; left -= (long)iov[i].iov_len, i++)
+		if ((size_t)left <= iov[i].iov_len)
+			last = ((const char *)iov[i].iov_base)[left - 1];
+	return tcs_errno_result(tcs_after_write(fd, w, last));
 }
 
 /* ---- stdio ------------------------------------------------------------------ */

@@ -117,8 +117,19 @@ static inline int64_t tcs_process_cpu_estimate(void)
 		return a->cpu + (int64_t)(((unsigned __int128)(now - a->tsc) * p->tsc_mult) >> 32);
 	return tcs_process_cpu_resync();
 }
+/* An exact reading, which later estimates start from while nothing else ran
+ * on the core (a hook's exit mark: the next request's charge point then
+ * needs no system call of its own). */
+static inline int64_t tcs_process_cpu_anchor(void)
+{
+	return tcs_process_cpu_resync();
+}
 #else
 static inline int64_t tcs_process_cpu_estimate(void)
+{
+	return tcs_process_cpu();
+}
+static inline int64_t tcs_process_cpu_anchor(void)
 {
 	return tcs_process_cpu();
 }

@@ -13,6 +13,7 @@
 #include <sys/mman.h>
 #include <sys/socket.h>
 
+#include "devices.h"
 #include "preload.h"
 #include "raw_syscall.h"
 
@@ -266,6 +267,7 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 	if (channel < 0)
 		tcs_lost("this thread has no channel");
 	tcs_send(channel, m);
+	tcs_lazy_request_sent();
 	if (fd_out)
 		*fd_out = -1;
 
@@ -334,7 +336,7 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 	 * coordinator's reading, not the hook's entry). */
 	if ((reply->flags & TCS_WAKE_STARTS_SLICE) &&
 	    __atomic_load_n(&tcs_rt.page->threads_started, __ATOMIC_RELAXED) == 0)
-		__atomic_store_n(&tcs_rt.page->exit_cpu, tcs_process_cpu(), __ATOMIC_RELAXED);
+		__atomic_store_n(&tcs_rt.page->exit_cpu, tcs_process_cpu_anchor(), __ATOMIC_RELAXED);
 	return early;
 }
 

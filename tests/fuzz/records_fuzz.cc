@@ -1,7 +1,9 @@
 // The fuzz target for the device record formats (coordinatord/device.h):
 // what a controller writes to an actuator, taken apart by parse_records()
 // in text or binary and for 1 to 16 values a record, all at once and in
-// pieces as the socket delivers them; and format_record(), which makes
+// pieces as the socket delivers them; the preload's quick look
+// (tcs/record_check.h), which must never vouch for what the parser
+// refuses; and format_record(), which makes
 // sensor records, given any values. The first byte of an input picks the
 // format, the width and the pieces; the rest is what was written.
 #include <cmath>
@@ -14,6 +16,7 @@
 
 #include "device.h"
 #include "fuzz_target.h"
+#include "tcs/record_check.h"
 
 namespace {
 
@@ -149,6 +152,17 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		check(bad_whole == bad_cut);
 	}
 
+	// What the preload sends on without a round trip (lockstep), the
+	// parser takes whole: every record, nothing malformed, nothing left.
+	const long vouched = tcs_records_check(bytes.data(), bytes.size(), (uint32_t)format, (uint32_t)width);
+	if (vouched >= 0) {
+		check(bad_whole == 0 && (long)whole.size() == vouched);
+		std::string input = bytes;
+		Records records;
+		std::string why;
+		check(tcs::parse_records(format, width, input, records, &why) && input.empty());
+	}
+
 	// Every record parsed is written again, in both formats, the same.
 	for (const auto &values : whole) {
 		check_round_trip(TCS_FORMAT_TEXT, values);
@@ -186,6 +200,8 @@ std::vector<std::string> tcs_fuzz_seeds()
 		head(T, 7, 2) + "0.1 0.2 0.3 0.4 0.5 0.6 0.7\n",
 		head(T, 16, 0) + "1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16\n",
 		head(T, 1, 0) + std::string(5000, '1') + "\n2\n",
+		head(T, 1, 0) + "9e299\n1e300\n00000000001e299\n.5\n5.\n+1\n",
+		head(T, 2, 0) + ",,\n1.5-2\n1e 2\n",
 		head(B, 1, 0) + f64s({ 0.75, -1.5, 1e-310 }),
 		head(B, 2, 5) + f64s({ 1, 2, 3, 4, 5 }),
 		head(B, 3, 0) + f64s({ 1, NAN, 3, 4, 5, 6 }),

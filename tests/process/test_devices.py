@@ -3,7 +3,14 @@
 and saturated commands, a shadowed existing path with termios, and
 scenario errors reported as FILE:LINE before anything starts."""
 
-from harness import check, close_to, main, prog, scenario_file, tcs
+import csv
+import io
+import os
+import tempfile
+
+from harness import check, close_to, main, prog, run, scenario_file, tcs
+
+TCS_TRACE = os.environ.get("TCS_TRACE", "tcs-trace")
 
 SCENARIO = """\
 [sim]
@@ -45,6 +52,32 @@ path = "/dev/tcs/pendulum/torque"
 kind = "actuator"
 signals = ["pendulum.hinge.effort"]
 limit = 5.0
+"""
+
+# Two motors, one written in text, one in binary.
+TWO_MOTORS = """\
+[sim]
+step = "1ms"
+
+[[model]]
+name = "a"
+type = "pendulum"
+
+[[model]]
+name = "b"
+type = "pendulum"
+
+[[device]]
+path = "/dev/tcs/a/torque"
+kind = "actuator"
+signals = ["a.hinge.effort"]
+limit = 5.0
+
+[[device]]
+path = "/dev/tcs/b/torque_f64"
+kind = "actuator"
+signals = ["b.hinge.effort"]
+format = "binary"
 """
 
 
@@ -93,22 +126,63 @@ def test_latest_and_binary_records():
 
 
 def test_commands_hold_and_malformed_ones_fail():
+    # Both modes: in lockstep a well-formed write needs no round trip, a
+    # malformed one must fail all the same.
     with scenario_file(SCENARIO) as world:
-        r = probe(world, "write", "/dev/tcs/pendulum/torque", "/dev/tcs/pendulum/latest")
+        for mode in ("lockstep", "cpu"):
+            r = probe(world, "write", "/dev/tcs/pendulum/torque", "/dev/tcs/pendulum/latest", mode=mode)
+            v = r.values()
+            check(v["ok"] == "4" and v["bad1"] == "-1" and v["bad1_errno"] == "EINVAL", "garbage: EINVAL", r)
+            check(v["bad2"] == "-1" and v["bad2_errno"] == "EINVAL", "a wrong count of numbers: EINVAL", r)
+            check("malformed record" in r.stderr, "and it is reported", r)
+            check(v["read_open_of_actuator_errno"] == "EACCES", "an actuator is write-only", r)
+            check(v["read_of_actuator"] == "-1" and v["read_of_actuator_errno"] == "EBADF", "so reading one fails", r)
+            check(v["write_of_sensor"] == "-1" and v["write_of_sensor_errno"] == "EBADF", "a sensor is read-only", r)
+            if mode == "cpu":
+                continue  # its CPU moves when each command starts: the figures below are lockstep's
+            # Started at 1 rad, gravity decelerates it; 2 N*m (the last valid
+            # command) adds 2 / (m L^2 / 3) = 6 rad/s^2: over 10 ms, velocity
+            # 0.06 - 4.905 * sin(1) * 3 * 0.01 = -0.0638 rad/s.
+            close_to(float(v["velocity_after_10ms"]), 0.06 - 14.715 * 0.8415 * 0.01, 0.05,
+                     "the last valid command stays in force", r)
+            # 100 N*m saturates at the 5 N*m limit: 15 rad/s^2 more for 10 ms.
+            close_to(float(v["velocity_gain_next_10ms"]), (15 - 14.715 * 0.84) * 0.01, 0.1,
+                     "saturation at limit", r)
+
+def test_commands_keep_the_time_they_were_written():
+    """In lockstep a write of whole, well-formed records goes on without a
+    round trip and the coordinator takes it at the next request: the trace
+    must still show every command at the virtual time it was written, in
+    order, none lost (a flood with no wait, the last one before exit), and
+    a malformed one must still fail its write."""
+    with scenario_file(TWO_MOTORS) as world, tempfile.TemporaryDirectory() as tmp:
+        trace = os.path.join(tmp, "run.mcap")
+        r = tcs("-q", "-m", "lockstep", "-w", world, "-t", trace, prog("device_probe"), "batches",
+                "/dev/tcs/a/torque", "/dev/tcs/b/torque_f64", timeout=60)
+        check(r.returncode == 0, "device_probe batches succeeds", r)
         v = r.values()
-        check(v["ok"] == "4" and v["bad1"] == "-1" and v["bad1_errno"] == "EINVAL", "garbage: EINVAL", r)
-        check(v["bad2"] == "-1" and v["bad2_errno"] == "EINVAL", "a wrong count of numbers: EINVAL", r)
-        check("malformed record" in r.stderr, "and it is reported", r)
-        check(v["read_open_of_actuator_errno"] == "EACCES", "an actuator is write-only", r)
-        check(v["read_of_actuator"] == "-1" and v["read_of_actuator_errno"] == "EBADF", "so reading one fails", r)
-        check(v["write_of_sensor"] == "-1" and v["write_of_sensor_errno"] == "EBADF", "a sensor is read-only", r)
-        # Started at 1 rad, gravity decelerates it; 2 N*m (the last valid
-        # command) adds 2 / (m L^2 / 3) = 6 rad/s^2: over 10 ms, velocity
-        # 0.06 - 4.905 * sin(1) * 3 * 0.01 = -0.0638 rad/s.
-        close_to(float(v["velocity_after_10ms"]), 0.06 - 14.715 * 0.8415 * 0.01, 0.05,
-                 "the last valid command stays in force", r)
-        # 100 N*m saturates at the 5 N*m limit: 15 rad/s^2 more for 10 ms.
-        close_to(float(v["velocity_gain_next_10ms"]), (15 - 14.715 * 0.84) * 0.01, 0.1, "saturation at limit", r)
+        check((v["whole"], v["piece1"], v["piece2"], v["hex"]) == ("4", "2", "2", "6"),
+              "whole records, pieces and a hex float are written", r)
+        check(v["overflow"] == "-1" and v["overflow_errno"] == "EINVAL", "1e999 is no number: EINVAL", r)
+        check((v["two"], v["bin_two"], v["bin_piece1"], v["bin_piece2"]) == ("6", "16", "7", "1"),
+              "two records at once, binary whole and in pieces", r)
+        check(v["flooded"] == "30000", "30,000 writes without a wait all go through (no hang)", r)
+        e = run([TCS_TRACE, "export", trace, "--format", "csv", "--topic", "/tcs/device"])
+        check(e.returncode == 0, "the trace exports", e)
+        rows = [(int(x["v_ns"]), x["path"].rsplit("/", 1)[1], x["values[0]"], x["malformed"])
+                for x in csv.DictReader(io.StringIO(e.stdout))]
+        ms = 1000000
+        ok = lambda at, dev, value: (at, dev, value, "false")
+        expected = ([ok(0, "torque", "1.5"), ok(0, "torque", "2.5"), ok(0, "torque", "2"),
+                     (0, "torque", "", "true"),
+                     ok(3 * ms, "torque", "3"), ok(3 * ms, "torque", "4"),
+                     ok(3 * ms, "torque_f64", "-1.25"), ok(3 * ms, "torque_f64", "0.5"),
+                     ok(3 * ms, "torque_f64", "6")] +
+                    [ok(5 * ms, "torque", "0.25")] * 30000 + [ok(5 * ms, "torque", "4.5")])
+        print("  %d commands traced; first %s, last %s" % (len(rows), rows[:4], rows[-1:]))
+        check(len(rows) == len(expected), "every command traced (%d, expected %d)" % (len(rows), len(expected)), e)
+        for i, (got, want) in enumerate(zip(rows, expected)):
+            check(got == want, "command %d is %s, traced as %s" % (i, want, got), e)
 
 
 def test_a_serial_port_path_takes_termios():

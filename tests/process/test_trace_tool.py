@@ -75,7 +75,15 @@ def test_summary_of_a_loop_that_keeps_its_deadlines():
     # period of 1.55 ms) is charged too, and costs a real miss. So: the
     # summary agrees with the program exactly, and misses are VM hiccups only.
     check(c["deadline_misses"] == int(own["misses"]), "misses as the program counted them (%s)" % own["misses"])
-    check(c["deadline_misses"] <= 2, "no deadline missed but for a VM hiccup or two")
+    # A pause of P ms in one cycle is followed by the cycles that catch up,
+    # 700 us of slack each: ceil(P / 0.7) misses from one pause (seen: a
+    # 5.2 ms pause, 8 misses). More than that, or misses with no long
+    # period, would be tcs's.
+    hiccup = max(c["period"]["max_ns"] - 1000000, 0)
+    allowed = 2 + -(-hiccup // 700000)
+    check(c["deadline_misses"] <= allowed,
+          "no deadline missed but for VM hiccups (%d misses, longest period %d ns, %d allowed)" %
+          (c["deadline_misses"], c["period"]["max_ns"], allowed))
     check(c["asked_period_ns"] == 1000000, "the period it asked for: 1 ms")
     close_to(c["rate_hz"], 1000, 0.001, "loop rate")
     check(c["period"]["p50_ns"] == c["period"]["p99_ns"] == 1000000, "periods of exactly 1 ms of virtual time")

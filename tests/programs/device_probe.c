@@ -7,6 +7,9 @@
  *   latest PATH          two reads at one instant, one after 5 ms
  *   binary PATH          one record of two little-endian f64
  *   write TORQUE STATE   a valid command, malformed ones (EINVAL), saturation; its effect
+ *   batches TEXT BINARY  commands in every shape a write can take (whole records, pieces,
+ *                        numbers only strtod reads, a flood with no wait, a last one
+ *                        before exit), printing each write's result
  *   termios PATH         tcgetattr/tcsetattr on a device as on a serial port */
 #include <errno.h>
 #include <fcntl.h>
@@ -150,6 +153,34 @@ int main(int argc, char **argv)
 		errno = 0;
 		ssize_t wr = write(st, "1\n", 2);
 		printf("write_of_sensor=%d write_of_sensor_errno=%s\n", (int)wr, strerrorname_np(errno));
+	} else if (!strcmp(check, "batches") && argc > 3) {
+		int fd = must_open(path, O_WRONLY), bin = must_open(argv[3], O_WRONLY);
+		double rec[3] = { -1.25, 0.5, 6.0 };
+		unsigned char bytes[24];
+		memcpy(bytes, rec, sizeof rec);
+		/* at 0: a whole record, one in two pieces, one only strtod reads */
+		printf("whole=%d", (int)write(fd, "1.5\n", 4));
+		printf(" piece1=%d", (int)write(fd, "2.", 2));
+		printf(" piece2=%d", (int)write(fd, "5\n", 2));
+		printf(" hex=%d", (int)write(fd, "0x1p1\n", 6));
+		errno = 0;
+		ssize_t overflow = write(fd, "1e999\n", 6);
+		printf(" overflow=%d overflow_errno=%s\n", (int)overflow, strerrorname_np(errno));
+		sleep_ms(3);
+		/* at 3 ms: two records in one write, two binary records, one in pieces */
+		printf("two=%d", (int)write(fd, "3 \n4\r\n", 6));
+		printf(" bin_two=%d", (int)write(bin, bytes, 16));
+		printf(" bin_piece1=%d", (int)write(bin, bytes + 16, 7));
+		printf(" bin_piece2=%d\n", (int)write(bin, bytes + 23, 1));
+		sleep_ms(2);
+		/* at 5 ms: more than a socket buffer's worth without a wait */
+		int flooded = 0;
+		for (int i = 0; i < 30000; i++)
+			flooded += write(fd, "0.250000\n", 9) == 9;
+		printf("flooded=%d\n", flooded);
+		fflush(stdout);
+		/* the last one, and out */
+		_exit(write(fd, "4.5\n", 4) == 4 ? 0 : 1);
 	} else if (!strcmp(check, "termios")) {
 		int fd = must_open(path, O_RDONLY | O_NOCTTY);
 		struct termios t;

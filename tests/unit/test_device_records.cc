@@ -17,6 +17,7 @@ extern "C" {
 }
 
 #include "device.h"
+#include "tcs/record_check.h"
 
 namespace {
 
@@ -117,6 +118,56 @@ void round_trip(void **)
 	assert_string_equal(tcs::format_record(TCS_FORMAT_TEXT, { 0.75, -1 }).c_str(), "0.75 -1\n");
 }
 
+long checked(int format, size_t width, const std::string &bytes)
+{
+	return tcs_records_check(bytes.data(), bytes.size(), (uint32_t)format, (uint32_t)width);
+}
+
+// The preload's quick look (tcs/record_check.h): it vouches only for whole
+// records the parser takes, and counts them; anything else is "unsure" (-1)
+// and goes to the coordinator, which judges it.
+void quick_check(void **)
+{
+	struct {
+		size_t width;
+		const char *text;
+		long records;
+	} cases[] = {
+		{ 1, "1.5\n", 1 },
+		{ 2, "1 2\n3,4\n\n \t\r\n+5\t-.65e-1\r\n", 3 },
+		{ 1, "9e299\n0.000001e-99999\n", 2 }, // far from overflow; underflow is finite
+		{ 1, "\n", 0 },          // nothing to vouch for
+		{ 1, "2.", -1 },          // no newline: a piece
+		{ 1, "0x1p1\n", -1 },     // strtod reads it; this does not try
+		{ 1, "1e300\n", -1 },     // too near the end of the range to say
+		{ 1, "99e299\n", -1 },
+		{ 1, "1e999\n", -1 },
+		{ 1, "1e\n", -1 },        // "1" then "e" to strtod
+		{ 2, "1.5-2\n", -1 },     // two numbers to strtod, none here
+		{ 1, "nan\n", -1 },
+		{ 1, "abc\n", -1 },
+		{ 1, "1 2\n", -1 },
+		{ 1, ",,\n", -1 },        // no blank line to the parser
+	};
+	for (const auto &c : cases) {
+		const std::string bytes = c.text;
+		const long n = checked(TCS_FORMAT_TEXT, c.width, bytes);
+		assert_int_equal(n, c.records);
+		if (n >= 0) {
+			Parsed p = parse(TCS_FORMAT_TEXT, c.width, bytes);
+			assert_true(p.ok);
+			assert_int_equal((long)p.records.size(), n);
+			assert_true(p.left.empty());
+		}
+	}
+	assert_int_equal(checked(TCS_FORMAT_TEXT, 1, std::string("1\0\n", 3)), -1);
+	assert_int_equal(checked(TCS_FORMAT_BINARY, 2, f64s({ 1, 2, 3, 4 })), 2);
+	assert_int_equal(checked(TCS_FORMAT_BINARY, 2, f64s({ 1, 2, 3 })), -1); // a piece
+	assert_int_equal(checked(TCS_FORMAT_BINARY, 1, f64s({ 1, (double)NAN })), -1);
+	assert_int_equal(checked(TCS_FORMAT_BINARY, 1, f64s({ -(double)INFINITY })), -1);
+	assert_int_equal(checked(TCS_FORMAT_BINARY, 1, f64s({ 5e-324, -1.7976931348623157e308 })), 2);
+}
+
 } // namespace
 
 int main(void)
@@ -124,6 +175,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(text_records),   cmocka_unit_test(text_malformed), cmocka_unit_test(text_nul_byte),
 		cmocka_unit_test(text_long_line), cmocka_unit_test(binary_records), cmocka_unit_test(round_trip),
+		cmocka_unit_test(quick_check),
 	};
 	return cmocka_run_group_tests(tests, nullptr, nullptr);
 }

@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 #define TCS_PAGE_MAGIC 0x70736374u /* "tcsp" */
-#define TCS_PAGE_VERSION 6u
+#define TCS_PAGE_VERSION 7u
 #define TCS_PAGE_SIZE 4096
 
 enum tcs_mode {
@@ -86,6 +86,9 @@ struct tcs_clock_page {
 	int64_t detached_pid;    /* last descendant told it runs in real time */
 	uint64_t threads_started; /* pthread_create calls: non-zero, the coordinator
 				   * looks at every thread before time passes */
+	uint64_t lazy_handles;   /* lockstep: device handles (bit h) written without
+				  * a round trip, whose records the coordinator takes
+				  * at the next request (libtcs_preload/lazy_writes.c) */
 };
 
 #if defined(__cplusplus)

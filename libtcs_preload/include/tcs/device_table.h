@@ -31,7 +31,7 @@ struct tcs_device_entry {
 	uint32_t kind;                  /* enum tcs_device_kind */
 	uint32_t format;                /* enum tcs_device_format */
 	uint32_t latest;                /* sensor: every read is answered with the world now */
-	uint32_t reserved;
+	uint32_t width;                 /* values per record */
 };
 
 struct tcs_device_table {
