@@ -241,6 +241,10 @@ private:
 	int64_t next_record_due(const Controller &c) const;
 	void reply_now(Controller &c, int64_t arg);
 	void restart_slice(Controller &c, int64_t request_cpu);
+	// The CPU a request charges up to; a claim may exceed the wall time
+	// since the slice began by this much (the hook's part before we ran).
+	int64_t charge_point(Controller &c, int64_t claimed);
+	static constexpr int64_t kClaimSlack = 1 * TCS_NS_PER_MS;
 	Status step_world();
 	int64_t alive() const;
 

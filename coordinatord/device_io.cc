@@ -63,10 +63,7 @@ void Coordinator::restart_slice(Controller &c, int64_t request_cpu)
 {
 	if (c.state != CtlState::Running)
 		return;
-	// With threads the mark is the process's CPU, which others may have
-	// added to since (see on_block): the slice restarts at now.
-	int64_t now = std::max(c.slice().cpu_base, c.cpu_now());
-	int64_t at = c.multithreaded() ? now : std::clamp<int64_t>(request_cpu, c.slice().cpu_base, now);
+	int64_t at = charge_point(c, request_cpu);
 	int64_t used = c.slice_cpu(at);
 	c.account(at, cfg_.mode);
 	c.publish_slice(at);

@@ -323,6 +323,26 @@ void Coordinator::send_wake(Controller &c)
 	c.wake_pending = false;
 }
 
+// The CPU a request from c charges it up to. With one thread, its hook's
+// claim: its CPU at the hook's entry, read there or extrapolated by the TSC
+// from a reading at most 20 us old (cpu_estimate.c), which spares a system
+// call on every request (a sleep's round trip has two, not three). Taken
+// if plausible (not before its slice began, nor more than the wall time
+// since it was resumed, give or take the hooks' own); else, or with
+// threads, its CPU clock says: another thread may have computed since this
+// one's hook began, and that is charged too (a worker that held the core
+// for 20 ms before main's BLOCK went out, seen: all of it went uncharged).
+// An estimate too high (it slept in the kernel just after a hook) is made
+// good by the next slice, which starts from it: never charged twice.
+int64_t Coordinator::charge_point(Controller &c, int64_t claimed)
+{
+	const int64_t base = c.slice().cpu_base;
+	if (!c.multithreaded() && claimed >= base && claimed - base <= wall_now() - c.resumed_wall + kClaimSlack)
+		return claimed;
+	const int64_t now = std::max(base, c.cpu_now());
+	return c.multithreaded() ? now : std::clamp(claimed, base, now);
+}
+
 void Coordinator::resume(Controller &c, int64_t target)
 {
 	idle_timer_.disarm();
@@ -332,9 +352,10 @@ void Coordinator::resume(Controller &c, int64_t target)
 	int64_t cpu = c.cpu_at_block >= 0 ? c.cpu_at_block : c.cpu_now();
 	c.cpu_at_block = -1;
 	c.publish_slice(cpu);
+	c.resumed_wall = wall_now();
 	if (trace_.is_open()) {
 		c.trace_cpu_start = cpu;
-		c.trace_wall_start = wall_now();
+		c.trace_wall_start = c.resumed_wall;
 		c.trace_v_start = c.v;
 		c.trace_charged_start = c.charged;
 	}
@@ -501,13 +522,9 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	if (c.state == CtlState::Running) {
 		budget_timer_.disarm();
 		running_ = nullptr;
-		// Charged up to the hook's entry, never past what the clock says;
-		// with threads, up to now: the CPU clock is the process's, and
-		// another thread may have computed since this one's hook began
-		// (a worker that held the core for 20 ms before main's BLOCK went
-		// out, seen: all of it went uncharged).
-		int64_t cpu = c.cpu_now();
-		c.account(c.multithreaded() ? cpu : std::min<int64_t>(m.cpu, cpu), cfg_.mode);
+		// Charged up to the hook's entry (see charge_point).
+		int64_t cpu = charge_point(c, m.cpu);
+		c.account(cpu, cfg_.mode);
 		trace_slice_end(c, "blocked", cpu);
 		c.cpu_at_block = cpu;
 	}
