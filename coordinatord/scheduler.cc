@@ -326,7 +326,8 @@ void Coordinator::send_wake(Controller &c)
 // The CPU a request from c charges it up to. With one thread, its hook's
 // claim: its CPU at the hook's entry, read there or extrapolated by the TSC
 // from a reading at most 20 us old (cpu_estimate.c), which spares a system
-// call on every request (a sleep's round trip has two, not three). Taken
+// call on every request (a sleep's round trip keeps one reading of its CPU
+// clock: the hook's exit mark). Taken
 // if plausible (not before its slice began, nor more than the wall time
 // since it was resumed, give or take the hooks' own); else, or with
 // threads, its CPU clock says: another thread may have computed since this

@@ -33,7 +33,6 @@ long tcs_device_sync(int handle, int fd, unsigned kind) TCS_HIDDEN;
 /* The same, for a caller already inside tcs_wait_enter(). */
 long tcs_device_sync_held(int handle, int fd, unsigned kind) TCS_HIDDEN;
 
-
 /* Actuator writes without a round trip in lockstep (lazy_writes.c). Before
  * writing n bytes of buf to fd: 1 if they go without one (then, once all
  * were written, tcs_lazy_write_done), 0 if the write takes the round trip. */
