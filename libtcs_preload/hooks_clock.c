@@ -82,6 +82,11 @@ static int tcs_real_clock_gettime(clockid_t id, struct timespec *ts)
 
 TCS_EXPORT int clock_gettime(clockid_t id, struct timespec *ts)
 {
+	/* The clock control loops read most, on the shortest path. */
+	if (__builtin_expect(id == CLOCK_MONOTONIC, 1) && tcs_active()) {
+		*ts = tcs_ns_to_ts(tcs_rt.page->mono_origin_ns + tcs_vnow());
+		return 0;
+	}
 	int64_t ns;
 	if (tcs_active() && tcs_virtual_clock(id, &ns) == 0) {
 		*ts = tcs_ns_to_ts(ns);

@@ -101,12 +101,16 @@ static inline int64_t tcs_v_not_before(int64_t v)
 struct tcs_anchor {
 	uint64_t tsc; /* when cpu was read */
 	int64_t cpu;
+	int64_t v;    /* v_valid: virtual time when cpu was read */
 	uint32_t gen; /* the page's gen then */
 	uint8_t valid;
+	uint8_t v_valid;
 	uint8_t busy; /* being rewritten: a signal handler must not use it */
 };
 extern __thread struct tcs_anchor tcs_anchor TCS_HIDDEN __attribute__((tls_model("initial-exec")));
 int64_t tcs_process_cpu_resync(void) TCS_HIDDEN;
+/* Virtual time at the anchor, for the next reads (see tcs_vnow). */
+void tcs_anchor_note_slice(const struct tcs_clock_page *p, struct tcs_slice s) TCS_HIDDEN;
 static inline int64_t tcs_process_cpu_estimate(void)
 {
 	const struct tcs_clock_page *p = tcs_rt.page;
@@ -124,6 +128,10 @@ static inline int64_t tcs_process_cpu_anchor(void)
 {
 	return tcs_process_cpu_resync();
 }
+static inline void tcs_anchor_forget_v(void)
+{
+	tcs_anchor.v_valid = 0;
+}
 #else
 static inline int64_t tcs_process_cpu_estimate(void)
 {
@@ -132,6 +140,9 @@ static inline int64_t tcs_process_cpu_estimate(void)
 static inline int64_t tcs_process_cpu_anchor(void)
 {
 	return tcs_process_cpu();
+}
+static inline void tcs_anchor_forget_v(void)
+{
 }
 #endif
 /* A child process (children.c): registers with the coordinator through
@@ -250,7 +261,7 @@ static inline int tcs_is_runtime_fd(int fd)
 /* The controller's virtual time now: inline, as clock reads are hot. */
 void tcs_catch_up(void);
 
-static inline int64_t tcs_vnow(void)
+static inline __attribute__((always_inline)) int64_t tcs_vnow(void)
 {
 	const struct tcs_clock_page *p = tcs_rt.page;
 	if (__builtin_expect(__atomic_load_n(&p->flags, __ATOMIC_RELAXED) & TCS_PAGE_ASLEEP, 0))
@@ -258,8 +269,22 @@ static inline int64_t tcs_vnow(void)
 	/* Lockstep needs no CPU reading: the cheapest path of all. */
 	if (p->mode == TCS_MODE_LOCKSTEP)
 		return tcs_page_read_slice(p).v_base;
+#if defined(__x86_64__)
+	/* While the anchor holds, so does the slice it was taken in (a new
+	 * slice bumps gen): virtual time is the anchor's plus the TSC since,
+	 * with no slice to read (cpu_estimate.c). */
+	const struct tcs_anchor *a = &tcs_anchor;
+	uint64_t now = __rdtsc();
+	if (a->v_valid && !a->busy && __atomic_load_n(&p->gen, __ATOMIC_ACQUIRE) == a->gen &&
+	    now - a->tsc < p->tsc_resync)
+		return tcs_v_not_before(a->v + (int64_t)(((unsigned __int128)(now - a->tsc) * p->tsc_mult) >> 32));
+#endif
 	struct tcs_slice s = tcs_page_read_slice(p);
-	return tcs_v_not_before(tcs_page_vnow(p, s, tcs_process_cpu_estimate()));
+	int64_t v = tcs_page_vnow(p, s, tcs_process_cpu_estimate());
+#if defined(__x86_64__)
+	tcs_anchor_note_slice(p, s);
+#endif
+	return tcs_v_not_before(v);
 }
 
 #endif

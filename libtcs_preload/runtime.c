@@ -72,6 +72,7 @@ void tcs_cpu_forget(void)
 	__atomic_store_n(&tcs_cpu_seen, 0, __ATOMIC_RELAXED);
 #if defined(__x86_64__)
 	tcs_anchor.valid = 0;
+	tcs_anchor.v_valid = 0;
 #endif
 }
 
@@ -335,8 +336,10 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 	 * theirs to be charged (as on_block charges a threaded BLOCK to the
 	 * coordinator's reading, not the hook's entry). */
 	if ((reply->flags & TCS_WAKE_STARTS_SLICE) &&
-	    __atomic_load_n(&tcs_rt.page->threads_started, __ATOMIC_RELAXED) == 0)
+	    __atomic_load_n(&tcs_rt.page->threads_started, __ATOMIC_RELAXED) == 0) {
 		__atomic_store_n(&tcs_rt.page->exit_cpu, tcs_process_cpu_anchor(), __ATOMIC_RELAXED);
+		tcs_anchor_forget_v(); /* a read in between saw the old mark */
+	}
 	return early;
 }
 
