@@ -49,7 +49,13 @@ def test_signal_timers_pace_a_legacy_loop():
         v = r.values()
         print("  %-6s cpu mode, 300 us work: %s ticks in %.3f ms" % (how, v["ticks"], int(v["loop_ns"]) / 1e6))
         check(v["ticks"] == "500", "%s: every tick handled" % how, r)
-        close_to(int(v["loop_ns"]), 500e6, 0.001, "%s: 500 ticks of 1 ms" % how, r)
+        # A VM pause inside a round of work is charged as CPU (by the
+        # kernel, natively too): past 700 us, the next expiry comes while it
+        # computes and two coalesce; seen on CI once in ~40 runs, before and
+        # after the same code, as 1 or 2 ms more. The rest stays exact.
+        extra = round((int(v["loop_ns"]) - 500e6) / 1e6)
+        check(0 <= extra <= 2, "%s: 500 ticks of 1 ms, or a tick or two lost to a VM pause" % how, r)
+        close_to(int(v["loop_ns"]), (500 + extra) * 1e6, 0.001, "%s: 500 ticks of 1 ms" % how, r)
 
 
 def test_an_overloaded_signal_loop_runs_late():
