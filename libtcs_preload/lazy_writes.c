@@ -13,7 +13,6 @@
  * takes the round trip, as in cpu mode, where the time of each write
  * counts. */
 #include "devices.h"
-#include "raw_syscall.h"
 #include "tcs/record_check.h"
 
 /* Handles beyond this always take the round trip (one bit each in the page). */
