@@ -50,14 +50,15 @@ int64_t tcs_process_cpu_resync(void)
 /* Clock reads in cpu mode go faster still when the anchor also knows the
  * virtual time it stands for: then a read is the TSC, one multiplication
  * and no slice (tcs_vnow). Known once a read has seen the slice in force
- * when the anchor was taken (gen unchanged since, read after the slice),
- * at the usual scale of 1, and with the anchor past the slice's start, so
- * that virtual time grows with the TSC from there on. */
-void tcs_anchor_note_slice(const struct tcs_clock_page *p, struct tcs_slice s)
+ * when the anchor was taken: gen the same before the slice was read, when
+ * the anchor was taken and now (the coordinator bumps gen before it writes
+ * a slice); at the usual scale of 1, and with the anchor past the slice's
+ * start, so that virtual time grows with the TSC from there on. */
+void tcs_anchor_note_slice(const struct tcs_clock_page *p, struct tcs_slice s, uint32_t gen)
 {
 	struct tcs_anchor *a = &tcs_anchor;
-	if (!a->valid || a->v_valid || a->busy || p->cpu_scale != 1.0 ||
-	    __atomic_load_n(&p->gen, __ATOMIC_ACQUIRE) != a->gen)
+	if (!a->valid || a->v_valid || a->busy || p->cpu_scale != 1.0 || a->gen != gen ||
+	    __atomic_load_n(&p->gen, __ATOMIC_ACQUIRE) != gen)
 		return;
 	int64_t exit_cpu = __atomic_load_n(&p->exit_cpu, __ATOMIC_RELAXED);
 	int64_t from = exit_cpu > s.cpu_base ? exit_cpu : s.cpu_base;

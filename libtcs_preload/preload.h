@@ -109,17 +109,23 @@ struct tcs_anchor {
 };
 extern __thread struct tcs_anchor tcs_anchor TCS_HIDDEN __attribute__((tls_model("initial-exec")));
 int64_t tcs_process_cpu_resync(void) TCS_HIDDEN;
-/* Virtual time at the anchor, for the next reads (see tcs_vnow). */
-void tcs_anchor_note_slice(const struct tcs_clock_page *p, struct tcs_slice s) TCS_HIDDEN;
+/* Virtual time at the anchor, for the next reads (see tcs_vnow): s is the
+ * slice read while the page's gen was gen. */
+void tcs_anchor_note_slice(const struct tcs_clock_page *p, struct tcs_slice s, uint32_t gen) TCS_HIDDEN;
+/* The CPU time since the anchor was taken, by the TSC; -1 if it no longer
+ * holds (the coordinator ran since, it is older than tsc_resync, or a
+ * signal handler interrupted its rewrite). */
+static inline int64_t tcs_anchor_age(const struct tcs_clock_page *p, const struct tcs_anchor *a)
+{
+	uint64_t now = __rdtsc();
+	if (!a->valid || a->busy || __atomic_load_n(&p->gen, __ATOMIC_ACQUIRE) != a->gen || now - a->tsc >= p->tsc_resync)
+		return -1;
+	return (int64_t)(((unsigned __int128)(now - a->tsc) * p->tsc_mult) >> 32);
+}
 static inline int64_t tcs_process_cpu_estimate(void)
 {
-	const struct tcs_clock_page *p = tcs_rt.page;
-	const struct tcs_anchor *a = &tcs_anchor;
-	uint64_t now = __rdtsc();
-	if (a->valid && !a->busy && __atomic_load_n(&p->gen, __ATOMIC_ACQUIRE) == a->gen &&
-	    now - a->tsc < p->tsc_resync)
-		return a->cpu + (int64_t)(((unsigned __int128)(now - a->tsc) * p->tsc_mult) >> 32);
-	return tcs_process_cpu_resync();
+	int64_t age = tcs_anchor_age(tcs_rt.page, &tcs_anchor);
+	return age >= 0 ? tcs_anchor.cpu + age : tcs_process_cpu_resync();
 }
 /* An exact reading, which later estimates start from while nothing else ran
  * on the core (a hook's exit mark: the next request's charge point then
@@ -273,16 +279,17 @@ static inline __attribute__((always_inline)) int64_t tcs_vnow(void)
 	/* While the anchor holds, so does the slice it was taken in (a new
 	 * slice bumps gen): virtual time is the anchor's plus the TSC since,
 	 * with no slice to read (cpu_estimate.c). */
-	const struct tcs_anchor *a = &tcs_anchor;
-	uint64_t now = __rdtsc();
-	if (a->v_valid && !a->busy && __atomic_load_n(&p->gen, __ATOMIC_ACQUIRE) == a->gen &&
-	    now - a->tsc < p->tsc_resync)
-		return tcs_v_not_before(a->v + (int64_t)(((unsigned __int128)(now - a->tsc) * p->tsc_mult) >> 32));
+	if (tcs_anchor.v_valid) {
+		int64_t age = tcs_anchor_age(p, &tcs_anchor);
+		if (age >= 0)
+			return tcs_v_not_before(tcs_anchor.v + age);
+	}
+	uint32_t gen = __atomic_load_n(&p->gen, __ATOMIC_ACQUIRE);
 #endif
 	struct tcs_slice s = tcs_page_read_slice(p);
 	int64_t v = tcs_page_vnow(p, s, tcs_process_cpu_estimate());
 #if defined(__x86_64__)
-	tcs_anchor_note_slice(p, s);
+	tcs_anchor_note_slice(p, s, gen);
 #endif
 	return tcs_v_not_before(v);
 }
