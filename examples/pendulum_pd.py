@@ -87,14 +87,27 @@ def real_cpu_s():
 
 
 def rounds_per_us():
+    # Rounds per microsecond of this CPU: the fastest of five rounds of about
+    # 5 ms. On a shared machine a round can run slow (a busy neighbour core),
+    # and one slow round alone would make every cycle's work short by as
+    # much. Short, about 27 ms in all, since the world runs meanwhile.
     n = 1000
     while True:
         t0 = real_cpu_s()
         rounds(n)
         dt = real_cpu_s() - t0
-        if dt > 0.02:
-            return n / (dt * 1e6)
+        if dt >= 0.001:
+            break
         n *= 2
+    n = int(n * 0.005 / dt) + 1
+    best = 0.0
+    for _ in range(5):
+        t0 = real_cpu_s()
+        rounds(n)
+        dt = real_cpu_s() - t0
+        if dt > 0:
+            best = max(best, n / (dt * 1e6))
+    return best
 
 
 # ---- control -----------------------------------------------------------------

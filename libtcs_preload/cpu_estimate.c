@@ -12,9 +12,11 @@
  * changed or the anchor is older than tsc_resync ticks (20 us). An estimate
  * may be above the truth (the process slept in the kernel, or was
  * throttled) or below it (an interrupt taken between the reading and the
- * TSC read is charged to the process): so it serves clock reads only, which
- * tcs_vnow() keeps from going back, never what is charged, which a program
- * can compare with its CPU-time clock. */
+ * TSC read is charged to the process), by a few microseconds at most. Clock
+ * reads use it, which tcs_vnow() keeps from going back; so does a request's
+ * claim of where its charge ends, which the coordinator takes only when
+ * plausible (Coordinator::charge_point), and an estimate too high there is
+ * made good by the next slice, which starts from it. */
 #include "preload.h"
 
 #if defined(__x86_64__)
