@@ -327,21 +327,22 @@ void Coordinator::send_wake(Controller &c)
 // claim: its CPU at the hook's entry, read there or extrapolated by the TSC
 // from a reading at most 20 us old (cpu_estimate.c), which spares a system
 // call on every request (a sleep's round trip keeps one reading of its CPU
-// clock: the hook's exit mark). Taken
-// if plausible (not before its slice began, nor more than the wall time
-// since it was resumed, give or take the hooks' own); else, or with
-// threads, its CPU clock says: another thread may have computed since this
-// one's hook began, and that is charged too (a worker that held the core
-// for 20 ms before main's BLOCK went out, seen: all of it went uncharged).
-// An estimate too high (it slept in the kernel just after a hook) is made
-// good by the next slice, which starts from it: never charged twice.
+// clock: the hook's exit mark). Taken if plausible (not before its slice
+// began, nor more than the wall time since it was resumed, give or take the
+// hooks' own); else, or with threads, its CPU clock says: another thread
+// may have computed since this one's hook began, and that is charged too (a
+// worker that held the core for 20 ms before main's BLOCK went out, seen:
+// all of it went uncharged). An estimate too high (it slept in the kernel
+// just after a hook) is made good by the next slice, which starts from it:
+// never charged twice.
 int64_t Coordinator::charge_point(Controller &c, int64_t claimed)
 {
 	const int64_t base = c.slice().cpu_base;
-	if (!c.multithreaded() && claimed >= base && claimed - base <= wall_now() - c.resumed_wall + kClaimSlack)
+	const bool one_thread = !c.multithreaded();
+	if (one_thread && claimed >= base && claimed - base <= wall_now() - c.resumed_wall + kClaimSlack)
 		return claimed;
 	const int64_t now = std::max(base, c.cpu_now());
-	return c.multithreaded() ? now : std::clamp(claimed, base, now);
+	return one_thread ? std::clamp(claimed, base, now) : now;
 }
 
 void Coordinator::resume(Controller &c, int64_t target)

@@ -83,7 +83,7 @@ double real_cpu_s()
 // Rounds per microsecond of this CPU: the fastest of five rounds of about
 // 5 ms. On a shared machine a round can run slow (a busy neighbour core),
 // and one slow round alone would make every cycle's work short by as much.
-// Short, about 27 ms in all, since the world runs meanwhile.
+// Short, about 30 ms in all, since the world runs meanwhile.
 double rounds_per_us()
 {
 	unsigned long long n = 1000;

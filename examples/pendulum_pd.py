@@ -90,7 +90,7 @@ def rounds_per_us():
     # Rounds per microsecond of this CPU: the fastest of five rounds of about
     # 5 ms. On a shared machine a round can run slow (a busy neighbour core),
     # and one slow round alone would make every cycle's work short by as
-    # much. Short, about 27 ms in all, since the world runs meanwhile.
+    # much. Short, about 30 ms in all, since the world runs meanwhile.
     n = 1000
     while True:
         t0 = real_cpu_s()

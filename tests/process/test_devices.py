@@ -149,6 +149,7 @@ def test_commands_hold_and_malformed_ones_fail():
             close_to(float(v["velocity_gain_next_10ms"]), (15 - 14.715 * 0.84) * 0.01, 0.1,
                      "saturation at limit", r)
 
+
 def test_commands_keep_the_time_they_were_written():
     """In lockstep a write of whole, well-formed records goes on without a
     round trip and the coordinator takes it at the next request: the trace
