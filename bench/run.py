@@ -106,7 +106,7 @@ def sleep_round_trip(b):
                 "same-core SOCK_SEQPACKET ping-pong", m["tcs"] / m["pingpong"], "<= 1.5x",
                 m["tcs"] <= 1.5 * m["pingpong"], "world: the built-in pendulum, stepped once per 1000 sleeps"),
             row("same, against the ping-pong with tcs's system calls", m["tcs"], "ns", m["event_loop"],
-                "ping-pong + epoll_wait + a CPU-clock read", m["tcs"] / m["event_loop"], "\u2014", None,
+                "ping-pong + epoll_wait", m["tcs"] / m["event_loop"], "\u2014", None,
                 "what tcs's own code costs beyond the system calls it needs")]
 
 
@@ -304,23 +304,97 @@ def trace_cost(b):
                 "%.0f KB of trace per 1,000 cycles" % kb)]
 
 
+def pendulums_world(b, n):
+    """A lockstep scenario of n 1 kHz pendulums, each with its own devices
+    and its own pendulum_pd."""
+    pd = b.path("examples", "pendulum_pd")
+    parts = ['[sim]\nstep = "1ms"\n']
+    for i in range(n):
+        parts.append('[[model]]\nname = "p%d"\ntype = "pendulum"\ninitial_angle = %.2f\n' % (i, 2.9 + 0.02 * i))
+        parts.append('[[device]]\npath = "/dev/tcs/p%d/state"\nkind = "sensor"\nsignals = ["p%d.hinge.position", '
+                     '"p%d.hinge.velocity"]\nformat = "text"\nmode = "stream"\nrate = "1kHz"\n' % (i, i, i))
+        parts.append('[[device]]\npath = "/dev/tcs/p%d/torque"\nkind = "actuator"\nsignals = ["p%d.hinge.effort"]\n'
+                     'format = "text"\nlimit = 5.0\n' % (i, i))
+        parts.append('[[controller]]\ncommand = "%s --rate 1000 --state /dev/tcs/p%d/state --torque '
+                     '/dev/tcs/p%d/torque"\n' % (pd, i, i))
+    path = os.path.join(b.tmp, "pendulums-%d.toml" % n)
+    with open(path, "w") as f:
+        f.write("".join(parts))
+    return path
+
+
+def scaling(b):
+    """1, 2, 4, 8 and 16 lockstep 1 kHz pendulum controllers in one world:
+    the wall cost of a controller-cycle against one controller alone, and
+    sixteen on every allowed core against the same run held to one core
+    with taskset (DESIGN.md §2: controllers within a step of each other run
+    in parallel)."""
+    seconds = 2 if b.quick else 5
+    counts = (1, 2, 4, 8, 16)
+    one_core = str(max(os.sched_getaffinity(0)))
+    runs = [("n%d" % n, lambda n=n: b.run(b.tcs("-q", "-m", "lockstep", "-d", "%ds" % seconds, "-w",
+                                               pendulums_world(b, n)))[1]) for n in counts]
+    runs.append(("taskset", lambda: b.run(["taskset", "-c", one_core] + b.tcs(
+        "-q", "-m", "lockstep", "-d", "%ds" % seconds, "-w", pendulums_world(b, 16)))[1]))
+    m, _ = b.interleaved(runs)
+    per = {n: m["n%d" % n] / (n * seconds * 1000) * 1e6 for n in counts}  # us per controller-cycle
+    rows = [row("%d lockstep 1 kHz pendulum controller%s, %d s virtual" % (n, "s" if n > 1 else "", seconds),
+                per[n], "us wall a controller-cycle", per[1], "one controller alone", per[n] / per[1],
+                "<= 1.3x" if n == 16 else "\u2014", per[n] <= 1.3 * per[1] if n == 16 else None,
+                "%.2f s wall, %.1fx real time" % (m["n%d" % n], seconds / m["n%d" % n])) for n in counts]
+    rows.append(row("16 pendulum controllers on %d cores vs held to one (taskset)" % len(os.sched_getaffinity(0)),
+                    m["n16"], "s wall", m["taskset"], "the same run on CPU %s alone" % one_core,
+                    m["taskset"] / m["n16"], ">= 1.6x faster", m["taskset"] / m["n16"] >= 1.6,
+                    "speed-up: one-core wall / all-cores wall"))
+    return rows
+
+
 BENCHES = [("clock", clock_reads), ("sleep", sleep_round_trip), ("dds", dds_barrier), ("agent", pendulum_through_agent),
            ("pendulum", pendulum_speed),
            ("overshoot", preemption_overshoot), ("error", timing_error), ("boxes", box_world),
-           ("memory", peak_memory), ("trace", trace_cost)]
+           ("memory", peak_memory), ("trace", trace_cost), ("scaling", scaling)]
 
 
-def machine():
-    model = ""
+def first_line(path, default=""):
     try:
-        with open("/proc/cpuinfo") as f:
-            model = next((l.split(":", 1)[1].strip() for l in f if l.startswith("model name")), "")
+        with open(path) as f:
+            return f.readline().strip()
     except OSError:
-        pass
+        return default
+
+
+def machine(b):
+    """The facts that decide tcs's speed: the CPU and what it says of its
+    TSC, the kernel's clocksource, the cost of a CPU-clock system call
+    against a vDSO clock read, the same-core ping-pong, and which clock
+    tcs-run chose for cpu-mode estimates (coordinatord/realtime.cc)."""
+    cpuinfo = open("/proc/cpuinfo").read() if os.path.exists("/proc/cpuinfo") else ""
+    model = next((l.split(":", 1)[1].strip() for l in cpuinfo.splitlines() if l.startswith("model name")), "")
+    flags = next((l.split(":", 1)[1].split() for l in cpuinfo.splitlines() if l.startswith("flags")), [])
     virt = subprocess.run(["systemd-detect-virt"], capture_output=True, text=True).stdout.strip() \
         if os.path.exists("/usr/bin/systemd-detect-virt") else ""
+    cost = b.path("bench", "clock_cost")
+    vdso = min(b.values([cost, 2000000])["clock_gettime_ns"] for _ in range(3))
+    cpu_clock = min(b.values([cost, 200000, "cpu"])["clock_gettime_ns"] for _ in range(3))
+    pingpong = min(b.values([b.path("bench", "seqpacket_pingpong"), 20000])["seqpacket_roundtrip_ns"]
+                   for _ in range(3))
+    probe, _ = b.run(b.tcs("-m", "cpu", "--", "true"))
+    warned = [l.split("warning: ", 1)[1] for l in probe.stderr.splitlines() if "warning: " in l]
+    if "SCHED_FIFO on CPU" not in probe.stderr:
+        estimate = "none (no SCHED_FIFO): every cpu-mode clock read is a system call"
+    elif any("vDSO clock" in w for w in warned):
+        estimate = "the vDSO's CLOCK_MONOTONIC_RAW (%s)" % next(w for w in warned if "vDSO" in w)
+    elif any("system call" in w for w in warned):
+        estimate = "none: " + next(w for w in warned if "system call" in w)
+    else:
+        estimate = "the TSC"
     return {"cpu": model, "cores": os.cpu_count(), "kernel": platform.release(),
-            "virtualization": virt or "unknown", "date": datetime.datetime.now(datetime.timezone.utc).isoformat()}
+            "virtualization": virt or "unknown", "date": datetime.datetime.now(datetime.timezone.utc).isoformat(),
+            "clocksource": first_line("/sys/devices/system/clocksource/clocksource0/current_clocksource", "unknown"),
+            "tsc_flags": [f for f in ("constant_tsc", "nonstop_tsc", "tsc_known_freq", "tsc_reliable", "rdtscp",
+                                      "hypervisor") if f in flags],
+            "tsc_unstable_boot": "tsc=unstable" in first_line("/proc/cmdline"),
+            "vdso_clock_ns": vdso, "cpu_clock_ns": cpu_clock, "pingpong_ns": pingpong, "cpu_estimate": estimate}
 
 
 def fmt(x, unit=""):
@@ -343,9 +417,16 @@ def main():
                  (args.build, args.build, args.build))
     b = Bench(os.path.abspath(args.build), args.quick)
     only = set(args.only.split(",")) if args.only else None
-    info = machine()
+    info = machine(b)
     print("tcs performance, %s, %s cores, kernel %s (%s), %s" %
           (info["cpu"], info["cores"], info["kernel"], info["virtualization"], info["date"][:19]), flush=True)
+    print("  clocksource %s; TSC flags: %s%s" % (info["clocksource"], " ".join(info["tsc_flags"]) or "none",
+                                                 "; the boot line says tsc=unstable" if info["tsc_unstable_boot"]
+                                                 else ""))
+    print("  a CPU-clock read (system call) %.0f ns, a vDSO clock read %.1f ns (%.0fx); same-core ping-pong %.1f us"
+          % (info["cpu_clock_ns"], info["vdso_clock_ns"], info["cpu_clock_ns"] / info["vdso_clock_ns"],
+             info["pingpong_ns"] / 1e3))
+    print("  cpu-mode clock reads estimate the CPU from: %s" % info["cpu_estimate"], flush=True)
     rows = []
     for name, fn in BENCHES:
         if only and name not in only:

@@ -33,10 +33,11 @@ Result<UniqueFd> Controller::make_page(const ControllerSpec &spec, int mode, con
 	page_->magic = TCS_PAGE_MAGIC;
 	page_->version = TCS_PAGE_VERSION;
 	page_->mode = (uint32_t)mode;
-	page_->flags = (spec.report_misses ? TCS_PAGE_REPORT_MISSES : 0) | (rt.cpu_estimate ? TCS_PAGE_CPU_ESTIMATE : 0) |
+	page_->flags = (spec.report_misses ? TCS_PAGE_REPORT_MISSES : 0) | (rt.cpu_estimate() ? TCS_PAGE_CPU_ESTIMATE : 0) |
+		       (rt.ticks == EstimateTicks::Vdso ? TCS_PAGE_TICKS_VDSO : 0) |
 		       (rt.fifo && rt.cpu >= 0 ? TCS_PAGE_FIFO : 0);
-	page_->tsc_mult = rt.tsc_mult;
-	page_->tsc_resync = rt.tsc_resync;
+	page_->tick_mult = rt.tick_mult;
+	page_->tick_resync = rt.tick_resync;
 	page_->cpu_scale = spec.cpu_scale;
 	page_->mono_origin_ns = origins.mono_ns;
 	page_->real_origin_ns = origins.real_ns;
@@ -187,15 +188,16 @@ void Controller::set_page_flag(uint32_t flag, bool on)
 
 void Controller::publish_slice(int64_t cpu_base)
 {
-	slice_ = tcs_slice{ v, cpu_base, charged };
+	slice_ = tcs_slice{ v, cpu_base, charged, page_ ? __atomic_load_n(&page_->own_cpu, __ATOMIC_RELAXED) : 0 };
 	if (page_)
 		tcs_page_write_slice(page_, slice_);
 }
 
 int64_t Controller::slice_cpu(int64_t cpu) const
 {
-	int64_t exit_cpu = page_ ? __atomic_load_n(&page_->exit_cpu, __ATOMIC_RELAXED) : 0;
-	return tcs_slice_cpu(slice_.cpu_base, exit_cpu, cpu);
+	if (!page_)
+		return tcs_slice_cpu(slice_.cpu_base, 0, cpu);
+	return tcs_page_slice_cpu(page_, slice_, cpu);
 }
 
 void Controller::account(int64_t cpu, int mode)

@@ -151,7 +151,8 @@ public:
 	SideWait own_wait() const;
 	void take_wait(const SideWait &w);
 	const tcs_slice &slice() const { return slice_; }
-	// Real CPU the current slice has used up to cpu (hooks' own cost excluded).
+	// Real CPU the current slice has used up to cpu (the runtime's own cost
+	// excluded: its hooks' and its CPU-clock reads').
 	int64_t slice_cpu(int64_t cpu) const;
 	// Closes the slice at cpu: v and charged move forward, never back.
 	void account(int64_t cpu, int mode);

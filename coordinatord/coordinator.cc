@@ -68,7 +68,7 @@ Status Coordinator::init()
 		return errno_error("signalfd");
 	signal(SIGPIPE, SIG_IGN);
 
-	rt_ = setup_realtime(cfg_.want_fifo);
+	rt_ = setup_realtime(cfg_.realtime);
 	if (!rt_.warning.empty())
 		warn_once(rt_.warning);
 

@@ -41,7 +41,7 @@ struct CoordinatorConfig {
 	int64_t duration_ns = -1;           // stop at this virtual time; < 0: when all exit
 	std::optional<int64_t> epoch_ns;    // CLOCK_REALTIME at V = 0; default: now
 	std::string preload;                // absolute path of libtcs_preload.so
-	bool want_fifo = true;
+	RealtimeWish realtime; // SCHED_FIFO and the TSC, where the machine allows
 	// Called about every 250 ms of wall time while running (may be empty).
 	std::function<void(int64_t virtual_ns, int64_t wall_ns)> on_progress;
 	// Called once per distinct warning (may be empty).

@@ -9,7 +9,11 @@
 #include <x86intrin.h>
 #endif
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -22,63 +26,144 @@ namespace {
 constexpr int kCoordinatorPrio = TCS_CONTROLLER_FIFO_PRIO + 1;
 constexpr int kControllerPrio = TCS_CONTROLLER_FIFO_PRIO;
 
-// The TSC rate against CLOCK_MONOTONIC_RAW over 2 ms, where the CPU says
-// its TSC is invariant (constant rate, running in every C-state) and the
-// kernel keeps time with it.
-void calibrate_tsc(RealtimePlan &plan)
+int64_t mono_raw_ns()
 {
-#if defined(__x86_64__)
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC_RAW, &ts);
+	return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
+}
+
+// The CPU's own word on its TSC (x86 /proc/cpuinfo flags): a constant rate
+// whatever the frequency, and running in every C-state. Not the kernel's
+// clocksource: a VM's kernel may keep time with kvm-clock and mark the TSC
+// unstable across its vCPUs, yet on one pinned core it counts true.
+bool cpu_has_invariant_tsc()
+{
 	std::ifstream info("/proc/cpuinfo");
 	std::string line;
-	bool constant = false, nonstop = false;
-	while (std::getline(info, line) && !(constant && nonstop)) {
+	while (std::getline(info, line)) {
 		if (line.rfind("flags", 0) != 0)
 			continue;
-		constant = line.find(" constant_tsc") != std::string::npos;
-		nonstop = line.find(" nonstop_tsc") != std::string::npos;
+		line += ' ';
+		return line.find(" constant_tsc ") != std::string::npos && line.find(" nonstop_tsc ") != std::string::npos;
 	}
-	std::ifstream source("/sys/devices/system/clocksource/clocksource0/current_clocksource");
-	std::string clocksource;
-	source >> clocksource;
-	if (!constant || !nonstop || clocksource != "tsc")
-		return;
-	// The tightest of a few pairs: a pause (an interrupt, the VM descheduled)
-	// between the TSC reads and the clock read would skew the rate by as
-	// much over the 2 ms.
-	auto sample = [](uint64_t &tsc, int64_t &ns) {
-		uint64_t best = UINT64_MAX;
-		for (int i = 0; i < 5; i++) {
-			struct timespec ts;
-			uint64_t a = __rdtsc();
-			clock_gettime(CLOCK_MONOTONIC_RAW, &ts);
-			uint64_t b = __rdtsc();
-			if (b - a < best) {
-				best = b - a;
-				tsc = a + (b - a) / 2;
-				ns = (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
-			}
+	return false;
+}
+
+#if defined(__x86_64__)
+// A TSC reading and CLOCK_MONOTONIC_RAW at the same moment: the tightest of
+// a few pairs, since a pause (an interrupt, the VM descheduled) between the
+// reads would skew a rate measured from them.
+struct TscPair {
+	uint64_t tsc = 0;
+	int64_t ns = 0;
+};
+
+TscPair tsc_pair()
+{
+	TscPair p;
+	uint64_t best = UINT64_MAX;
+	for (int i = 0; i < 5; i++) {
+		uint64_t a = __rdtsc();
+		int64_t ns = mono_raw_ns();
+		uint64_t b = __rdtsc();
+		if (b - a < best) {
+			best = b - a;
+			p = { a + (b - a) / 2, ns };
 		}
-	};
-	uint64_t t0, t1;
-	int64_t n0, n1;
-	sample(t0, n0);
-	struct timespec wait = { 0, 2000000 };
+	}
+	return p;
+}
+
+double tsc_per_ns(const TscPair &a, const TscPair &b)
+{
+	return b.tsc > a.tsc && b.ns > a.ns ? (double)(b.tsc - a.tsc) / (double)(b.ns - a.ns) : 0.0;
+}
+
+void pause_ms(int64_t ms)
+{
+	struct timespec wait = { 0, ms * 1000000 };
 	while (nanosleep(&wait, &wait) != 0 && errno == EINTR) {
 	}
-	sample(t1, n1);
-	if (t1 <= t0 || n1 <= n0)
-		return;
-	plan.tsc_mult = (uint64_t)(((unsigned __int128)(n1 - n0) << 32) / (t1 - t0));
-	plan.tsc_resync = (uint64_t)((double)(t1 - t0) / (double)(n1 - n0) * 20000.0);
-	plan.cpu_estimate = plan.tsc_mult > 0 && plan.tsc_resync > 0;
-#else
-	(void)plan;
+}
+
+// The TSC's rate against CLOCK_MONOTONIC_RAW, from three pairs 1 ms apart:
+// the two rates must agree to 0.1 % (a TSC that stops, jumps or is not the
+// rate it seems fails that), or, twice more, the TSC is not used.
+bool calibrate_tsc(RealtimePlan &plan)
+{
+	for (int attempt = 0; attempt < 3; attempt++) {
+		TscPair p0 = tsc_pair();
+		pause_ms(1);
+		TscPair p1 = tsc_pair();
+		pause_ms(1);
+		TscPair p2 = tsc_pair();
+		double r1 = tsc_per_ns(p0, p1), r2 = tsc_per_ns(p1, p2);
+		if (r1 <= 0 || r2 <= 0 || std::fabs(r1 - r2) > 0.001 * r2)
+			continue;
+		double rate = tsc_per_ns(p0, p2);
+		plan.ticks = EstimateTicks::Tsc;
+		plan.tick_mult = (uint64_t)(4294967296.0 / rate);
+		plan.tick_resync = (uint64_t)(rate * 20000.0);
+		return plan.tick_mult > 0 && plan.tick_resync > 0;
+	}
+	return false;
+}
 #endif
+
+// Whether CLOCK_MONOTONIC_RAW is read without entering the kernel (the
+// vDSO): a few times cheaper than the cheapest system call. Where the
+// clocksource offers no vDSO read, it is a system call itself, and an
+// estimate from it would save nothing.
+bool mono_raw_is_vdso()
+{
+	auto cost = [](auto &&fn) {
+		int64_t best = INT64_MAX;
+		for (int round = 0; round < 5; round++) {
+			int64_t t0 = mono_raw_ns();
+			for (int i = 0; i < 100; i++)
+				fn();
+			best = std::min(best, mono_raw_ns() - t0);
+		}
+		return best;
+	};
+	int64_t vdso = cost([] { (void)mono_raw_ns(); });
+	int64_t syscall = cost([] { (void)getppid(); });
+	return 3 * vdso < syscall;
+}
+
+// How a pinned FIFO controller will estimate its CPU (see EstimateTicks);
+// a reason for the warning when it must take a slower way.
+std::string choose_ticks(RealtimePlan &plan, bool want_tsc)
+{
+	bool invariant = cpu_has_invariant_tsc();
+#if defined(__x86_64__)
+	if (want_tsc && invariant && calibrate_tsc(plan))
+		return "";
+#endif
+	std::string why = !want_tsc ? "the TSC is not to be used (TCS_NO_TSC)"
+			  : invariant ? "the TSC's rate did not hold steady against CLOCK_MONOTONIC_RAW"
+				      : "the CPU reports no invariant TSC (constant_tsc and nonstop_tsc)";
+	if (mono_raw_is_vdso()) {
+		plan.ticks = EstimateTicks::Vdso;
+		plan.tick_mult = 1ull << 32;
+		plan.tick_resync = 20000;
+		return why + ": cpu-mode clock reads estimate the CPU from the vDSO clock, slower than from the TSC";
+	}
+	return why + ", and CLOCK_MONOTONIC_RAW is a system call here: every cpu-mode clock read is a system call";
 }
 
 } // namespace
 
-RealtimePlan setup_realtime(bool want_fifo)
+RealtimeWish realtime_wish_from_env()
+{
+	RealtimeWish w;
+	w.fifo = getenv("TCS_NO_FIFO") == nullptr;
+	w.tsc = getenv("TCS_NO_TSC") == nullptr;
+	return w;
+}
+
+RealtimePlan setup_realtime(RealtimeWish wish)
 {
 	RealtimePlan plan;
 	cpu_set_t set;
@@ -95,7 +180,7 @@ RealtimePlan setup_realtime(bool want_fifo)
 			}
 		}
 	}
-	if (!want_fifo)
+	if (!wish.fifo)
 		return plan;
 	struct sched_param sp = {};
 	sp.sched_priority = kCoordinatorPrio;
@@ -103,10 +188,11 @@ RealtimePlan setup_realtime(bool want_fifo)
 		plan.fifo = true;
 		plan.controller_prio = kControllerPrio;
 		if (plan.cpu >= 0)
-			calibrate_tsc(plan);
+			plan.warning = choose_ticks(plan, wish.tsc);
 	} else {
 		plan.warning = std::string("SCHED_FIFO not permitted (") + std::strerror(errno) +
-			       "): preemption is less precise, CPU accounting stays exact. "
+			       "): preemption is less precise and every cpu-mode clock read is a system call; "
+			       "CPU accounting stays exact. "
 			       "Grant CAP_SYS_NICE (root has it) or an rtprio limit of 3 or more (ulimit -r) to fix this.";
 	}
 	return plan;

@@ -12,21 +12,39 @@
 
 namespace tcs {
 
+// How a pinned FIFO controller measures the CPU it uses between real
+// readings of its CPU-time clock (TCS_PAGE_CPU_ESTIMATE): it uses CPU at the
+// rate wall time passes, so any cheap wall clock will do.
+enum class EstimateTicks {
+	None, // every CPU reading is a system call
+	Tsc,  // the TSC: constant rate, running in every C-state, calibrated
+	Vdso, // the vDSO's CLOCK_MONOTONIC_RAW (no invariant TSC)
+};
+
 struct RealtimePlan {
 	bool fifo = false;      // SCHED_FIFO granted
 	int controller_prio = 0;
 	int cpu = -1;           // the core everything is pinned to, or -1
 	std::string warning;    // non-empty: say it once
-	// Controllers may estimate their CPU time from the TSC between real
-	// readings (TCS_PAGE_CPU_ESTIMATE): pinned, FIFO and an invariant TSC.
-	bool cpu_estimate = false;
-	uint64_t tsc_mult = 0;   // ns per tick, times 2^32
-	uint64_t tsc_resync = 0; // ticks in 20 us
+	EstimateTicks ticks = EstimateTicks::None;
+	uint64_t tick_mult = 0;   // ns per tick, times 2^32
+	uint64_t tick_resync = 0; // ticks in 20 us
+	bool cpu_estimate() const { return ticks != EstimateTicks::None; }
 };
+
+// What the machine offers; the test suite can take the TSC away
+// (TCS_NO_TSC) to run as on a machine without one.
+struct RealtimeWish {
+	bool fifo = true;
+	bool tsc = true;
+};
+
+// The wish the environment makes: TCS_NO_FIFO, TCS_NO_TSC.
+RealtimeWish realtime_wish_from_env();
 
 // Applies the plan to the calling process (the coordinator) before any
 // controller is spawned; children inherit the core.
-RealtimePlan setup_realtime(bool want_fifo);
+RealtimePlan setup_realtime(RealtimeWish wish);
 
 // While the coordinator computes a heavy world, it steps down to normal
 // scheduling: a SCHED_FIFO task using its whole core is held for 50 ms of

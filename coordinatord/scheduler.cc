@@ -334,13 +334,20 @@ void Coordinator::send_wake(Controller &c)
 // worker that held the core for 20 ms before main's BLOCK went out, seen:
 // all of it went uncharged). An estimate too high (it slept in the kernel
 // just after a hook) is made good by the next slice, which starts from it:
-// never charged twice.
+// never charged twice. In lockstep, where the charge is only a figure and
+// the preload's exit marks are learnt (cpu_estimate.c), an implausible
+// claim is held to those bounds instead: short of the slice's start it
+// charges nothing, and the slices after make it good; beyond the wall time
+// it charges that. No system call either way.
 int64_t Coordinator::charge_point(Controller &c, int64_t claimed)
 {
 	const int64_t base = c.slice().cpu_base;
 	const bool one_thread = !c.multithreaded();
-	if (one_thread && claimed >= base && claimed - base <= wall_now() - c.resumed_wall + kClaimSlack)
+	const int64_t most = tcs_ns_add(base, wall_now() - c.resumed_wall + kClaimSlack);
+	if (one_thread && claimed >= base && claimed <= most)
 		return claimed;
+	if (one_thread && cfg_.mode == TCS_MODE_LOCKSTEP)
+		return std::clamp(claimed, base, most);
 	const int64_t now = std::max(base, c.cpu_now());
 	return one_thread ? std::clamp(claimed, base, now) : now;
 }

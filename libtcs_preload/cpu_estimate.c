@@ -1,31 +1,48 @@
 /* The process's CPU time without a system call, for cpu-mode clock reads.
  *
- * Reading CLOCK_PROCESS_CPUTIME_ID is a system call (~240 ns here, 12x a
- * native vDSO clock read). Where the coordinator pins a controller to one
- * core under SCHED_FIFO (TCS_PAGE_CPU_ESTIMATE) and it has one thread, it
- * uses CPU at exactly the rate the TSC advances, except while the
- * coordinator runs on that core (it bumps the page's gen each time, and with
- * each new slice) or while the process sleeps in the kernel outside tcs's
- * hooks. So each thread
- * keeps an anchor — a real reading and the TSC at that moment — and
- * extrapolates from it with the TSC, taking a real reading again when gen
- * changed or the anchor is older than tsc_resync ticks (20 us). An estimate
- * may be above the truth (the process slept in the kernel, or was
- * throttled) or below it (an interrupt taken between the reading and the
- * TSC read is charged to the process), by a few microseconds at most. Clock
- * reads use it, which tcs_vnow() keeps from going back; so does a request's
- * claim of where its charge ends, which the coordinator takes only when
- * plausible (Coordinator::charge_point), and an estimate too high there is
- * made good by the next slice, which starts from it. */
+ * Reading CLOCK_PROCESS_CPUTIME_ID is a system call (240 ns on one machine,
+ * 1.35 us on another: 10x to 50x a native vDSO clock read). Where the
+ * coordinator pins a controller to one core under SCHED_FIFO
+ * (TCS_PAGE_CPU_ESTIMATE) and it has one thread, it uses CPU at exactly the
+ * rate wall time passes, except while the coordinator runs on that core (it
+ * bumps the page's gen each time, and with each new slice) or while the
+ * process sleeps in the kernel outside tcs's hooks. So each thread keeps an
+ * anchor — a real reading and the ticks of a cheap wall clock at that moment
+ * (the TSC where the CPU says it is invariant, else the vDSO's
+ * CLOCK_MONOTONIC_RAW: coordinatord/realtime.cc chooses) — and extrapolates
+ * from it, taking a real reading again when gen changed or the anchor is
+ * older than tick_resync ticks (20 us). An estimate may be above the truth
+ * (the process slept in the kernel, or was throttled) or below it (an
+ * interrupt taken between the reading and the tick read is charged to the
+ * process), by a few microseconds at most. Clock reads use it, which
+ * tcs_vnow() keeps from going back; so does a request's claim of where its
+ * charge ends, which the coordinator takes only when plausible
+ * (Coordinator::charge_point), and an estimate too high there is made good
+ * by the next slice, which starts from it. */
 #include "preload.h"
 
 #if defined(__x86_64__)
 
 __thread struct tcs_anchor tcs_anchor;
 
-int64_t tcs_process_cpu_resync(void)
+/* Rewrites the anchor (busy meanwhile: a signal handler's read must not
+ * see half of it); it stands for no virtual time until a read notes one. */
+static void tcs_anchor_set(struct tcs_anchor *a, uint64_t ticks, int64_t cpu, uint32_t gen)
 {
-	const struct tcs_clock_page *p = tcs_rt.page;
+	a->busy = 1;
+	__atomic_signal_fence(__ATOMIC_SEQ_CST);
+	a->tsc = ticks;
+	a->cpu = cpu;
+	a->gen = gen;
+	a->valid = 1;
+	a->v_valid = 0;
+	__atomic_signal_fence(__ATOMIC_SEQ_CST);
+	a->busy = 0;
+}
+
+int64_t tcs_process_cpu_resync(int own)
+{
+	struct tcs_clock_page *p = tcs_rt.page;
 	struct tcs_anchor *a = &tcs_anchor;
 	if (!(p->flags & TCS_PAGE_CPU_ESTIMATE) || a->busy ||
 	    __atomic_load_n(&p->threads_started, __ATOMIC_RELAXED) != 0) /* no longer FIFO */
@@ -33,19 +50,70 @@ int64_t tcs_process_cpu_resync(void)
 	/* gen read before the real reading: a coordinator run after it makes
 	 * the next read take a real reading again. */
 	uint32_t gen = __atomic_load_n(&p->gen, __ATOMIC_ACQUIRE);
-	a->busy = 1;
+	a->busy = 1; /* (the reading below is no anchor yet for a handler's read) */
 	__atomic_signal_fence(__ATOMIC_SEQ_CST);
+	uint64_t before = tcs_ticks(p);
 	int64_t cpu = tcs_process_cpu();
-	uint64_t after = __rdtsc();
-	if (cpu >= 0) {
-		a->tsc = after;
-		a->cpu = cpu;
-		a->gen = gen;
-		a->valid = 1;
-	}
-	a->v_valid = 0;
+	uint64_t after = tcs_ticks(p);
 	__atomic_signal_fence(__ATOMIC_SEQ_CST);
 	a->busy = 0;
+	if (cpu < 0)
+		return cpu;
+	/* The kernel read the clock about halfway through the call: the CPU
+	 * at its end is later by half of what the call took. The whole call
+	 * is the runtime's own (unless the coordinator ran meanwhile, which
+	 * the stale gen makes the next read redo). */
+	int64_t took = tcs_ticks_ns(p, after - before);
+	cpu = tcs_ns_add(cpu, took / 2);
+	if (own && __atomic_load_n(&p->gen, __ATOMIC_ACQUIRE) == gen)
+		__atomic_store_n(&p->own_cpu, tcs_ns_add(__atomic_load_n(&p->own_cpu, __ATOMIC_RELAXED), took),
+				 __ATOMIC_RELAXED);
+	tcs_anchor_set(a, after, cpu, gen);
+	return cpu;
+}
+
+/* In lockstep the CPU feeds only the charged-CPU figures and CPU-time
+ * clocks, never virtual time, and a hook's exit mark need not cost a system
+ * call on every round trip (the one a CPU-clock read is; a lockstep round
+ * trip needs none otherwise): it is the request's own claim plus what this
+ * process's hooks have cost from their claim to their return, the least of
+ * the last 8 real readings (a reading is late by any interrupt or pause, a
+ * claim may be stale at a program's start: never early), which every 64th
+ * mark takes again to stay true. A mark too early charges the next slice
+ * more, and the next real one makes it good; too late, the coordinator
+ * charges the claims short of it nothing until they pass it
+ * (Coordinator::charge_point): either way no system call. */
+#define TCS_HOOK_COSTS 8
+static int64_t tcs_hook_costs[TCS_HOOK_COSTS];
+static unsigned tcs_hook_samples, tcs_hook_marks;
+
+static int64_t tcs_hook_cost(void)
+{
+	int64_t least = tcs_hook_costs[0];
+	for (unsigned i = 1; i < TCS_HOOK_COSTS; i++)
+		if (tcs_hook_costs[i] < least)
+			least = tcs_hook_costs[i];
+	return least;
+}
+
+int64_t tcs_exit_mark(int64_t claim)
+{
+	struct tcs_clock_page *p = tcs_rt.page;
+	struct tcs_anchor *a = &tcs_anchor;
+	if (p->mode != TCS_MODE_LOCKSTEP || claim <= 0 || !(p->flags & TCS_PAGE_CPU_ESTIMATE))
+		return tcs_process_cpu_resync(0);
+	if (a->busy || tcs_hook_samples < TCS_HOOK_COSTS || tcs_hook_marks++ % 64 == 63) {
+		uint64_t before = tcs_ticks(p);
+		int64_t cpu = tcs_process_cpu_resync(0);
+		/* The hook's cost up to the reading, not the reading's own: the
+		 * learnt marks are taken without one. (None, when the claim ran
+		 * ahead: an estimate over a time the process did not run.) */
+		int64_t cost = cpu - tcs_ticks_ns(p, tcs_ticks(p) - before) - claim;
+		tcs_hook_costs[tcs_hook_samples++ % TCS_HOOK_COSTS] = cost > 0 ? cost : 0;
+		return cpu;
+	}
+	int64_t cpu = tcs_ns_add(claim, tcs_hook_cost());
+	tcs_anchor_set(a, tcs_ticks(p), cpu, __atomic_load_n(&p->gen, __ATOMIC_ACQUIRE));
 	return cpu;
 }
 
@@ -68,7 +136,7 @@ void tcs_anchor_note_slice(const struct tcs_clock_page *p, struct tcs_slice s, u
 		return;
 	a->busy = 1;
 	__atomic_signal_fence(__ATOMIC_SEQ_CST);
-	a->v = tcs_ns_add(s.v_base, a->cpu - from);
+	a->v = tcs_ns_add(s.v_base, tcs_page_slice_cpu(p, s, a->cpu));
 	a->v_valid = 1;
 	__atomic_signal_fence(__ATOMIC_SEQ_CST);
 	a->busy = 0;

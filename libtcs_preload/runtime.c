@@ -54,9 +54,27 @@ int64_t tcs_kernel_clock(clockid_t id)
 	return r < 0 ? r : tcs_ts_to_ns(&ts);
 }
 
+/* A machine whose CPU-clock system call is slow, imitated for the test
+ * suite's slow-clock setup (TCS_CPU_CLOCK_DELAY_NS, read at load): each
+ * reading computes that much longer, half before the kernel reads the clock
+ * and half after, as the system call's own entry and exit would. */
+static int64_t tcs_cpu_clock_delay;
+
+static void tcs_compute_for(int64_t ns)
+{
+	int64_t until = tcs_kernel_clock(CLOCK_MONOTONIC) + ns;
+	while (tcs_kernel_clock(CLOCK_MONOTONIC) < until)
+		tcs_cpu_relax();
+}
+
 int64_t tcs_process_cpu(void)
 {
-	return tcs_kernel_clock(CLOCK_PROCESS_CPUTIME_ID);
+	if (__builtin_expect(tcs_cpu_clock_delay == 0, 1))
+		return tcs_kernel_clock(CLOCK_PROCESS_CPUTIME_ID);
+	tcs_compute_for(tcs_cpu_clock_delay / 2);
+	int64_t cpu = tcs_kernel_clock(CLOCK_PROCESS_CPUTIME_ID);
+	tcs_compute_for(tcs_cpu_clock_delay - tcs_cpu_clock_delay / 2);
+	return cpu;
 }
 
 /* Estimates of CPU time (cpu_estimate.c) may run ahead of a later exact
@@ -67,9 +85,16 @@ int64_t tcs_v_seen;
  * what a wait charges is never less (see tcs_wait). */
 static int64_t tcs_cpu_seen;
 
+/* The latest CPU time the program was told: the runtime's own reads,
+ * credited as ticks of wall time, may exceed the CPU they took (an
+ * interrupt's time is the task's or not, depending on the kernel), and its
+ * CPU-time clock must not go back for that. */
+static int64_t tcs_charged_seen;
+
 void tcs_cpu_forget(void)
 {
 	__atomic_store_n(&tcs_cpu_seen, 0, __ATOMIC_RELAXED);
+	__atomic_store_n(&tcs_charged_seen, 0, __ATOMIC_RELAXED);
 #if defined(__x86_64__)
 	tcs_anchor.valid = 0;
 	tcs_anchor.v_valid = 0;
@@ -93,7 +118,12 @@ int64_t tcs_charged_now(void)
 	int64_t cpu = tcs_process_cpu();
 	if (cpu > __atomic_load_n(&tcs_cpu_seen, __ATOMIC_RELAXED))
 		__atomic_store_n(&tcs_cpu_seen, cpu, __ATOMIC_RELAXED);
-	return tcs_page_charged(p, tcs_page_read_slice(p), cpu);
+	int64_t charged = tcs_page_charged(p, tcs_page_read_slice(p), cpu);
+	int64_t seen = __atomic_load_n(&tcs_charged_seen, __ATOMIC_RELAXED);
+	if (charged < seen)
+		return seen;
+	__atomic_store_n(&tcs_charged_seen, charged, __ATOMIC_RELAXED);
+	return charged;
 }
 
 int64_t tcs_sleep_clock_origin(clockid_t id)
@@ -337,7 +367,7 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 	 * coordinator's reading, not the hook's entry). */
 	if ((reply->flags & TCS_WAKE_STARTS_SLICE) &&
 	    __atomic_load_n(&tcs_rt.page->threads_started, __ATOMIC_RELAXED) == 0) {
-		__atomic_store_n(&tcs_rt.page->exit_cpu, tcs_process_cpu_anchor(), __ATOMIC_RELAXED);
+		__atomic_store_n(&tcs_rt.page->exit_cpu, tcs_exit_mark(m->cpu), __ATOMIC_RELAXED);
 		tcs_anchor_forget_v(); /* a read in between saw the old mark */
 	}
 	return early;
@@ -455,6 +485,9 @@ __attribute__((constructor)) static void tcs_init(void)
 
 	tcs_resolve_real_symbols();
 	tcs_threads_init();
+	long delay;
+	if (tcs_env_int("TCS_CPU_CLOCK_DELAY_NS", &delay) == 0 && delay > 0)
+		tcs_cpu_clock_delay = delay;
 	if (tcs_read_environment(&channel, &page, &controller) < 0) {
 		tcs_write_stderr("libtcs_preload.so loaded outside tcs-run; this program runs in real time", NULL, NULL);
 		goto out;

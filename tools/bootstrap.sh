@@ -25,6 +25,8 @@ packages=(gcc g++ libc6-dev binutils pkg-config meson ninja-build python3 libcmo
 [[ $what == bench ]] && packages+=(faketime)
 # Real programs nobody wrote for tcs, which the tests run under it.
 [[ $what == test ]] && packages+=(rt-tests stress-ng coreutils)
+# Counting a lockstep round trip's system calls.
+[[ $what == test ]] && packages+=(strace)
 # The agent tests put an agent in a network namespace of its own.
 [[ $what == test ]] && packages+=(iproute2)
 missing=()
@@ -89,12 +91,18 @@ fi
 
 status=0
 meson test -C "$build" --print-errorlogs || status=$?
+# The process tests again as on a machine where tcs's fast paths are off
+# (no TSC, slow CPU-clock system calls: tests/meson.build, "slowclock").
+echo
+echo "bootstrap: the process tests again, as on a machine without tcs's fast paths (--setup slowclock)"
+meson test -C "$build" --print-errorlogs --setup slowclock --suite process || status=$?
 # One closing line any CI can read.
-python3 - "$build/meson-logs/testlog.json" <<'PY'
+python3 - "$build/meson-logs/testlog.json" "$build/meson-logs/testlog-slowclock.json" <<'PY'
 import json, sys
-results = [json.loads(line)["result"] for line in open(sys.argv[1]) if line.strip()]
-ok = sum(r == "OK" for r in results)
-skipped = sum(r == "SKIP" for r in results)
-print("%d passed, %d failed, %d skipped" % (ok, len(results) - ok - skipped, skipped))
+for path, what in zip(sys.argv[1:], ("", " (slowclock)")):
+    results = [json.loads(line)["result"] for line in open(path) if line.strip()]
+    ok = sum(r == "OK" for r in results)
+    skipped = sum(r == "SKIP" for r in results)
+    print("%d passed, %d failed, %d skipped%s" % (ok, len(results) - ok - skipped, skipped, what))
 PY
 exit $status

@@ -234,7 +234,7 @@ int main(int argc, char **argv)
 	if (!preload)
 		return fail(preload.error().message);
 	cfg.preload = *preload;
-	cfg.want_fifo = getenv("TCS_NO_FIFO") == nullptr;
+	cfg.realtime = realtime_wish_from_env();
 
 	bool show_progress = !quiet && isatty(STDERR_FILENO);
 	if (show_progress)

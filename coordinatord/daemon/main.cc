@@ -226,7 +226,7 @@ int main(int argc, char **argv)
 	if (!preload)
 		return fail(preload.error().message);
 	cfg.preload = *preload;
-	cfg.want_fifo = getenv("TCS_NO_FIFO") == nullptr;
+	cfg.realtime = realtime_wish_from_env();
 	cfg.serve = true;
 	cfg.on_warning = [](const std::string &w) { log_line("warning: " + w); };
 	auto log = [quiet](const std::string &msg) {

@@ -95,11 +95,29 @@ def test_stream_records_come_at_the_rate():
             print("  %s: records read at %s ns" % (mode, times))
             if mode == "lockstep":
                 check(times == [0, 1000000, 2000000, 3000000, 4000000], "one record per ms, when due", r)
-            else:  # records are due every ms of virtual time; reading costs a little
-                for a, b in zip(times, times[1:]):
-                    check(900000 <= b - a <= 1100000, "records a ms apart", r)
+            else:
+                # Record k is due at k ms of virtual time, D + k ms on the
+                # program's clock (D unknown: its start-up's CPU). A read
+                # returns at its record's time, or at once if the program is
+                # later than that; either way later by what it computes in
+                # the read, as its CPU clock says (a first read's page
+                # faults, a pause of the VM: charged as CPU too), and by the
+                # few microseconds a clock read's CPU estimate may run ahead.
+                # No read is early, so D is at most the least of
+                # at_k - k ms; with that D no read may be late.
+                v = r.values()
+                ahead = 50000
+                cpu0 = [int(v["record%d_cpu0" % k]) for k in range(5)]
+                cpu = [int(v["record%d_cpu" % k]) for k in range(5)]
+                d = min(t - k * 1000000 for k, t in enumerate(times)) + ahead
+                for k in range(1, 5):
+                    due = d + k * 1000000
+                    latest = max(due, times[k - 1] + cpu0[k] - cpu[k - 1]) + cpu[k] - cpu0[k] + ahead
+                    check(times[k] <= latest, "record %d read at %d ns, due by %d ns, expected by %d ns"
+                          % (k, times[k], due, latest), r)
         r = probe(world, "stream", "/dev/null", "3")
-        check(r.stdout.split() == ["record0_at=0", "record1_at=2000000", "record2_at=4000000"],
+        at = [t for t in r.stdout.split() if "_at=" in t]
+        check(at == ["record0_at=0", "record1_at=2000000", "record2_at=4000000"],
               "a shadowed existing path streams at its own rate (500 Hz)", r)
 
 

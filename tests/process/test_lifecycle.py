@@ -103,6 +103,24 @@ def test_without_sched_fifo_it_warns_once_and_still_works():
     check(r.returncode == 0 and r.values()["loops"] == "1000", "cpu mode works without SCHED_FIFO", r)
 
 
+def test_without_the_tsc_it_warns_once_and_clocks_stay_exact():
+    # As on a machine whose CPU has no invariant TSC: the vDSO's clock
+    # serves the estimates instead, and says so once, with the reason.
+    r = tcs(prog("clocks"), env={"TCS_NO_TSC": "1"})
+    check(r.returncode == 0 and r.values()["backwards"] == "0", "no clock goes back", r)
+    check(r.stderr.count("warning: the TSC is not to be used (TCS_NO_TSC)") == 1, "one warning that names why", r)
+    check("vDSO clock" in r.stderr, "and says what serves instead", r)
+    r = tcs("-q", prog("periodic"), "1000", "1", "300us", env={"TCS_NO_TSC": "1"})
+    v = r.values()
+    check(r.returncode == 0 and v["loops"] == "1000", "a 1 kHz loop keeps its rate", r)
+    # Where the CPU says its TSC is invariant, the TSC serves without a word,
+    # whatever the kernel's clocksource (kvm-clock on some VMs).
+    flags = next((l for l in open("/proc/cpuinfo") if l.startswith("flags")), "").split()
+    if "TCS_NO_TSC" not in os.environ and "constant_tsc" in flags and "nonstop_tsc" in flags:
+        r = tcs("-q", prog("periodic"), "1000", "1", "0")
+        check(r.returncode == 0 and "TSC" not in r.stderr, "no warning with an invariant TSC", r)
+
+
 
 def test_progress_line_on_a_terminal():
     import pty

@@ -1,9 +1,13 @@
 """Lockstep mode and the hooked calls whose results are exact in virtual
 time: sleeps, clocks, multiplexer timeouts, EINTR, determinism."""
 
+import os
+import re
+import shutil
+import tempfile
 import textwrap
 
-from harness import PYTHON, check, main, prog, tcs
+from harness import PYTHON, TCS_RUN, check, main, prog, run, tcs
 
 
 def test_sleep_30_takes_no_wall_time():
@@ -31,6 +35,26 @@ def test_python_sleep_loop_sees_exactly_5s():
     r = tcs("-q", "-m", "lockstep", "--", PYTHON, "-c", script, timeout=30)
     check(r.returncode == 0, "python exits 0", r)
     check(r.values()["elapsed"] == "5.000000000", "500 x time.sleep(0.01) is exactly 5.000 s", r)
+
+
+def test_a_round_trip_reads_no_cpu_clock():
+    # Computation is free in lockstep, so a wait's round trip needs no
+    # reading of the controller's CPU clock, a system call that costs 50x a
+    # native clock read on some machines: the preload learns what its hooks
+    # cost and reads for real only every 64th wait, or after 20 us of
+    # computing. strace (which slows everything, so that some estimates do
+    # go stale) counts the readings on both sides: a process CPU clock in
+    # the controller, a clock id of another process's in the coordinator.
+    strace = shutil.which("strace")
+    check(strace is not None, "strace is installed (tools/bootstrap.sh test installs it)")
+    out = os.path.join(tempfile.mkdtemp(prefix="tcs-test-lockstep-"), "strace.txt")
+    r = run([strace, "-f", "-qq", "-e", "trace=clock_gettime", "-o", out, TCS_RUN, "-q", "-m", "lockstep",
+             prog("periodic"), "1000", "3", "0"], timeout=120)
+    check(r.returncode == 0 and r.values()["loops"] == "3000", "3000 cycles, each a round trip", r)
+    calls = [l for l in open(out) if "clock_gettime(" in l]
+    cpu = [l for l in calls if re.search(r"clock_gettime\((CLOCK_(PROCESS|THREAD)_CPUTIME_ID|0x[0-9a-f]+|-\d+)", l)]
+    print("  %d CPU-clock readings in 3000 round trips (%d clock_gettime system calls in all)" % (len(cpu), len(calls)))
+    check(len(cpu) < 3000 / 4, "fewer than one CPU-clock reading in four round trips: %d" % len(cpu))
 
 
 def test_same_epoch_same_timestamps():

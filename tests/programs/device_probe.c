@@ -72,9 +72,12 @@ int main(int argc, char **argv)
 	if (!strcmp(check, "stream")) {
 		int fd = must_open(path, O_RDONLY), n = argc > 3 ? atoi(argv[3]) : 5;
 		for (int i = 0; i < n; i++) {
+			long long before = clock_ns(CLOCK_PROCESS_CPUTIME_ID);
 			if (read_line(fd, line, sizeof line) < 0)
 				return 1;
-			printf("record%d_at=%lld\n", i, since());
+			long long at = since();
+			printf("record%d_at=%lld record%d_cpu0=%lld record%d_cpu=%lld\n", i, at, i, before, i,
+			       clock_ns(CLOCK_PROCESS_CPUTIME_ID));
 		}
 	} else if (!strcmp(check, "nonblock")) {
 		int fd = must_open(path, O_RDONLY | O_NONBLOCK);

@@ -27,7 +27,7 @@ static void page_init(struct tcs_clock_page *p, enum tcs_mode mode, double scale
 
 static struct tcs_slice slice_make(int64_t v_base, int64_t cpu_base, int64_t charged_base)
 {
-	struct tcs_slice s;
+	struct tcs_slice s = { 0 };
 	s.v_base = v_base;
 	s.cpu_base = cpu_base;
 	s.charged_base = charged_base;
@@ -203,6 +203,11 @@ static void test_charged_both_modes(void **state)
 		page.exit_cpu = INT64_MAX; /* lying mark */
 		assert_i64_eq(tcs_page_charged(&page, s, 2500000), 300000);
 		page.exit_cpu = 2100000;
+		page.own_cpu = 50000; /* the runtime's clock reads excluded */
+		assert_i64_eq(tcs_page_charged(&page, s, 2500000), 650000);
+		page.own_cpu = INT64_MAX; /* a lying credit */
+		assert_i64_eq(tcs_page_charged(&page, s, 2500000), 300000);
+		page.own_cpu = 0;
 		page.cpu_scale = 3.0;
 		assert_i64_eq(tcs_page_charged(&page, s, 2500000), 1500000);
 		page.cpu_scale = 0.5;

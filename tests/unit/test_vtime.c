@@ -452,6 +452,35 @@ static void test_slice_cpu_never_negative(void **state)
 	}
 }
 
+/* ---- tcs_less_own ---------------------------------------------------------- */
+
+static void test_less_own_excludes_the_runtimes_reads(void **state)
+{
+	assert_i64_eq(tcs_less_own(500, 1000, 1000), 500); /* none in the slice */
+	assert_i64_eq(tcs_less_own(500, 1000, 1120), 380);
+	assert_i64_eq(tcs_less_own(500, 0, 500), 0);
+	assert_i64_eq(tcs_less_own(0, 0, 7), 0);
+}
+
+static void test_less_own_lying_controller(void **state)
+{
+	/* A credit beyond the slice, gone back, or wrapped charges within 0..used. */
+	assert_i64_eq(tcs_less_own(500, 0, 501), 0);
+	assert_i64_eq(tcs_less_own(500, 0, INT64_MAX), 0);
+	assert_i64_eq(tcs_less_own(500, 1000, 10), 500);
+	assert_i64_eq(tcs_less_own(500, INT64_MIN, INT64_MAX), 0);
+	assert_i64_eq(tcs_less_own(500, INT64_MAX, INT64_MIN), 500);
+	uint64_t rng = 77;
+	for (int i = 0; i < 200000; i++) {
+		int64_t used = (int64_t)(test_rand(&rng) >> 2);
+		int64_t base = (int64_t)test_rand(&rng), now = (int64_t)test_rand(&rng);
+		if (i & 1)
+			now = base + (int64_t)(test_rand(&rng) % 2001) - 1000;
+		int64_t got = tcs_less_own(used, base, now);
+		assert_true(got >= 0 && got <= used);
+	}
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -478,6 +507,8 @@ int main(void)
 		cmocka_unit_test(test_slice_cpu_mark_after_base),
 		cmocka_unit_test(test_slice_cpu_lying_mark),
 		cmocka_unit_test(test_slice_cpu_never_negative),
+		cmocka_unit_test(test_less_own_excludes_the_runtimes_reads),
+		cmocka_unit_test(test_less_own_lying_controller),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 #define TCS_PAGE_MAGIC 0x70736374u /* "tcsp" */
-#define TCS_PAGE_VERSION 7u
+#define TCS_PAGE_VERSION 8u
 #define TCS_PAGE_SIZE 4096
 
 enum tcs_mode {
@@ -34,9 +34,10 @@ enum tcs_mode {
  * with the time it happened. */
 #define TCS_PAGE_REPORT_MISSES 1u
 /* flags: the controller may estimate its CPU time between readings of its
- * CPU-time clock from the TSC (see libtcs_preload/cpu_estimate.c): set where
- * it runs pinned under SCHED_FIFO, so that it uses CPU at the rate wall time
- * passes whenever the coordinator (which bumps gen) is not running. */
+ * CPU-time clock from a cheap wall clock, the TSC unless TCS_PAGE_TICKS_VDSO
+ * (see libtcs_preload/cpu_estimate.c): set where it runs pinned under
+ * SCHED_FIFO, so that it uses CPU at the rate wall time passes whenever the
+ * coordinator (which bumps gen) is not running. */
 #define TCS_PAGE_CPU_ESTIMATE 2u
 /* flags: the coordinator shares the controller's core at a higher SCHED_FIFO
  * priority, so it has answered a request the coordinator can answer at once
@@ -49,12 +50,16 @@ enum tcs_mode {
  * its clock or waits, it asks for the world's time: what woke it may have
  * been written then, never earlier. */
 #define TCS_PAGE_ASLEEP 8u
+/* flags: the estimate's ticks are the vDSO's CLOCK_MONOTONIC_RAW in ns, on
+ * a machine whose TSC cannot serve (coordinatord/realtime.cc). */
+#define TCS_PAGE_TICKS_VDSO 16u
 
 /* The seqlock-protected part: where the current slice started. */
 struct tcs_slice {
 	int64_t v_base;       /* virtual ns at the start of the slice */
 	int64_t cpu_base;     /* the process's real CPU ns at that moment */
 	int64_t charged_base; /* virtual CPU ns charged before the slice */
+	int64_t own_base;     /* the page's own_cpu at that moment */
 };
 
 struct tcs_clock_page {
@@ -67,8 +72,8 @@ struct tcs_clock_page {
 	int64_t mono_origin_ns; /* real CLOCK_MONOTONIC at V = 0 */
 	int64_t real_origin_ns; /* CLOCK_REALTIME at V = 0: the epoch */
 	int64_t tai_origin_ns;  /* CLOCK_TAI at V = 0 */
-	uint64_t tsc_mult;      /* TCS_PAGE_CPU_ESTIMATE: ns per TSC tick, times 2^32 */
-	uint64_t tsc_resync;    /* TSC ticks after which an estimate is read again */
+	uint64_t tick_mult;     /* TCS_PAGE_CPU_ESTIMATE: ns per tick, times 2^32 */
+	uint64_t tick_resync;   /* ticks after which an estimate is read again */
 	int64_t owner_pid;      /* the process this page is for: another one (a child
 				 * after exec) must register before it runs */
 	uint64_t reserved1[1];
@@ -77,7 +82,7 @@ struct tcs_clock_page {
 	uint32_t seq;
 	uint32_t gen; /* bumped whenever the coordinator ran on the controller's core */
 	struct tcs_slice slice;
-	uint64_t reserved3[4];
+	uint64_t reserved3[3];
 
 	/* Controller-written, one atomic store each. */
 	int64_t exit_cpu;        /* process CPU when the last hook returned */
@@ -89,6 +94,10 @@ struct tcs_clock_page {
 	uint64_t lazy_handles;   /* lockstep: device handles (bit h) written without
 				  * a round trip, whose records the coordinator takes
 				  * at the next request (libtcs_preload/lazy_writes.c) */
+	int64_t own_cpu;         /* the runtime's own CPU in clock reads that had to
+				  * read the CPU clock between hooks (a system call,
+				  * 50x a native clock read on some machines): not
+				  * the program's, not charged (cpu_estimate.c) */
 };
 
 #if defined(__cplusplus)
@@ -123,6 +132,7 @@ static inline struct tcs_slice tcs_page_read_slice(const struct tcs_clock_page *
 		s.v_base = __atomic_load_n(&p->slice.v_base, __ATOMIC_RELAXED);
 		s.cpu_base = __atomic_load_n(&p->slice.cpu_base, __ATOMIC_RELAXED);
 		s.charged_base = __atomic_load_n(&p->slice.charged_base, __ATOMIC_RELAXED);
+		s.own_base = __atomic_load_n(&p->slice.own_base, __ATOMIC_RELAXED);
 		__atomic_thread_fence(__ATOMIC_ACQUIRE);
 		s2 = __atomic_load_n(&p->seq, __ATOMIC_RELAXED);
 		if (s1 == s2)
@@ -141,6 +151,7 @@ static inline void tcs_page_write_slice(struct tcs_clock_page *p, struct tcs_sli
 	__atomic_store_n(&p->slice.v_base, s.v_base, __ATOMIC_RELAXED);
 	__atomic_store_n(&p->slice.cpu_base, s.cpu_base, __ATOMIC_RELAXED);
 	__atomic_store_n(&p->slice.charged_base, s.charged_base, __ATOMIC_RELAXED);
+	__atomic_store_n(&p->slice.own_base, s.own_base, __ATOMIC_RELAXED);
 	__atomic_store_n(&p->seq, seq + 2, __ATOMIC_RELEASE);
 }
 
@@ -151,20 +162,27 @@ static inline void tcs_page_bump_gen(struct tcs_clock_page *p)
 	__atomic_store_n(&p->gen, __atomic_load_n(&p->gen, __ATOMIC_RELAXED) + 1, __ATOMIC_RELEASE);
 }
 
+/* The controller's own CPU in slice s when its process CPU clock reads
+ * cpu_now: not the hooks' (exit_cpu) nor the runtime's clock reads (own_cpu). */
+static inline int64_t tcs_page_slice_cpu(const struct tcs_clock_page *p, struct tcs_slice s, int64_t cpu_now)
+{
+	int64_t exit_cpu = __atomic_load_n(&p->exit_cpu, __ATOMIC_RELAXED);
+	int64_t own = __atomic_load_n(&p->own_cpu, __ATOMIC_RELAXED);
+	return tcs_less_own(tcs_slice_cpu(s.cpu_base, exit_cpu, cpu_now), s.own_base, own);
+}
+
 /* Virtual time of a controller whose process CPU clock reads cpu_now. */
 static inline int64_t tcs_page_vnow(const struct tcs_clock_page *p, struct tcs_slice s, int64_t cpu_now)
 {
 	if (p->mode == TCS_MODE_LOCKSTEP)
 		return s.v_base;
-	int64_t exit_cpu = __atomic_load_n(&p->exit_cpu, __ATOMIC_RELAXED);
-	return tcs_ns_add(s.v_base, tcs_scale_cpu(tcs_slice_cpu(s.cpu_base, exit_cpu, cpu_now), p->cpu_scale));
+	return tcs_ns_add(s.v_base, tcs_scale_cpu(tcs_page_slice_cpu(p, s, cpu_now), p->cpu_scale));
 }
 
 /* Virtual CPU time charged to the controller when its CPU clock reads cpu_now. */
 static inline int64_t tcs_page_charged(const struct tcs_clock_page *p, struct tcs_slice s, int64_t cpu_now)
 {
-	int64_t exit_cpu = __atomic_load_n(&p->exit_cpu, __ATOMIC_RELAXED);
-	return tcs_ns_add(s.charged_base, tcs_scale_cpu(tcs_slice_cpu(s.cpu_base, exit_cpu, cpu_now), p->cpu_scale));
+	return tcs_ns_add(s.charged_base, tcs_scale_cpu(tcs_page_slice_cpu(p, s, cpu_now), p->cpu_scale));
 }
 
 #ifdef __cplusplus

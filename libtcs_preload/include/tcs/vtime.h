@@ -91,6 +91,18 @@ static inline int64_t tcs_slice_cpu(int64_t cpu_base, int64_t exit_cpu, int64_t 
 	return cpu_now > from ? cpu_now - from : 0;
 }
 
+/* What of `used` (a slice's CPU) is the controller's own: less the CPU the
+ * runtime spent reading the CPU clock for clock reads between hooks, own_now
+ * - own_base (see the clock page's own_cpu). Within 0..used, whatever a
+ * misbehaving controller wrote. */
+static inline int64_t tcs_less_own(int64_t used, int64_t own_base, int64_t own_now)
+{
+	if (own_now <= own_base)
+		return used;
+	uint64_t own = (uint64_t)own_now - (uint64_t)own_base;
+	return own >= (uint64_t)used ? 0 : used - (int64_t)own;
+}
+
 #ifdef __cplusplus
 }
 #endif
