@@ -17,27 +17,45 @@ void Coordinator::arm_watchdog(Controller &c)
 {
 	// Only worth it when someone else may be waiting for the core, or
 	// when its threads may all be waiting.
-	if (alive_controllers() < 2 && c.side.empty())
+	Lane *lane = lane_of(c);
+	if (!lane || (alive_controllers() < 2 && c.side.empty()))
 		return;
-	c.watch_cpu = c.slice().cpu_base; // read when its slice began: no extra system call
-	c.asleep_looks = 0;
-	watchdog_timer_.arm(kWatchdog);
+	// A lane's watchdog ticks while it has controllers to look at, rather
+	// than being armed and disarmed with each slice (two system calls a
+	// lockstep round trip). The first tick of a slice only marks it.
+	if (!lane->watching) {
+		lane->watching = true;
+		lane->watched = nullptr;
+		lane->watchdog.arm(kWatchdog, kWatchdog);
+	}
 }
 
-void Coordinator::on_watchdog()
+void Coordinator::on_watchdog(Lane &lane)
 {
-	watchdog_timer_.consume();
-	if (!running_ || ending_)
+	lane.watchdog.consume();
+	Controller *running = lane.running;
+	if (!running || ending_) {
+		lane.watchdog.disarm();
+		lane.watching = false;
 		return;
-	Controller &c = *running_;
+	}
+	Controller &c = *running;
+	if (lane.watched != &c || lane.watched_slice != c.slices) {
+		// A slice begun since the last tick: look from its start.
+		lane.watched = &c;
+		lane.watched_slice = c.slices;
+		c.watch_cpu = c.slice().cpu_base; // read as it began: no system call
+		c.asleep_looks = 0;
+		return;
+	}
 	int64_t cpu = c.cpu_now();
 	// Asleep twice in a row, and not in a request of ours (waiting for its
 	// child to register after a fork, it is asleep in our hands).
 	bool asleep = cpu - c.watch_cpu <= kWatchdog / 100 && c.awaiting_child == 0 && proc_all_threads_asleep(c.pid);
 	c.asleep_looks = asleep ? c.asleep_looks + 1 : 0;
 	c.watch_cpu = cpu;
-	if (c.asleep_looks < 2 || !(block_if_all_waiting(c) || step_aside_if_asleep(c)))
-		watchdog_timer_.arm(kWatchdog);
+	if (c.asleep_looks >= 2)
+		(void)(block_if_all_waiting(c) || step_aside_if_asleep(c));
 }
 
 // The running controller, found making no progress: if every thread of it
@@ -58,9 +76,7 @@ bool Coordinator::step_aside_if_asleep(Controller &c)
 	take_lazy_commands(c, -1); // written before it fell asleep, at its time then
 	int64_t cpu = c.cpu_now();
 	c.asleep_looks = 0;
-	budget_timer_.disarm();
-	watchdog_timer_.disarm();
-	running_ = nullptr;
+	leave_lane(c);
 	c.account(cpu, cfg_.mode);
 	c.publish_slice(cpu);
 	trace_slice_end(c, "blocked", cpu);

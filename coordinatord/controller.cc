@@ -35,7 +35,7 @@ Result<UniqueFd> Controller::make_page(const ControllerSpec &spec, int mode, con
 	page_->mode = (uint32_t)mode;
 	page_->flags = (spec.report_misses ? TCS_PAGE_REPORT_MISSES : 0) | (rt.cpu_estimate() ? TCS_PAGE_CPU_ESTIMATE : 0) |
 		       (rt.ticks == EstimateTicks::Vdso ? TCS_PAGE_TICKS_VDSO : 0) |
-		       (rt.fifo && rt.cpu >= 0 ? TCS_PAGE_FIFO : 0);
+		       (rt.fifo && rt.cpu >= 0 ? TCS_PAGE_FIFO | TCS_PAGE_SHARES_CORE : 0);
 	page_->tick_mult = rt.tick_mult;
 	page_->tick_resync = rt.tick_resync;
 	page_->cpu_scale = spec.cpu_scale;

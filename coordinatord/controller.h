@@ -231,6 +231,12 @@ public:
 	int64_t next_timer() const { return next_timer_; }
 	void timers_changed();
 	bool budgeted = false;      // Running with a budget timer
+	int lane = -1;  // Running: the coordinator's lane it runs in (lanes.cc)
+	int core = -1;  // the core its threads were last pinned to (-1: not by us)
+	uint64_t slices = 0; // how many times it was resumed
+	// Real CPU it used in its last turn on a core, and its charge when
+	// this one began (lanes.cc).
+	int64_t turn_cpu = 0, charged_at_turn = 0;
 
 	int exit_status = -1;   // wait status when Exited
 	bool ended_by_tcs = false; // exited after the run's end was called

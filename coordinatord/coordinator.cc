@@ -52,7 +52,7 @@ Status Coordinator::init()
 		return Error{ "the simulation step must be positive" };
 	if (auto s = loop_.init(); !s)
 		return s;
-	for (Timer *t : { &budget_timer_, &progress_timer_, &kill_timer_, &idle_timer_, &continue_timer_, &watchdog_timer_, &exit_timer_, &exec_timer_ })
+	for (Timer *t : { &progress_timer_, &kill_timer_, &idle_timer_, &continue_timer_, &exit_timer_, &exec_timer_ })
 		if (auto s = t->init(); !s)
 			return s;
 
@@ -71,6 +71,8 @@ Status Coordinator::init()
 	rt_ = setup_realtime(cfg_.realtime);
 	if (!rt_.warning.empty())
 		warn_once(rt_.warning);
+	if (auto s = init_lanes(); !s)
+		return s;
 
 	if (!cfg_.models.empty()) {
 		auto w = SimWorld::create(cfg_.models, cfg_.step_ns);
@@ -108,8 +110,8 @@ Status Coordinator::init()
 	// The coordinator shares the running controller's core: each time it
 	// wakes, that controller's CPU-time estimates (cpu_estimate.c) are off.
 	loop_.set_on_wake([this] {
-		if (running_)
-			running_->coordinator_ran();
+		if (Controller *c = lanes_.front()->running)
+			c->coordinator_ran();
 	});
 	Status st = Ok{};
 	auto watch = [&](int fd, EventLoop::Handler h) {
@@ -123,10 +125,8 @@ Status Coordinator::init()
 		watch(cfg_.step_agent->fd(), [this](uint32_t) { on_step_agent(); });
 		awaiting_grant_ = true; // no world time until the host's first grant
 	}
-	watch(budget_timer_.fd(), [this](uint32_t) { on_budget(); });
 	watch(progress_timer_.fd(), [this](uint32_t) { on_progress(); });
 	watch(idle_timer_.fd(), [this](uint32_t) { on_idle(); });
-	watch(watchdog_timer_.fd(), [this](uint32_t) { on_watchdog(); });
 	watch(exec_timer_.fd(), [this](uint32_t) { on_exec_look(); });
 	watch(exit_timer_.fd(), [this](uint32_t) {
 		exit_timer_.consume();
@@ -186,7 +186,8 @@ Result<RunReport> Coordinator::run()
 		if (auto s = loop_.dispatch(); !s)
 			fatal_ = s;
 	}
-	budget_timer_.disarm();
+	for (auto &l : lanes_)
+		l->budget.disarm();
 	progress_timer_.disarm();
 	if (auto s = trace_.close(); !s && fatal_)
 		fatal_ = Error{ "the trace: " + s.error().message };
@@ -301,9 +302,8 @@ void Coordinator::on_child(Controller &parent, const ::tcs_msg &m, UniqueFd chan
 		fatal_ = s;
 	if (parent.awaiting_child == pid)
 		child_settled(parent);
-	// Someone new waits for the core: is the one that has it asleep?
-	if (running_)
-		arm_watchdog(*running_);
+	// Someone new waits for a core: is one that has it asleep?
+	each_running([this](Controller &r) { arm_watchdog(r); });
 }
 
 // The parent, right after its fork: it waits until its child has
@@ -510,7 +510,7 @@ void Coordinator::on_pidfd(Controller &c)
 		int64_t cpu = exited_cpu(c);
 		if (cpu > 0)
 			c.account(cpu, cfg_.mode);
-		if (running_ == &c)
+		if (c.lane >= 0)
 			trace_slice_end(c, "exited", std::max<int64_t>(cpu, 0));
 		on_exit(c, proc_exit_status(c.pid));
 		return;
@@ -530,7 +530,7 @@ void Coordinator::on_pidfd(Controller &c)
 		return later();
 	int64_t cpu = exited_cpu(c);
 	c.account(cpu, cfg_.mode);
-	if (running_ == &c)
+	if (c.lane >= 0)
 		trace_slice_end(c, "exited", cpu);
 	si = {};
 	if (waitid(P_PIDFD, (id_t)c.pidfd.get(), &si, WEXITED | WNOHANG) < 0)
@@ -575,10 +575,7 @@ void Coordinator::on_exit(Controller &c, int wait_status)
 	c.threads.clear();
 	c.side.clear();
 	loop_.remove(c.pidfd.get());
-	if (running_ == &c) {
-		running_ = nullptr;
-		budget_timer_.disarm();
-	}
+	leave_lane(c);
 	c.ended_by_tcs = ending_;
 	if (c.parent_id == 0 && cfg_.serve) {
 		// Served: its children go with it, as they do at the end of a run.
@@ -599,10 +596,7 @@ void Coordinator::drop(Controller &c, const std::string &why)
 	c.dropped = why;
 	kill(c.pid, SIGKILL);
 	// Its pidfd reports the death; until then it must not be scheduled.
-	if (running_ == &c) {
-		running_ = nullptr;
-		budget_timer_.disarm();
-	}
+	leave_lane(c);
 	loop_.remove(c.channel.get());
 	for (auto &t : c.threads)
 		loop_.remove(t->fd.get());
@@ -648,10 +642,12 @@ void Coordinator::on_progress()
 		word_of_controllers(); // the host may not have heard the last
 	if (cfg_.on_progress && !ending_)
 		cfg_.on_progress(sim_ns_, clock_ns(CLOCK_MONOTONIC) - wall_start_);
-	if (cfg_.mode == TCS_MODE_LOCKSTEP && running_ &&
-	    running_->slice_cpu(running_->cpu_now()) > 10 * TCS_NS_PER_S)
-		warn_once("in lockstep mode virtual time advances only when controllers wait, and '" + running_->name +
-			  "' has computed for 10 s without waiting");
+	if (cfg_.mode == TCS_MODE_LOCKSTEP)
+		each_running([this](Controller &c) {
+			if (c.slice_cpu(c.cpu_now()) > 10 * TCS_NS_PER_S)
+				warn_once("in lockstep mode virtual time advances only when controllers wait, and '" +
+					  c.name + "' has computed for 10 s without waiting");
+		});
 }
 
 void Coordinator::warn_once(const std::string &what)
@@ -677,15 +673,14 @@ void Coordinator::begin_end(EndReason reason, int signo)
 	ending_ = true;
 	if (cfg_.on_ending)
 		cfg_.on_ending();
-	budget_timer_.disarm();
-	if (running_) {
+	each_running([this](Controller &c) {
 		// Its slice ends with the run (what it does after is not traced).
-		int64_t cpu = running_->cpu_now();
-		running_->account(cpu, cfg_.mode);
-		running_->publish_slice(cpu);
-		trace_slice_end(*running_, "ended", cpu);
-	}
-	running_ = nullptr;
+		int64_t cpu = c.cpu_now();
+		c.account(cpu, cfg_.mode);
+		c.publish_slice(cpu);
+		trace_slice_end(c, "ended", cpu);
+		leave_lane(c);
+	});
 	// Let every controller act on SIGTERM: running, with its waits answered
 	// at once, then SIGKILL after the grace period.
 	for (auto &c : ctls_) {

@@ -158,6 +158,32 @@ private:
 	bool descends_from(const Controller &o, int root) const;
 	void warn_once(const std::string &what);
 
+	// Lanes (lanes.cc): one controller runs on each core tcs may use.
+	struct Lane {
+		int cpu = -1; // its core (-1: not pinned)
+		Controller *running = nullptr;
+		Timer budget;   // the running controller's budget (cpu mode)
+		Timer watchdog; // looks at it if it may be asleep (asleep.cc)
+		bool watching = false; // the watchdog ticks
+		const Controller *watched = nullptr; // at its last tick, in slice
+		uint64_t watched_slice = 0;
+	};
+	Status init_lanes();
+	int free_lane(const Controller &c) const;
+	// A turn on a core shorter than this is not worth another core's
+	// hand-off (lanes.cc): a few inter-processor interrupts on a VM.
+	static constexpr int64_t kWorthAnotherCore = 50 * TCS_NS_PER_US;
+	void take_lane(Controller &c, int lane);
+	void leave_lane(Controller &c);
+	Lane *lane_of(const Controller &c);
+	bool any_running() const;
+	template <class F> void each_running(F f)
+	{
+		for (auto &l : lanes_)
+			if (l->running)
+				f(*l->running);
+	}
+
 	// Scheduling (scheduler.cc).
 	void schedule();
 	bool advance_to(int64_t next);
@@ -165,8 +191,8 @@ private:
 	int64_t run_until(const Controller &c, int64_t target) const;
 	int64_t world_horizon() const;
 	void on_idle();
-	void resume(Controller &c, int64_t target);
-	void on_budget();
+	void resume(Controller &c, int64_t target, int lane);
+	void on_budget(Lane &lane);
 	void preempt(Controller &c);
 	void on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid);
 	void on_early(Controller &c, const ::tcs_msg &m, int fd);
@@ -206,7 +232,7 @@ private:
 	// Asleep in the kernel outside the hooks (asleep.cc).
 	static constexpr int64_t kWatchdog = 2 * TCS_NS_PER_MS;
 	void arm_watchdog(Controller &c);
-	void on_watchdog();
+	void on_watchdog(Lane &lane);
 	bool step_aside_if_asleep(Controller &c);
 	bool still_asleep(Controller &c, int64_t at);
 	void wake_from_asleep(Controller &c);
@@ -215,7 +241,6 @@ private:
 	void deliver_due_timers(Controller &c);
 	uint64_t due_timer_signals(Controller &c);
 	void budget_to_next_timer(Controller &c);
-	void budget_to(Controller &c, int64_t at);
 	void wake(Controller &c, int64_t v, uint16_t reason);
 	void send_wake(Controller &c);
 	void begin_end(EndReason reason, int signo = 0);
@@ -252,7 +277,9 @@ private:
 	RealtimePlan rt_;
 	ClockOrigins origins_;
 	EventLoop loop_;
-	Timer budget_timer_;
+	// The coordinator's core's first (its controller's estimates go stale
+	// whenever the coordinator runs).
+	std::vector<std::unique_ptr<Lane>> lanes_;
 	Timer progress_timer_;
 	Timer kill_timer_;
 	Timer idle_timer_;
@@ -266,7 +293,6 @@ private:
 	// Fires at once: a long way for the world to go is computed in slices
 	// of wall time, with the event loop (signals, deaths) served between.
 	Timer continue_timer_;
-	Timer watchdog_timer_; // looks at a running controller that may be asleep
 	// A multi-threaded controller whose main thread has ended reads as
 	// ended on its pidfd before its other threads have: looked at again
 	// from this timer (not in a loop: on our core, at our priority, they
@@ -287,7 +313,6 @@ private:
 
 	int64_t sim_ns_ = 0;    // S: the simulation clock
 	int64_t steps_ = 0;
-	Controller *running_ = nullptr;
 	bool ending_ = false;
 	bool held_ = false;
 	// Host: the agents taking part, and the step each last answered.

@@ -296,9 +296,8 @@ void Coordinator::on_dev_sync(Controller &c, const ::tcs_msg &m)
 	c.sync_nonblock = m.flags & TCS_DEV_NONBLOCK;
 	if (!ending_ && c.v >= sim_ns_ + cfg_.step_ns) {
 		// It is ahead of the world: it waits until the world catches up.
-		if (running_ == &c) {
-			budget_timer_.disarm();
-			running_ = nullptr;
+		if (c.lane >= 0) {
+			leave_lane(c);
 			trace_slice_end(c, "blocked", c.cpu_now());
 		}
 		c.state = CtlState::Ready;
@@ -312,9 +311,8 @@ void Coordinator::on_dev_sync(Controller &c, const ::tcs_msg &m)
 		return;
 	}
 	// A blocking read with nothing due: it waits for the next record.
-	if (was_running && running_ == &c) {
-		budget_timer_.disarm();
-		running_ = nullptr;
+	if (was_running && c.lane >= 0) {
+		leave_lane(c);
 		trace_slice_end(c, "blocked", c.cpu_now());
 	}
 	schedule();

@@ -170,14 +170,17 @@ RealtimePlan setup_realtime(RealtimeWish wish)
 	CPU_ZERO(&set);
 	if (sched_getaffinity(0, sizeof set, &set) == 0) {
 		for (int c = CPU_SETSIZE - 1; c >= 0; c--) {
-			if (CPU_ISSET(c, &set)) {
+			if (!CPU_ISSET(c, &set))
+				continue;
+			if (plan.cpu < 0) {
 				cpu_set_t one;
 				CPU_ZERO(&one);
 				CPU_SET(c, &one);
-				if (sched_setaffinity(0, sizeof one, &one) == 0)
-					plan.cpu = c;
-				break;
+				if (sched_setaffinity(0, sizeof one, &one) != 0)
+					break;
+				plan.cpu = c;
 			}
+			plan.cores.push_back(c);
 		}
 	}
 	if (!wish.fifo)
@@ -216,16 +219,22 @@ void apply_controller_realtime(const RealtimePlan &plan)
 	sched_setscheduler(0, SCHED_FIFO, &sp);
 }
 
-std::vector<pid_t> own_threads()
+std::vector<pid_t> threads_of(pid_t pid)
 {
 	std::vector<pid_t> tids;
-	if (DIR *d = opendir("/proc/self/task")) {
+	std::string dir = "/proc/" + std::to_string(pid) + "/task";
+	if (DIR *d = opendir(dir.c_str())) {
 		while (struct dirent *e = readdir(d))
 			if (e->d_name[0] != '.')
 				tids.push_back((pid_t)atoi(e->d_name));
 		closedir(d);
 	}
 	return tids;
+}
+
+std::vector<pid_t> own_threads()
+{
+	return threads_of(getpid());
 }
 
 void pin_threads(const std::vector<pid_t> &tids, int cpu)

@@ -1,5 +1,6 @@
 // Precise preemption where the system allows it: the coordinator runs
-// SCHED_FIFO above its controllers, all pinned to one core. Where that is
+// SCHED_FIFO above its controllers, pinned to one core, each controller to
+// the core it runs on (one of tcs's affinity mask). Where that is
 // not permitted, one warning and normal scheduling; CPU accounting stays
 // exact either way, only the overshoot of each budget grows.
 #pragma once
@@ -24,7 +25,11 @@ enum class EstimateTicks {
 struct RealtimePlan {
 	bool fifo = false;      // SCHED_FIFO granted
 	int controller_prio = 0;
-	int cpu = -1;           // the core everything is pinned to, or -1
+	int cpu = -1;           // the coordinator's core, or -1 (not pinned)
+	// The cores controllers may run on (tcs's affinity mask when it
+	// started), the coordinator's first; one controller runs on each at a
+	// time (coordinatord/lanes.cc). Empty: not pinned, one at a time.
+	std::vector<int> cores;
 	std::string warning;    // non-empty: say it once
 	EstimateTicks ticks = EstimateTicks::None;
 	uint64_t tick_mult = 0;   // ns per tick, times 2^32
@@ -62,6 +67,7 @@ void apply_controller_realtime(const RealtimePlan &plan);
 // another, each hand-off is an inter-processor interrupt, several times the
 // cost of the hand-off itself on a virtual machine.
 std::vector<pid_t> own_threads();
+std::vector<pid_t> threads_of(pid_t pid);
 void pin_threads(const std::vector<pid_t> &tids, int cpu);
 
 } // namespace tcs

@@ -1,7 +1,7 @@
 // Conservative synchronisation (DESIGN.md §2). The world steps from S to
 // S+dt only when every controller has reached S+dt (then it is held by
 // SIGSTOP) or waits for a time at or past it. Until then the controllers
-// that are behind run one at a time on the coordinator's core, each with a
+// that are behind run, one on each core tcs may use (lanes.cc), each with a
 // CPU budget that ends exactly at S+dt; since each one's virtual time is its
 // own CPU, each has a virtual CPU of its own whatever the host has.
 //
@@ -52,22 +52,24 @@ constexpr int64_t kIdleCatchUp = 50 * TCS_NS_PER_MS;
 
 void Coordinator::schedule()
 {
-	if (running_ || ending_ || held_ || awaiting_grant_ || !fatal_)
+	if (ending_ || held_ || awaiting_grant_ || !fatal_)
 		return;
 	for (;;) {
 		const int64_t target = sim_ns_ + cfg_.step_ns;
 		Controller *best = nullptr;
 		int64_t best_at = TCS_NEVER;
 		int64_t next_event = TCS_NEVER;
-		bool any = false, recheck = false;
+		bool any = false, recheck = false, running = false;
 		for (auto &cp : ctls_) {
 			Controller &c = *cp;
 			if (c.state == CtlState::Exited)
 				continue;
-			if (c.state == CtlState::Running)
-				return;
-			int64_t at = next_run_at(c);
 			any = true;
+			if (c.state == CtlState::Running) {
+				running = true;
+				continue;
+			}
+			int64_t at = next_run_at(c);
 			recheck |= c.state == CtlState::Blocked && (c.recheck || c.others_asleep ||
 								    std::any_of(c.side.begin(), c.side.end(), [](const SideWait &w) {
 									    return (w.flags & TCS_BLOCK_RECHECK) != 0;
@@ -95,6 +97,11 @@ void Coordinator::schedule()
 				arm_idle_step();
 			return;
 		}
+		// The best of those behind takes a free core, and the next one
+		// the next (each runs to the step at most, none waits for another).
+		const int lane = best ? free_lane(*best) : -1;
+		if (best && lane < 0)
+			return; // every core is taken: the next to leave one goes on
 		if (best && best->asleep && still_asleep(*best, best_at)) {
 			// Looked at: still asleep, its turn passes for this step.
 			best->rechecked_at = sim_ns_;
@@ -125,9 +132,11 @@ void Coordinator::schedule()
 			}
 			if (best->sync_pending && !complete_sync(*best))
 				continue; // a read that must wait for its next record
-			resume(*best, run_until(*best, target));
-			return;
+			resume(*best, run_until(*best, target), lane);
+			continue;
 		}
+		if (running)
+			return; // the world steps once those running have reached it
 
 		// Nobody can run before target: the world steps.
 		if (next_event == TCS_NEVER) {
@@ -281,7 +290,7 @@ void Coordinator::arm_idle_step()
 void Coordinator::on_idle()
 {
 	idle_timer_.consume();
-	if (running_ || ending_ || held_)
+	if (any_running() || ending_ || held_)
 		return;
 	if (advance_to(sim_ns_ + cfg_.step_ns))
 		schedule();
@@ -352,8 +361,9 @@ int64_t Coordinator::charge_point(Controller &c, int64_t claimed)
 	return one_thread ? std::clamp(claimed, base, now) : now;
 }
 
-void Coordinator::resume(Controller &c, int64_t target)
+void Coordinator::resume(Controller &c, int64_t target, int lane)
 {
+	take_lane(c, lane);
 	idle_timer_.disarm();
 	// c is held by SIGSTOP or waiting for its WAKE: its CPU clock is still.
 	// Waking from a wait: its CPU clock has stood still since the BLOCK
@@ -377,7 +387,6 @@ void Coordinator::resume(Controller &c, int64_t target)
 		c.stopped = false;
 	}
 	c.state = CtlState::Running;
-	running_ = &c;
 	c.budgeted = false;
 	if (cfg_.mode == TCS_MODE_CPU && target != TCS_NEVER) {
 		double need = std::ceil((double)(target - c.v) / c.scale);
@@ -388,7 +397,7 @@ void Coordinator::resume(Controller &c, int64_t target)
 		// work on its core); arm that much later, as learnt so far, so one
 		// timer usually ends the slice (the TCS paper's ε correction).
 		c.check_interval = std::max(c.budget + c.lag_ns, kMinSlice);
-		budget_timer_.arm(c.check_interval);
+		lanes_[(size_t)lane]->budget.arm(c.check_interval);
 	}
 	budget_to_next_timer(c); // and no further than its own next signal
 	if (!c.budgeted)
@@ -397,11 +406,11 @@ void Coordinator::resume(Controller &c, int64_t target)
 	// Nor is there one when nothing else will ever need the core.
 }
 
-void Coordinator::on_budget()
+void Coordinator::on_budget(Lane &lane)
 {
-	if (!budget_timer_.consume() || !running_)
+	if (!lane.budget.consume() || !lane.running)
 		return;
-	Controller &c = *running_;
+	Controller &c = *lane.running;
 	int64_t used = c.slice_cpu(c.cpu_now());
 	if (c.checked_used < 0) {
 		// First check of the slice: learn the lag (an integrating
@@ -420,7 +429,7 @@ void Coordinator::on_budget()
 					   ? rest
 					   : std::min(2 * c.check_interval, std::max(rest, kMaxRecheck));
 		c.checked_used = used;
-		budget_timer_.arm(c.check_interval);
+		lane.budget.arm(c.check_interval);
 		return;
 	}
 	preempt(c);
@@ -460,7 +469,7 @@ bool Coordinator::wait_until_stopped(Controller &c)
 
 void Coordinator::preempt(Controller &c)
 {
-	running_ = nullptr;
+	leave_lane(c);
 	kill(c.pid, SIGSTOP);
 	if (!wait_until_stopped(c)) {
 		on_pidfd(c); // it died before it could stop
@@ -529,8 +538,7 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		return;
 	}
 	if (c.state == CtlState::Running) {
-		budget_timer_.disarm();
-		running_ = nullptr;
+		leave_lane(c);
 		// Charged up to the hook's entry (see charge_point).
 		int64_t cpu = charge_point(c, m.cpu);
 		c.account(cpu, cfg_.mode);

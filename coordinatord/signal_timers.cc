@@ -77,7 +77,8 @@ void Coordinator::deliver_due_timers(Controller &c)
 void Coordinator::budget_to_next_timer(Controller &c)
 {
 	int64_t at = std::min(c.next_timer(), side_next(c));
-	if (cfg_.mode != TCS_MODE_CPU || at == TCS_NEVER)
+	Lane *lane = lane_of(c);
+	if (cfg_.mode != TCS_MODE_CPU || at == TCS_NEVER || !lane)
 		return;
 	int64_t need = std::max<int64_t>((int64_t)std::ceil((double)(at - c.v) / c.scale), 1);
 	if (c.budgeted && need >= c.budget)
@@ -86,7 +87,7 @@ void Coordinator::budget_to_next_timer(Controller &c)
 	c.budgeted = true;
 	c.checked_used = -1;
 	c.check_interval = std::max(c.budget + c.lag_ns, kMinSlice);
-	budget_timer_.arm(c.check_interval);
+	lane->budget.arm(c.check_interval);
 }
 
 } // namespace tcs

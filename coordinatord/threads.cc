@@ -276,10 +276,7 @@ bool Coordinator::block_if_all_waiting(Controller &c)
 	if (c.side.empty() || c.awaiting_child != 0 || runnable_threads(c, 0) > 0)
 		return false;
 	int64_t cpu = c.cpu_now();
-	budget_timer_.disarm();
-	watchdog_timer_.disarm();
-	if (running_ == &c)
-		running_ = nullptr;
+	leave_lane(c);
 	c.account(cpu, cfg_.mode);
 	c.publish_slice(cpu);
 	trace_slice_end(c, "blocked", cpu);

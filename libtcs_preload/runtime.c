@@ -314,7 +314,8 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 	unsigned early = 0;
 	/* Under SCHED_FIFO on our core the coordinator ran as soon as we sent:
 	 * a reply it could give at once is already there. */
-	int look_first = (tcs_rt.page->flags & TCS_PAGE_FIFO) != 0;
+	const uint32_t here = TCS_PAGE_FIFO | TCS_PAGE_SHARES_CORE;
+	int look_first = (__atomic_load_n(&tcs_rt.page->flags, __ATOMIC_RELAXED) & here) == here;
 	for (;;) {
 		if (!early && !look_first) {
 			fds[0].fd = channel;

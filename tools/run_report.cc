@@ -61,8 +61,14 @@ std::string summary(const RunReport &r, int mode, const std::string &who)
 			" wall (" + speed(r.virtual_ns, r.wall_ns) + "), " +
 			(mode == TCS_MODE_LOCKSTEP ? "lockstep" : "cpu") + " mode, ";
 	s += r.realtime.fifo ? "SCHED_FIFO" : "normal scheduling";
-	if (r.realtime.cpu >= 0)
+	// tcs's own core first; controllers run on all of them, one on each.
+	if (r.realtime.cores.size() > 1) {
+		s += " on CPUs ";
+		for (size_t i = 0; i < r.realtime.cores.size(); i++)
+			s += (i ? "," : "") + std::to_string(r.realtime.cores[i]);
+	} else if (r.realtime.cpu >= 0) {
 		s += " on CPU " + std::to_string(r.realtime.cpu);
+	}
 	s += "\n";
 	if (r.step_wall_max > 0)
 		s += who + ":   world: " + std::to_string(r.steps) + " steps; wall cost per step min " +

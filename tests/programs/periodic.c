@@ -6,9 +6,12 @@
  * past counts as a deadline miss (the loop then runs late, as on hardware).
  * Stops after SECONDS of its own monotonic clock and prints what it saw,
  * with its CPU-time clock at the end (cpu_ns: all it computed, start
- * included) and the CPU its loop used (loop_cpu_ns).
+ * included), the CPU its loop used (loop_cpu_ns) and the cores it was seen
+ * on after each wait (cores_seen, a bit per core).
  * Any sleep that fails (EINTR included) is counted: there should be none. */
+#define _GNU_SOURCE
 #include <errno.h>
+#include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,6 +32,7 @@ int main(int argc, char **argv)
 	long long cpu_work = strcmp(unit, "us") == 0 ? (long long)rounds * 1000 : -1;
 	long long loop_cpu = clock_ns(CLOCK_PROCESS_CPUTIME_ID);
 	long long start = clock_ns(CLOCK_MONOTONIC), next = start, loops = 0, misses = 0, failures = 0;
+	unsigned long long cores_seen = 0;
 	while (clock_ns(CLOCK_MONOTONIC) - start < duration) {
 		if (cpu_work >= 0) {
 			long long c0 = clock_ns(CLOCK_PROCESS_CPUTIME_ID);
@@ -45,10 +49,14 @@ int main(int argc, char **argv)
 		int r = clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL);
 		if (r != 0)
 			failures++;
+		int core = sched_getcpu();
+		if (core >= 0 && core < 64)
+			cores_seen |= 1ull << core;
 	}
 	double elapsed = (clock_ns(CLOCK_MONOTONIC) - start) / 1e9;
 	loop_cpu = clock_ns(CLOCK_PROCESS_CPUTIME_ID) - loop_cpu;
-	printf("loops=%lld\nelapsed_s=%.9f\nrate_hz=%.3f\nmisses=%lld\nsleep_failures=%lld\nloop_cpu_ns=%lld\ncpu_ns=%lld\n",
-	       loops, elapsed, loops / elapsed, misses, failures, loop_cpu, clock_ns(CLOCK_PROCESS_CPUTIME_ID));
+	printf("loops=%lld\nelapsed_s=%.9f\nrate_hz=%.3f\nmisses=%lld\nsleep_failures=%lld\nloop_cpu_ns=%lld\ncpu_ns=%lld\n"
+	       "cores_seen=%llu\n",
+	       loops, elapsed, loops / elapsed, misses, failures, loop_cpu, clock_ns(CLOCK_PROCESS_CPUTIME_ID), cores_seen);
 	return 0;
 }

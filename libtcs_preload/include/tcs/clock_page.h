@@ -53,6 +53,11 @@ enum tcs_mode {
 /* flags: the estimate's ticks are the vDSO's CLOCK_MONOTONIC_RAW in ns, on
  * a machine whose TSC cannot serve (coordinatord/realtime.cc). */
 #define TCS_PAGE_TICKS_VDSO 16u
+/* flags: the controller runs on the coordinator's core now (controllers run
+ * on every core tcs may use, one on each; coordinatord/lanes.cc). With
+ * TCS_PAGE_FIFO: a request's answer the coordinator could give at once is
+ * there as soon as it is sent. */
+#define TCS_PAGE_SHARES_CORE 32u
 
 /* The seqlock-protected part: where the current slice started. */
 struct tcs_slice {

@@ -1,0 +1,103 @@
+// Lanes: controllers run in parallel, one on each core tcs may use (its
+// affinity mask when it started; DESIGN.md §2). Conservative
+// synchronisation already lets every controller behind the world's next
+// step run in any order: each has its own virtual CPU, and nothing it sees
+// of the world or of another controller changes before the step. So each
+// core is a lane with its own running controller, budget timer and
+// watchdog. The coordinator's core is lane 0 and preferred: there a
+// hand-off is a same-core switch, where another core's costs an
+// inter-processor interrupt (15 against 26 us on one VM). A controller is
+// pinned to its lane's core before it resumes, all its threads (children
+// are controllers of their own).
+#include "coordinator.h"
+
+#include <algorithm>
+
+namespace tcs {
+
+Status Coordinator::init_lanes()
+{
+	std::vector<int> cores = rt_.cores;
+	if (cores.empty())
+		cores.push_back(-1); // not pinned: one lane, wherever the kernel puts it
+	for (int cpu : cores) {
+		auto lane = std::make_unique<Lane>();
+		lane->cpu = cpu;
+		for (Timer *t : { &lane->budget, &lane->watchdog })
+			if (auto s = t->init(); !s)
+				return s;
+		Lane *raw = lane.get();
+		if (auto s = loop_.add(raw->budget.fd(), [this, raw](uint32_t) { on_budget(*raw); }); !s)
+			return s;
+		if (auto s = loop_.add(raw->watchdog.fd(), [this, raw](uint32_t) { on_watchdog(*raw); }); !s)
+			return s;
+		lanes_.push_back(std::move(lane));
+	}
+	return Ok{};
+}
+
+// The lane c would run in now: the coordinator's if free, else the one of
+// the core it was on (no move), else any; -1 if it had better wait. A
+// controller that holds a core only briefly (a lockstep loop that reads,
+// writes and sleeps) waits for the coordinator's core while the one there
+// is as brief: another core's hand-off costs an inter-processor interrupt
+// each way, more than such a turn of the coordinator's core takes.
+int Coordinator::free_lane(const Controller &c) const
+{
+	const Lane &home = *lanes_.front();
+	if (!home.running)
+		return 0;
+	if (c.turn_cpu < kWorthAnotherCore && home.running->turn_cpu < kWorthAnotherCore)
+		return -1;
+	int any = -1;
+	for (size_t i = 1; i < lanes_.size(); i++) {
+		if (lanes_[i]->running)
+			continue;
+		if (lanes_[i]->cpu == c.core)
+			return (int)i;
+		if (any < 0)
+			any = (int)i;
+	}
+	return any;
+}
+
+void Coordinator::take_lane(Controller &c, int index)
+{
+	Lane &lane = *lanes_[(size_t)index];
+	if (lane.cpu >= 0 && c.core != lane.cpu) {
+		// Its threads, stopped or waiting: none is running meanwhile.
+		pin_threads(c.multithreaded() ? threads_of(c.pid) : std::vector<pid_t>{ c.pid }, lane.cpu);
+		c.core = lane.cpu;
+		c.set_page_flag(TCS_PAGE_SHARES_CORE, lane.cpu == rt_.cpu);
+	}
+	lane.running = &c;
+	// What it computed in its last turn (from one resume to the next).
+	c.turn_cpu = (int64_t)((double)(c.charged - c.charged_at_turn) / c.scale);
+	c.charged_at_turn = c.charged;
+	c.lane = index;
+	c.slices++;
+}
+
+Coordinator::Lane *Coordinator::lane_of(const Controller &c)
+{
+	return c.lane >= 0 && (size_t)c.lane < lanes_.size() ? lanes_[(size_t)c.lane].get() : nullptr;
+}
+
+// c no longer runs in its lane (it waits, was stopped, ended): the lane's
+// timers are off and another may take it.
+void Coordinator::leave_lane(Controller &c)
+{
+	Lane *lane = lane_of(c);
+	if (!lane)
+		return;
+	lane->budget.disarm(); // (its watchdog ticks on: asleep.cc)
+	lane->running = nullptr;
+	c.lane = -1;
+}
+
+bool Coordinator::any_running() const
+{
+	return std::any_of(lanes_.begin(), lanes_.end(), [](auto &l) { return l->running != nullptr; });
+}
+
+} // namespace tcs

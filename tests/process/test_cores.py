@@ -1,0 +1,104 @@
+"""Controllers in parallel on every core tcs may use (DESIGN.md §2): one
+controller on each core at a time, and results that do not depend on how
+many cores there are."""
+
+import csv
+import io
+import os
+import tempfile
+
+from harness import TCS_RUN, check, main, prog, run, scenario_file, tcs
+
+TCS_TRACE = os.environ.get("TCS_TRACE", "tcs-trace")
+
+CORES = sorted(os.sched_getaffinity(0))
+ONE = str(CORES[-1])
+
+# Four 1 kHz loops, each computing 200 us a cycle, and a pendulum whose
+# torque one of them never writes: the world steps with them.
+WORLD = """\
+[sim]
+step = "1ms"
+
+[[model]]
+name = "pendulum"
+type = "pendulum"
+""" + "".join('[[controller]]\ncommand = "%s 1000 0.3 %dus"\n' % (prog("periodic"), 100 + 50 * i) for i in range(4))
+
+
+def loops(r):
+    """Each controller's key=value lines, in controller order (each prints
+    its lines in one write at its end, so runs may interleave them)."""
+    out = [dict(kv.split("=", 1) for kv in block.split()) for block in
+           ("loops=" + b for b in r.stdout.split("loops=")[1:])]
+    return sorted(out, key=lambda v: int(v["loop_cpu_ns"]))
+
+
+def trace_content(path):
+    """What the trace says in virtual time: every wait (controller, kind,
+    asked at, deadline, ended at) and every slice (its virtual span, the
+    world's time and why it ended); not wall times or real CPU. Sorted:
+    records of controllers running at once come in either order."""
+    topics = {"/tcs/wait": ("controller", "kind", "v_request_ns", "deadline_ns", "v_end_ns", "absolute"),
+              "/tcs/slice": ("controller", "v_start_ns", "v_end_ns", "sim_ns", "end")}
+    content = {}
+    for topic, fields in topics.items():
+        e = run([TCS_TRACE, "export", path, "--format", "csv", "--topic", topic])
+        check(e.returncode == 0, "tcs-trace export %s" % topic, e)
+        rows = list(csv.DictReader(io.StringIO(e.stdout)))
+        check(rows and all(f in rows[0] for f in fields), "%s has %s" % (topic, ", ".join(fields)), e)
+        content[topic] = sorted(tuple(row[f] for f in fields) for row in rows)
+    return content
+
+
+def lockstep_run(taskset):
+    d = tempfile.mkdtemp(prefix="tcs-test-cores-")
+    path = os.path.join(d, "run.mcap")
+    with scenario_file(WORLD) as world:
+        argv = [TCS_RUN, "-m", "lockstep", "--epoch", "2024-01-01T00:00:00Z", "--trace", path, "-w", world]
+        r = run((["taskset", "-c", ONE] if taskset else []) + argv, timeout=120)
+    check(r.returncode == 0, "the run succeeds", r)
+    return r, path
+
+
+def test_a_run_on_every_core_gives_what_one_core_gives():
+    if len(CORES) < 2:
+        print("  one core allowed here: nothing runs in parallel (the comparison is trivial)")
+    wide, wide_trace = lockstep_run(taskset=False)
+    narrow, narrow_trace = lockstep_run(taskset=True)
+    a, b = loops(wide), loops(narrow)
+    check(len(a) == len(b) == 4, "four controllers' results each", wide)
+    for x, y in zip(a, b):
+        for key in ("loops", "elapsed_s", "rate_hz", "misses", "sleep_failures"):
+            check(x[key] == y[key], "%s the same on %d cores as on one: %s, %s" % (key, len(CORES), x[key], y[key]))
+    print("  4 controllers: %s loops each, on %d cores and on one" % (a[0]["loops"], len(CORES)))
+    ta, tb = trace_content(wide_trace), trace_content(narrow_trace)
+    for topic in ta:
+        check(ta[topic] == tb[topic], "the trace's %s records, in virtual time, the same (%d, %d)" %
+              (topic, len(ta[topic]), len(tb[topic])))
+    # Held to one core, everything ran there; free, the controllers used
+    # every core (the coordinator's first: one alone stays with it).
+    check(all(int(v["cores_seen"]) == 1 << int(ONE) for v in b), "taskset: every controller on CPU %s" % ONE)
+    seen = 0
+    for v in a:
+        seen |= int(v["cores_seen"])
+    check(seen == sum(1 << c for c in CORES), "controllers ran on every allowed core: seen %#x" % seen, wide)
+    check(("on CPUs " if len(CORES) > 1 else "on CPU ") in wide.stderr, "the summary names the cores", wide)
+
+
+def test_cpu_mode_charges_each_controller_its_own_cpu_in_parallel():
+    # In cpu mode each controller's time is its own CPU, whichever core it
+    # ran on: a loop of 100 + 50 i us a cycle keeps its 1 kHz rate.
+    with scenario_file(WORLD) as world:
+        r = tcs("-m", "cpu", "-w", world, timeout=120)
+    check(r.returncode == 0, "the run succeeds", r)
+    for i, v in enumerate(loops(r)):
+        per_loop = int(v["loop_cpu_ns"]) / int(v["loops"])
+        check(int(v["loops"]) == 300 and int(v["misses"]) <= 3, "controller %d: 300 loops at 1 kHz, %s misses" %
+              (i, v["misses"]), r)
+        check((100 + 50 * i) * 1000 <= per_loop, "controller %d computed its %d us a cycle: %.1f us" %
+              (i, 100 + 50 * i, per_loop / 1e3), r)
+
+
+if __name__ == "__main__":
+    main(globals())
