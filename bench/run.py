@@ -304,9 +304,9 @@ def trace_cost(b):
                 "%.0f KB of trace per 1,000 cycles" % kb)]
 
 
-def pendulums_world(b, n):
-    """A lockstep scenario of n 1 kHz pendulums, each with its own devices
-    and its own pendulum_pd."""
+def pendulums_world(b, n, work_us=0):
+    """A scenario of n 1 kHz pendulums, each with its own devices and its
+    own pendulum_pd (computing work_us of this CPU a cycle)."""
     pd = b.path("examples", "pendulum_pd")
     parts = ['[sim]\nstep = "1ms"\n']
     for i in range(n):
@@ -315,9 +315,9 @@ def pendulums_world(b, n):
                      '"p%d.hinge.velocity"]\nformat = "text"\nmode = "stream"\nrate = "1kHz"\n' % (i, i, i))
         parts.append('[[device]]\npath = "/dev/tcs/p%d/torque"\nkind = "actuator"\nsignals = ["p%d.hinge.effort"]\n'
                      'format = "text"\nlimit = 5.0\n' % (i, i))
-        parts.append('[[controller]]\ncommand = "%s --rate 1000 --state /dev/tcs/p%d/state --torque '
-                     '/dev/tcs/p%d/torque"\n' % (pd, i, i))
-    path = os.path.join(b.tmp, "pendulums-%d.toml" % n)
+        parts.append('[[controller]]\ncommand = "%s --rate 1000 --work-us %d --state /dev/tcs/p%d/state --torque '
+                     '/dev/tcs/p%d/torque"\n' % (pd, work_us, i, i))
+    path = os.path.join(b.tmp, "pendulums-%d-%d.toml" % (n, work_us))
     with open(path, "w") as f:
         f.write("".join(parts))
     return path
@@ -336,6 +336,12 @@ def scaling(b):
                                                pendulums_world(b, n)))[1]) for n in counts]
     runs.append(("taskset", lambda: b.run(["taskset", "-c", one_core] + b.tcs(
         "-q", "-m", "lockstep", "-d", "%ds" % seconds, "-w", pendulums_world(b, 16)))[1]))
+    # Controllers that compute (200 us a cycle), where parallel cores pay
+    # whatever a hand-off costs: four of them, in both modes.
+    for mode in ("lockstep", "cpu"):
+        for pin in ([], ["taskset", "-c", one_core]):
+            runs.append(("work-%s%s" % (mode, "-1" if pin else ""), lambda mode=mode, pin=pin: b.run(pin + b.tcs(
+                "-q", "-m", mode, "-d", "%ds" % seconds, "-w", pendulums_world(b, 4, 200)))[1]))
     m, _ = b.interleaved(runs)
     per = {n: m["n%d" % n] / (n * seconds * 1000) * 1e6 for n in counts}  # us per controller-cycle
     rows = [row("%d lockstep 1 kHz pendulum controller%s, %d s virtual" % (n, "s" if n > 1 else "", seconds),
@@ -346,6 +352,11 @@ def scaling(b):
                     m["n16"], "s wall", m["taskset"], "the same run on CPU %s alone" % one_core,
                     m["taskset"] / m["n16"], ">= 1.6x faster", m["taskset"] / m["n16"] >= 1.6,
                     "speed-up: one-core wall / all-cores wall"))
+    for mode in ("lockstep", "cpu"):
+        rows.append(row("4 pendulum controllers computing 200 us a cycle, %s, on %d cores vs one" %
+                        (mode, len(os.sched_getaffinity(0))), m["work-" + mode], "s wall", m["work-%s-1" % mode],
+                        "the same run on CPU %s alone" % one_core, m["work-%s-1" % mode] / m["work-" + mode],
+                        "\u2014", None, "speed-up where controllers compute"))
     return rows
 
 
