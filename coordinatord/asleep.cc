@@ -54,8 +54,12 @@ void Coordinator::on_watchdog(Lane &lane)
 	bool asleep = cpu - c.watch_cpu <= kWatchdog / 100 && c.awaiting_child == 0 && proc_all_threads_asleep(c.pid);
 	c.asleep_looks = asleep ? c.asleep_looks + 1 : 0;
 	c.watch_cpu = cpu;
-	if (c.asleep_looks >= 2)
-		(void)(block_if_all_waiting(c) || step_aside_if_asleep(c));
+	if (c.asleep_looks >= 2 && (block_if_all_waiting(c) || step_aside_if_asleep(c)))
+		return; // (it scheduled the others)
+	// A turn long enough to be worth another core: those waiting for this
+	// one may take a free one now (lanes.cc).
+	if (&lane == lanes_.front().get() && lanes_.size() > 1)
+		schedule();
 }
 
 // The running controller, found making no progress: if every thread of it

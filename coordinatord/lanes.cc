@@ -41,13 +41,17 @@ Status Coordinator::init_lanes()
 // controller that holds a core only briefly (a lockstep loop that reads,
 // writes and sleeps) waits for the coordinator's core while the one there
 // is as brief: another core's hand-off costs an inter-processor interrupt
-// each way, more than such a turn of the coordinator's core takes.
+// each way, more than such a turn of the coordinator's core takes. (One
+// there that turns out long is seen by its lane's watchdog, which
+// schedules again: asleep.cc.)
 int Coordinator::free_lane(const Controller &c) const
 {
 	const Lane &home = *lanes_.front();
 	if (!home.running)
 		return 0;
-	if (c.turn_cpu < kWorthAnotherCore && home.running->turn_cpu < kWorthAnotherCore)
+	const Controller &there = *home.running;
+	if (c.turn_cpu < kWorthAnotherCore && there.turn_cpu < kWorthAnotherCore &&
+	    wall_now() - there.resumed_wall < kWorthAnotherCore)
 		return -1;
 	int any = -1;
 	for (size_t i = 1; i < lanes_.size(); i++) {
