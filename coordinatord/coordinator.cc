@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "clock_ns.h"
 #include "proc_info.h"
 #include "tcs/msg_io.h"
 #include "tcs/protocol.h"
@@ -19,13 +20,6 @@
 namespace tcs {
 
 namespace {
-
-int64_t clock_ns(clockid_t id)
-{
-	struct timespec ts;
-	clock_gettime(id, &ts);
-	return tcs_ts_to_ns(&ts);
-}
 
 constexpr int64_t kProgressPeriod = 250 * TCS_NS_PER_MS;
 // The longest a parent waits for its new child to register (wall time).

@@ -1,5 +1,6 @@
 // setup_realtime(): SCHED_FIFO and core pinning, with a clear fallback.
 #include "realtime.h"
+#include "clock_ns.h"
 #include "tcs/protocol.h"
 
 #include <dirent.h>
@@ -28,9 +29,7 @@ constexpr int kControllerPrio = TCS_CONTROLLER_FIFO_PRIO;
 
 int64_t mono_raw_ns()
 {
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC_RAW, &ts);
-	return (int64_t)ts.tv_sec * 1000000000 + ts.tv_nsec;
+	return clock_ns(CLOCK_MONOTONIC_RAW);
 }
 
 // The CPU's own word on its TSC (x86 /proc/cpuinfo flags): a constant rate
@@ -140,6 +139,10 @@ std::string choose_ticks(RealtimePlan &plan, bool want_tsc)
 #if defined(__x86_64__)
 	if (want_tsc && invariant && calibrate_tsc(plan))
 		return "";
+#else
+	// The preload's estimate is x86-64's (libtcs_preload/cpu_estimate.c).
+	(void)invariant;
+	return "not an x86-64 machine: every cpu-mode clock read is a system call";
 #endif
 	std::string why = !want_tsc ? "the TSC is not to be used (TCS_NO_TSC)"
 			  : invariant ? "the TSC's rate did not hold steady against CLOCK_MONOTONIC_RAW"

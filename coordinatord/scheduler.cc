@@ -23,6 +23,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "clock_ns.h"
 #include "coordinator.h"
 #include "proc_info.h"
 #include "tcs/msg_io.h"
@@ -200,9 +201,7 @@ int64_t Coordinator::world_horizon() const
 
 int64_t Coordinator::wall_now()
 {
-	struct timespec ts;
-	clock_gettime(CLOCK_MONOTONIC, &ts);
-	return tcs_ts_to_ns(&ts);
+	return clock_ns(CLOCK_MONOTONIC);
 }
 
 void Coordinator::trace_slice_end(Controller &c, const char *why, int64_t cpu, int64_t budget, int64_t overshoot)

@@ -85,10 +85,10 @@ int64_t tcs_v_seen;
  * what a wait charges is never less (see tcs_wait). */
 static int64_t tcs_cpu_seen;
 
-/* The latest CPU time the program was told: the runtime's own reads,
- * credited as ticks of wall time, may exceed the CPU they took (an
- * interrupt's time is the task's or not, depending on the kernel), and its
- * CPU-time clock must not go back for that. */
+/* The latest CPU time the program was told: the credit for the runtime's
+ * own reads is at most what a reading costs (cpu_estimate.c), but a reading
+ * may still have cost less CPU than that by a few nanoseconds, and the
+ * program's CPU-time clock must not go back for that. */
 static int64_t tcs_charged_seen;
 
 void tcs_cpu_forget(void)
