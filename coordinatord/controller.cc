@@ -30,6 +30,7 @@ Result<UniqueFd> Controller::make_page(const ControllerSpec &spec, int mode, con
 	if (m == MAP_FAILED)
 		return errno_error("mmap");
 	page_ = static_cast<tcs_clock_page *>(m);
+	mailbox.attach(&page_->mailbox);
 	page_->magic = TCS_PAGE_MAGIC;
 	page_->version = TCS_PAGE_VERSION;
 	page_->mode = (uint32_t)mode;
@@ -253,6 +254,7 @@ void Controller::release()
 	page_fd_for_child.reset();
 	threads.clear();
 	devices.clear();
+	mailbox.attach(nullptr);
 	if (page_) {
 		munmap(page_, TCS_SHARED_SIZE);
 		page_ = nullptr;

@@ -15,6 +15,7 @@
 
 #include "error.h"
 #include "device.h"
+#include "mailbox.h"
 #include "realtime.h"
 #include "tcs/clock_page.h"
 #include "tcs/protocol.h"
@@ -141,6 +142,7 @@ public:
 	double scale = 1.0;
 	UniqueFd pidfd;
 	UniqueFd channel;
+	Mailbox mailbox; // its main thread's other way to the coordinator
 
 	// The process's real CPU time now (ns), from its CPU-time clock.
 	int64_t cpu_now() const;

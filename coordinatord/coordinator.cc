@@ -65,6 +65,8 @@ Status Coordinator::init()
 	rt_ = setup_realtime(cfg_.realtime);
 	if (!rt_.warning.empty())
 		warn_once(rt_.warning);
+	// DDS's threads share the coordinator's core: no polling over them.
+	mailboxes_ = rt_.mailbox && !cfg_.step_host && !cfg_.step_agent;
 	if (auto s = init_lanes(); !s)
 		return s;
 
@@ -177,7 +179,7 @@ Result<RunReport> Coordinator::run()
 	// children too, has gone.
 	auto going = [&] { return cfg_.serve ? !ending_ || alive_controllers() > 0 : alive() > 0; };
 	while (going() && fatal_) {
-		if (auto s = loop_.dispatch(); !s)
+		if (auto s = turn(); !s)
 			fatal_ = s;
 	}
 	for (auto &l : lanes_)
@@ -273,9 +275,11 @@ void Coordinator::on_child(Controller &parent, const ::tcs_msg &m, UniqueFd chan
 		return; // its channel is closed: the child sees it and runs in real time
 	Controller &c = **made;
 	// It starts where its parent was at the fork (or is now, if it does not
-	// know), never behind the world.
+	// know), never behind the world. A parent waiting for this very child
+	// (its request restarted its slice) is exactly at parent.v; one still
+	// running is settled by that request when it comes (on_forked).
 	int64_t parent_v = parent.v;
-	if (parent.state == CtlState::Running && cfg_.mode == TCS_MODE_CPU)
+	if (parent.state == CtlState::Running && cfg_.mode == TCS_MODE_CPU && parent.awaiting_child != pid)
 		parent_v = std::max(parent_v, parent.slice().v_base +
 						       tcs_scale_cpu(parent.slice_cpu(parent.cpu_now()), parent.scale));
 	c.v = std::max((m.flags & TCS_CHILD_V_KNOWN) ? m.v : parent_v, sim_ns_);
@@ -309,6 +313,12 @@ void Coordinator::on_forked(Controller &c, const ::tcs_msg &m)
 	pid_t pid = (pid_t)m.arg;
 	for (auto &o : ctls_)
 		if (o->pid == pid && o->parent_id == c.id) {
+			// It registered first, while this parent ran on (on a core of
+			// its own): at the time of its CPU clock then, which counted
+			// the parent's hooks too. Not yet run, it starts here instead,
+			// where the spawn's request put its parent.
+			if (o->slices == 0 && o->state == CtlState::Blocked && o->deadline == o->v && o->v > c.v)
+				o->v = o->deadline = std::max(c.v, sim_ns_);
 			reply_now(c, 0);
 			return;
 		}
@@ -375,7 +385,6 @@ void Coordinator::child_settled(Controller &parent)
 void Coordinator::on_channel(Controller &c, ThreadChannel *t)
 {
 	const int fd = t ? t->fd.get() : c.channel.get();
-	const pid_t tid = t ? t->tid : c.pid;
 	ChannelState &st = t ? t->state : c.main_state;
 	alignas(8) unsigned char buf[sizeof(struct tcs_msg) + 1];
 	// A child or a thread registering passes its channel (SCM_RIGHTS); an
@@ -402,6 +411,27 @@ void Coordinator::on_channel(Controller &c, ThreadChannel *t)
 		drop(c, std::string("bad message on its channel: ") + why);
 		return;
 	}
+	// What it posted in its mailbox came before anything that followed on
+	// the channel (an EARLY from its parked wait, say).
+	const bool took = !t && take_mailbox(c);
+	if (!c.dropped.empty())
+		return;
+	if (m.type == TCS_MSG_DOORBELL) {
+		// Rung for a request already taken while polling, or now.
+		if (t)
+			drop(c, "a DOORBELL on a thread's channel");
+		else if (!took && ++st.unanswered > kMaxUnanswered)
+			drop(c, "it rings without a request in its mailbox");
+		return;
+	}
+	on_request(c, t, m, std::move(passed));
+}
+
+void Coordinator::on_request(Controller &c, ThreadChannel *t, const ::tcs_msg &m, UniqueFd passed)
+{
+	const int fd = t ? t->fd.get() : c.channel.get();
+	const pid_t tid = t ? t->tid : c.pid;
+	ChannelState &st = t ? t->state : c.main_state;
 	// Records it wrote since its last request carry the time it has now,
 	// before anything it asks moves that. (A device it asks to take what
 	// it wrote: that request takes them, and judges them with its write.)
@@ -588,6 +618,7 @@ void Coordinator::on_exit(Controller &c, int wait_status)
 void Coordinator::drop(Controller &c, const std::string &why)
 {
 	c.dropped = why;
+	c.mailbox.attach(nullptr); // nothing more of it is looked at
 	kill(c.pid, SIGKILL);
 	// Its pidfd reports the death; until then it must not be scheduled.
 	leave_lane(c);

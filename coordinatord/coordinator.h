@@ -138,6 +138,8 @@ private:
 	// Events (coordinator.cc).
 	// A message on the main channel (t == nullptr) or a thread's.
 	void on_channel(Controller &c, ThreadChannel *t);
+	// A request, from a channel or c's mailbox (t == nullptr).
+	void on_request(Controller &c, ThreadChannel *t, const ::tcs_msg &m, UniqueFd passed);
 	void on_message(Controller &c, const ::tcs_msg &m, int fd, pid_t tid);
 	int64_t exited_cpu(const Controller &c);
 	void on_pidfd(Controller &c);
@@ -170,6 +172,7 @@ private:
 	};
 	Status init_lanes();
 	int free_lane(const Controller &c) const;
+	int free_lane_polled(const Controller &c) const;
 	// A turn on a core shorter than this is not worth another core's
 	// hand-off (lanes.cc): a few inter-processor interrupts on a VM.
 	static constexpr int64_t kWorthAnotherCore = 50 * TCS_NS_PER_US;
@@ -197,6 +200,8 @@ private:
 	void on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid);
 	void on_early(Controller &c, const ::tcs_msg &m, int fd);
 	// Threads (threads.cc).
+	void hear_threads(Controller &c);
+	bool hearing_ = false; // hear_threads: schedule() waits for the last
 	void on_thread(Controller &c, const ::tcs_msg &m, UniqueFd channel);
 	void thread_gone(Controller &c, ThreadChannel *t);
 	ChannelState &channel_state(Controller &c, int fd);
@@ -243,6 +248,19 @@ private:
 	void budget_to_next_timer(Controller &c);
 	void wake(Controller &c, int64_t v, uint16_t reason);
 	void send_wake(Controller &c);
+	void send_answer(Controller &c, int fd, const ::tcs_msg &m, int pass_fd);
+
+	// Mailboxes (polling.cc): one turn of the run's loop, polling them or
+	// sleeping in epoll; c's posted request served (false: none).
+	Status turn();
+	bool take_mailbox(Controller &c);
+	bool take_mailboxes();
+	bool worth_polling() const;
+	void set_polling(bool on);
+	static constexpr int64_t kPollFor = 30 * TCS_NS_PER_US;
+	bool mailboxes_ = false; // rt_.mailbox, and no remote peers
+	bool polling_ = false;
+	int64_t polled_at_ = 0; // wall ns of the last request or event while polling
 	void begin_end(EndReason reason, int signo = 0);
 	// cpu: the process's CPU clock at the end; budget and overshoot: of a
 	// preempted slice (real CPU).

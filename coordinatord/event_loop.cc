@@ -33,15 +33,17 @@ void EventLoop::remove(int fd)
 	handlers_.erase(fd);
 }
 
-Status EventLoop::dispatch(int timeout_ms)
+Result<int> EventLoop::dispatch(int timeout_ms)
 {
 	struct epoll_event evs[16];
 	int n = epoll_wait(epoll_.get(), evs, 16, timeout_ms);
 	if (n < 0) {
 		if (errno == EINTR)
-			return Ok{};
+			return 0;
 		return errno_error("epoll_wait");
 	}
+	if (n == 0)
+		return 0;
 	if (on_wake_)
 		on_wake_();
 	for (int i = 0; i < n; i++) {
@@ -52,7 +54,7 @@ Status EventLoop::dispatch(int timeout_ms)
 			h(evs[i].events);
 		}
 	}
-	return Ok{};
+	return n;
 }
 
 Status Timer::init()

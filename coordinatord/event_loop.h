@@ -19,8 +19,8 @@ public:
 	Status add(int fd, Handler handler);
 	void remove(int fd);
 	// Waits for events (timeout_ms < 0: forever) and runs their handlers,
-	// after on_wake if set.
-	Status dispatch(int timeout_ms = -1);
+	// after on_wake if set; how many there were.
+	Result<int> dispatch(int timeout_ms = -1);
 	void set_on_wake(std::function<void()> f) { on_wake_ = std::move(f); }
 
 private:

@@ -46,6 +46,8 @@ Status Coordinator::init_lanes()
 // schedules again: asleep.cc.)
 int Coordinator::free_lane(const Controller &c) const
 {
+	if (mailboxes_)
+		return free_lane_polled(c);
 	const Lane &home = *lanes_.front();
 	if (!home.running)
 		return 0;
@@ -65,6 +67,28 @@ int Coordinator::free_lane(const Controller &c) const
 	return any;
 }
 
+// With mailboxes, another core is where a controller's hand-offs are
+// cheapest (the coordinator polls for them from its own), and a controller
+// on the coordinator's core stops that polling. So: another free core (the
+// one it was on first); the coordinator's core only for one that computes
+// long enough between requests for the channel's hand-off not to matter
+// (then two run at once), else wait for another core.
+int Coordinator::free_lane_polled(const Controller &c) const
+{
+	int any = -1;
+	for (size_t i = 1; i < lanes_.size(); i++) {
+		if (lanes_[i]->running)
+			continue;
+		if (lanes_[i]->cpu == c.core)
+			return (int)i;
+		if (any < 0)
+			any = (int)i;
+	}
+	if (any >= 0)
+		return any;
+	return !lanes_.front()->running && c.turn_cpu >= kWorthAnotherCore ? 0 : -1;
+}
+
 void Coordinator::take_lane(Controller &c, int index)
 {
 	Lane &lane = *lanes_[(size_t)index];
@@ -73,6 +97,7 @@ void Coordinator::take_lane(Controller &c, int index)
 		pin_threads(c.multithreaded() ? threads_of(c.pid) : std::vector<pid_t>{ c.pid }, lane.cpu);
 		c.core = lane.cpu;
 		c.set_page_flag(TCS_PAGE_SHARES_CORE, lane.cpu == rt_.cpu);
+		c.set_page_flag(TCS_PAGE_MAILBOX, mailboxes_ && lane.cpu != rt_.cpu);
 	}
 	lane.running = &c;
 	// What it computed in its last turn (from one resume to the next).

@@ -1,5 +1,8 @@
 // proc_info: /proc/PID/stat read once per question. Its second field (the
 // command) may hold spaces and parentheses, so fields count from the last ')'.
+// Every file is read with read(), never a stream: a process that ends while
+// its file is read fails the read with ESRCH, which a std::ifstream turns
+// into an exception (it ended tcs-run once, seen).
 #include "proc_info.h"
 
 #include <dirent.h>
@@ -10,19 +13,27 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <sstream>
 #include <vector>
+
+#include "read_file.h"
 
 namespace tcs {
 
 namespace {
 
+// What a /proc file says now; empty if it cannot be read (the process has
+// gone, or is going).
+std::string proc_text(const std::string &path)
+{
+	auto text = read_file(path, 64 << 20);
+	return text ? std::move(*text) : std::string();
+}
+
 // The fields of a stat file from the third (state) on; empty if unreadable.
 std::vector<std::string> stat_fields(const std::string &path)
 {
-	std::ifstream f(path);
-	std::string stat((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+	std::string stat = proc_text(path);
 	std::vector<std::string> fields;
 	size_t close = stat.rfind(')');
 	if (close == std::string::npos)
@@ -48,9 +59,9 @@ pid_t proc_parent(pid_t pid)
 
 std::string proc_name(pid_t pid, const std::string &fallback)
 {
-	std::ifstream f("/proc/" + std::to_string(pid) + "/comm");
-	std::string name;
-	return std::getline(f, name) && !name.empty() ? name : fallback;
+	std::string name = proc_text("/proc/" + std::to_string(pid) + "/comm");
+	name = name.substr(0, name.find('\n'));
+	return !name.empty() ? name : fallback;
 }
 
 int proc_exit_status(pid_t pid)
@@ -152,7 +163,7 @@ std::vector<pid_t> proc_children(pid_t pid)
 	std::vector<pid_t> out;
 	std::string dir = "/proc/" + std::to_string(pid) + "/task/";
 	for_each_task(pid, [&](int, const char *tid) {
-		std::ifstream f(dir + tid + "/children");
+		std::istringstream f(proc_text(dir + tid + "/children"));
 		for (pid_t child; f >> child;)
 			out.push_back(child);
 		return true;
@@ -169,7 +180,7 @@ struct MapsSeen {
 MapsSeen scan_maps(pid_t pid, const char *name)
 {
 	MapsSeen seen;
-	std::ifstream f("/proc/" + std::to_string(pid) + "/maps");
+	std::istringstream f(proc_text("/proc/" + std::to_string(pid) + "/maps"));
 	std::string line;
 	while (!seen.found && std::getline(f, line)) {
 		seen.any = true;
@@ -197,7 +208,7 @@ WillLoad proc_will_load(pid_t pid, const char *name)
 {
 	// The environment is laid out last, the loader mapped by then: read
 	// first, it says whether what the maps say next is final.
-	std::ifstream env("/proc/" + std::to_string(pid) + "/environ");
+	std::istringstream env(proc_text("/proc/" + std::to_string(pid) + "/environ"));
 	std::string var;
 	bool laid_out = false, preload = false;
 	while (std::getline(env, var, '\0')) {

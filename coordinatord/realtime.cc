@@ -163,6 +163,7 @@ RealtimeWish realtime_wish_from_env()
 	RealtimeWish w;
 	w.fifo = getenv("TCS_NO_FIFO") == nullptr;
 	w.tsc = getenv("TCS_NO_TSC") == nullptr;
+	w.mailbox = getenv("TCS_NO_MAILBOX") == nullptr;
 	return w;
 }
 
@@ -193,6 +194,7 @@ RealtimePlan setup_realtime(RealtimeWish wish)
 	if (sched_setscheduler(0, SCHED_FIFO | SCHED_RESET_ON_FORK, &sp) == 0) {
 		plan.fifo = true;
 		plan.controller_prio = kControllerPrio;
+		plan.mailbox = wish.mailbox && plan.cores.size() >= 2;
 		if (plan.cpu >= 0)
 			plan.warning = choose_ticks(plan, wish.tsc);
 	} else {

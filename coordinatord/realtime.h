@@ -30,6 +30,10 @@ struct RealtimePlan {
 	// started), the coordinator's first; one controller runs on each at a
 	// time (coordinatord/lanes.cc). Empty: not pinned, one at a time.
 	std::vector<int> cores;
+	// Controllers on the other cores hand requests over the clock page's
+	// mailbox while the coordinator polls (tcs/mailbox.h): FIFO and two
+	// cores or more.
+	bool mailbox = false;
 	std::string warning;    // non-empty: say it once
 	EstimateTicks ticks = EstimateTicks::None;
 	uint64_t tick_mult = 0;   // ns per tick, times 2^32
@@ -42,9 +46,11 @@ struct RealtimePlan {
 struct RealtimeWish {
 	bool fifo = true;
 	bool tsc = true;
+	bool mailbox = true;
 };
 
-// The wish the environment makes: TCS_NO_FIFO, TCS_NO_TSC.
+// The wish the environment makes: TCS_NO_FIFO, TCS_NO_TSC, TCS_NO_MAILBOX
+// (every hand-off through the channel, as on one core).
 RealtimeWish realtime_wish_from_env();
 
 // Applies the plan to the calling process (the coordinator) before any

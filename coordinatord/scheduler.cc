@@ -53,7 +53,7 @@ constexpr int64_t kIdleCatchUp = 50 * TCS_NS_PER_MS;
 
 void Coordinator::schedule()
 {
-	if (ending_ || held_ || awaiting_grant_ || !fatal_)
+	if (ending_ || held_ || awaiting_grant_ || !fatal_ || hearing_)
 		return;
 	for (;;) {
 		const int64_t target = sim_ns_ + cfg_.step_ns;
@@ -306,6 +306,23 @@ void Coordinator::wake(Controller &c, int64_t v, uint16_t reason)
 	c.wake_reason = reason;
 }
 
+// Every WAKE goes out here: through c's mailbox if the request came that
+// way and c still spins for it, else on channel fd (with pass_fd, if not
+// -1). A full or closed channel means the controller is gone or hostile;
+// its pidfd or its next message will tell.
+void Coordinator::send_answer(Controller &c, int fd, const ::tcs_msg &m, int pass_fd)
+{
+	if (fd == c.channel.get()) {
+		if (pass_fd >= 0)
+			c.mailbox.park(); // (an fd only the channel can carry)
+		if (c.mailbox.answer(m))
+			return;
+	}
+	struct tcs_msg_io io;
+	tcs_msg_io_send(&io, &m, sizeof m, pass_fd);
+	(void)sendmsg(fd, &io.mh, MSG_DONTWAIT | MSG_NOSIGNAL);
+}
+
 void Coordinator::send_wake(Controller &c)
 {
 	int fd = c.wait_fd >= 0 ? c.wait_fd : c.channel.get();
@@ -315,11 +332,7 @@ void Coordinator::send_wake(Controller &c)
 	m.flags = TCS_WAKE_STARTS_SLICE;
 	m.v = c.v;
 	m.arg = c.wake_arg;
-	struct tcs_msg_io io;
-	tcs_msg_io_send(&io, &m, sizeof m, c.wake_fd);
-	// A full or closed channel means the controller is gone or hostile;
-	// its pidfd or its next message will tell.
-	(void)sendmsg(fd, &io.mh, MSG_DONTWAIT | MSG_NOSIGNAL);
+	send_answer(c, fd, m, c.wake_fd);
 	if (c.wake_fd >= 0) {
 		close(c.wake_fd);
 		c.wake_fd = -1;
@@ -523,6 +536,7 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		c.side.push_back(side_wait_of(m, fd, tid, c.v, sim_ns_));
 		child_wait_begins(c, m, &c.side.back());
 		c.stats.waits++;
+		hear_threads(c);
 		schedule();
 		return;
 	}
@@ -570,6 +584,7 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	// Threads asleep outside the hooks: looked at each step (threads.cc).
 	c.others_asleep = c.multithreaded() && proc_thread_count(c.pid) > 1 + (int)c.side.size();
 	child_wait_begins(c, m, nullptr);
+	hear_threads(c);
 	schedule();
 }
 

@@ -105,6 +105,37 @@ static bool has_unread_message(int fd)
 	return recv(fd, &b, 1, MSG_PEEK | MSG_DONTWAIT) > 0;
 }
 
+// The requests c's threads have sent and we have not read, heard before
+// time passes for it. Running on a core of their own (not below the
+// coordinator on its core), nothing orders one thread's requests before
+// another's as we read them: an EARLY a thread sent to end another's wait,
+// then its own BLOCK, may be read BLOCK first, and time would pass to that
+// BLOCK's deadline before the EARLY was heard. The handlers' scheduling
+// waits for the last of them (schedule() then decides once).
+void Coordinator::hear_threads(Controller &c)
+{
+	if (hearing_ || !c.multithreaded())
+		return;
+	hearing_ = true;
+	for (int round = 0; round < 8 && c.state != CtlState::Exited && c.dropped.empty(); round++) {
+		bool any = false;
+		if (c.channel && has_unread_message(c.channel.get())) {
+			on_channel(c, nullptr);
+			any = true;
+		}
+		// (Serving one may end a thread: by index, looked up again.)
+		for (size_t i = 0; i < c.threads.size() && c.dropped.empty(); i++) {
+			if (!has_unread_message(c.threads[i]->fd.get()))
+				continue;
+			on_channel(c, c.threads[i].get());
+			any = true;
+		}
+		if (!any)
+			break;
+	}
+	hearing_ = false;
+}
+
 // How many threads of c could run now, leaving out `also` and those that
 // have sent a wait: one preempted by us right after its send is still
 // runnable for the kernel, on its way to its wait. Counted as runnable, it
@@ -232,7 +263,7 @@ void Coordinator::answer_side(Controller &c, const SideWait &w)
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_WAKE, w.seq);
 	m.kind = w.wake_reason;
 	m.v = c.v;
-	(void)send(w.fd, &m, sizeof m, MSG_DONTWAIT | MSG_NOSIGNAL);
+	send_answer(c, w.fd, m, -1);
 	if (trace_.is_open())
 		trace_.wait(c.id, w.kind, w.requested_at, w.deadline, c.v, (w.flags & TCS_BLOCK_ABSOLUTE) != 0);
 }

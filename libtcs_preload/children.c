@@ -186,6 +186,11 @@ TCS_EXPORT int posix_spawnp(pid_t *pid, const char *file, const posix_spawn_file
 long tcs_after_vfork(long pid) __attribute__((used));
 long tcs_after_vfork(long pid)
 {
+	/* The child ran on our memory, this thread's CPU anchor included,
+	 * with readings of its own CPU clock; and we were suspended meanwhile,
+	 * which the TSC since our last reading would count as our CPU. */
+	tcs_anchor.valid = 0;
+	tcs_anchor.v_valid = 0;
 	if (pid < 0)
 		return tcs_errno_result(pid);
 	tcs_await_child((pid_t)pid);

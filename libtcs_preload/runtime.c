@@ -15,6 +15,7 @@
 
 #include "devices.h"
 #include "preload.h"
+#include "mailbox.h"
 #include "raw_syscall.h"
 
 struct tcs_runtime tcs_rt = { .state = TCS_OFF, .channel_fd = -1, .page_fd = -1 };
@@ -297,10 +298,28 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 	int channel = tcs_my_channel();
 	if (channel < 0)
 		tcs_lost("this thread has no channel");
-	tcs_send(channel, m);
-	tcs_lazy_request_sent();
 	if (fd_out)
 		*fd_out = -1;
+	/* On a core of its own, beside the coordinator polling on its own: no
+	 * system call at all, unless it must be rung or the answer is slow. */
+	unsigned early = 0;
+	const int mailbox = !fds && !mask && !fd_out && tcs_mailbox_fits(m, channel);
+	if (mailbox) {
+		if (tcs_mailbox_post(m)) {
+			struct tcs_msg ring = tcs_msg_make(TCS_MSG_DOORBELL, seq);
+			tcs_send(channel, &ring);
+		}
+		tcs_lazy_request_sent();
+		if (tcs_mailbox_wait(reply)) {
+			if (reply->seq != seq || reply->type != TCS_MSG_WAKE)
+				tcs_lost("unexpected answer in the mailbox");
+			goto answered;
+		}
+		/* Parked: the answer comes on the channel. */
+	} else {
+		tcs_send(channel, m);
+		tcs_lazy_request_sent();
+	}
 
 	/* Wait in ppoll, never in a blocking recv: ppoll is the one wait the
 	 * kernel never restarts after a signal handler, SA_RESTART or not (so a
@@ -311,11 +330,10 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 		fds = &own;
 		nfds = 1;
 	}
-	unsigned early = 0;
 	/* Under SCHED_FIFO on our core the coordinator ran as soon as we sent:
 	 * a reply it could give at once is already there. */
 	const uint32_t here = TCS_PAGE_FIFO | TCS_PAGE_SHARES_CORE;
-	int look_first = (__atomic_load_n(&tcs_rt.page->flags, __ATOMIC_RELAXED) & here) == here;
+	int look_first = !mailbox && (__atomic_load_n(&tcs_rt.page->flags, __ATOMIC_RELAXED) & here) == here;
 	for (;;) {
 		if (!early && !look_first) {
 			fds[0].fd = channel;
@@ -360,6 +378,9 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 			tcs_sys1(SYS_close, fd);
 		break;
 	}
+answered:
+	if (mailbox)
+		tcs_mailbox_done();
 	/* From here on the hook's own cost is not charged to the program. The
 	 * mark is the process's CPU, which only means this hook's cost while
 	 * the process has one thread: with more, another may have computed

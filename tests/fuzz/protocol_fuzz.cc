@@ -81,6 +81,8 @@ void check_accepted(const tcs_msg &m)
 		// kill()'s pid argument (a process, a group, all) and the sender's time.
 		check(m.arg >= -(int64_t)INT32_MAX && m.arg <= INT32_MAX && m.v >= 0 && m.cpu >= 0);
 		break;
+	case TCS_MSG_DOORBELL:
+		break; // only its type is read (look at the mailbox)
 	default:
 		check(false); // WAKE and unknown types are never accepted
 	}

@@ -13,6 +13,7 @@
 
 #include <stdint.h>
 
+#include "mailbox.h"
 #include "vtime.h"
 
 #ifdef __cplusplus
@@ -20,7 +21,7 @@ extern "C" {
 #endif
 
 #define TCS_PAGE_MAGIC 0x70736374u /* "tcsp" */
-#define TCS_PAGE_VERSION 8u
+#define TCS_PAGE_VERSION 9u
 #define TCS_PAGE_SIZE 4096
 
 enum tcs_mode {
@@ -58,6 +59,10 @@ enum tcs_mode {
  * TCS_PAGE_FIFO: a request's answer the coordinator could give at once is
  * there as soon as it is sent. */
 #define TCS_PAGE_SHARES_CORE 32u
+/* flags: the controller runs on a core of its own, beside the coordinator
+ * polling on its core: its main thread hands requests over the page's
+ * mailbox (tcs/mailbox.h). */
+#define TCS_PAGE_MAILBOX 64u
 
 /* The seqlock-protected part: where the current slice started. */
 struct tcs_slice {
@@ -103,6 +108,9 @@ struct tcs_clock_page {
 				  * read the CPU clock between hooks (a system call,
 				  * 50x a native clock read on some machines): not
 				  * the program's, not charged (cpu_estimate.c) */
+
+	/* Both sides, by its own rules (tcs/mailbox.h). */
+	struct tcs_mailbox mailbox __attribute__((aligned(64)));
 };
 
 #if defined(__cplusplus)

@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 #define TCS_PROTO_MAGIC 0x31736374u /* "tcs1" */
-#define TCS_PROTO_VERSION 4u
+#define TCS_PROTO_VERSION 5u
 
 /* Environment through which tcs-run hands the channel to the preload. */
 #define TCS_ENV_CHANNEL_FD "TCS_CHANNEL_FD"
@@ -45,6 +45,7 @@ enum tcs_msg_type {
 	TCS_MSG_CHILD = 8,    /* a new child → its parent's coordinator: register me (see below) */
 	TCS_MSG_THREAD = 9,   /* controller → coordinator: thread arg's own channel (SCM_RIGHTS) */
 	TCS_MSG_KILL = 10,    /* controller → coordinator: it signalled process(es) arg (see below) */
+	TCS_MSG_DOORBELL = 11, /* controller → coordinator: a request waits in its mailbox (tcs/mailbox.h) */
 };
 
 /* Threads. The main thread waits on the controller's channel; every other
@@ -230,6 +231,8 @@ static inline const char *tcs_msg_check(const void *buf, long len, struct tcs_ms
 	case TCS_MSG_KILL:
 		if (out->arg < -(int64_t)INT32_MAX || out->arg > INT32_MAX || out->v < 0 || out->cpu < 0)
 			return "KILL with an invalid pid or time";
+		return NULL;
+	case TCS_MSG_DOORBELL:
 		return NULL;
 	case TCS_MSG_WAKE:
 		return "WAKE is sent by the coordinator, not to it";

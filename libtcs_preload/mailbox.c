@@ -1,0 +1,87 @@
+/* The controller's side of the mailbox (tcs/mailbox.h): a request handed
+ * to the coordinator through the clock page and its answer awaited by
+ * spinning on this core, which is the controller's alone while the
+ * coordinator polls on its own. runtime.c's round trip comes here first
+ * and takes the channel when this says no.
+ *
+ * A signal handler that runs during the spin does not end the wait as one
+ * during ppoll would (nothing tells): the spin lasts only until the
+ * coordinator answers or parks the request, a few microseconds, and such a
+ * handler is as if the signal had come just before the wait began, which
+ * a real program meets too. Waits where that would matter take the
+ * channel: those with a signal mask of their own, with real fds, or
+ * without a deadline (pause, and waits for a handler). */
+#include "mailbox.h"
+
+#include "raw_syscall.h"
+
+int tcs_mailbox_fits(const struct tcs_msg *m, int channel)
+{
+	const struct tcs_clock_page *p = tcs_rt.page;
+	if (!(__atomic_load_n(&p->flags, __ATOMIC_RELAXED) & TCS_PAGE_MAILBOX) || channel != tcs_rt.channel_fd ||
+	    __atomic_load_n(&p->threads_started, __ATOMIC_RELAXED) != 0)
+		return 0;
+	switch (m->type) {
+	case TCS_MSG_BLOCK:
+		return m->deadline != TCS_NEVER;
+	case TCS_MSG_DEV_SYNC:
+	case TCS_MSG_TIMER:
+	case TCS_MSG_KILL:
+		return 1;
+	default:
+		return 0;
+	}
+}
+
+int tcs_mailbox_post(const struct tcs_msg *m)
+{
+	struct tcs_mailbox *b = &tcs_rt.page->mailbox;
+	__builtin_memcpy(&b->request, m, sizeof *m);
+	/* Sequentially consistent, both: the store is seen before `polling` is
+	 * read, as the coordinator's clearing of `polling` is seen before it
+	 * looks at `state` once more (tcs/mailbox.h). */
+	__atomic_store_n(&b->state, TCS_MBOX_REQUEST, __ATOMIC_SEQ_CST);
+	return __atomic_load_n(&b->polling, __ATOMIC_SEQ_CST) == 0;
+}
+
+static int64_t tcs_mailbox_clock(void)
+{
+	struct timespec ts;
+	tcs_rt.real_clock_gettime(CLOCK_MONOTONIC, &ts);
+	return tcs_ts_to_ns(&ts);
+}
+
+static int tcs_mailbox_take(struct tcs_mailbox *b, struct tcs_msg *reply)
+{
+	__builtin_memcpy(reply, &b->answer, sizeof *reply);
+	return 1;
+}
+
+int tcs_mailbox_wait(struct tcs_msg *reply)
+{
+	struct tcs_mailbox *b = &tcs_rt.page->mailbox;
+	int64_t until = 0;
+	for (unsigned i = 0;; i++) {
+		uint32_t s = __atomic_load_n(&b->state, __ATOMIC_ACQUIRE);
+		if (s & TCS_MBOX_ANSWER)
+			return tcs_mailbox_take(b, reply);
+		if (s & TCS_MBOX_PARK)
+			return 0;
+		/* The clock every 64 turns: a vDSO read is some 30 ns. */
+		if ((i & 63) == 0) {
+			int64_t now = tcs_mailbox_clock();
+			if (until == 0)
+				until = now + TCS_MBOX_SPIN_NS;
+			else if (now >= until)
+				break;
+		}
+		tcs_cpu_relax();
+	}
+	uint32_t old = __atomic_fetch_or(&b->state, TCS_MBOX_PARK, __ATOMIC_ACQ_REL);
+	return (old & TCS_MBOX_ANSWER) ? tcs_mailbox_take(b, reply) : 0;
+}
+
+void tcs_mailbox_done(void)
+{
+	__atomic_store_n(&tcs_rt.page->mailbox.state, 0, __ATOMIC_RELEASE);
+}
