@@ -86,6 +86,34 @@ def test_a_run_on_every_core_gives_what_one_core_gives():
     check(("on CPUs " if len(CORES) > 1 else "on CPU ") in wide.stderr, "the summary names the cores", wide)
 
 
+def test_a_controller_on_a_core_of_its_own_hands_off_through_shared_memory():
+    # With a core of its own beside the coordinator's, a controller's
+    # requests and their answers go through its clock page's mailbox
+    # (tcs/mailbox.h): a 1 kHz loop's 3000 waits leave its core a handful
+    # of times, where through the channel each leaves it at least once.
+    # What it computes and sees is the same either way.
+    argv = ["-q", prog("periodic"), "1000", "3", "0"]
+    probe = tcs("-m", "lockstep", *argv[1:], timeout=60)
+    if len(CORES) < 2 or "SCHED_FIFO on CPUs" not in probe.stderr:
+        print("  %d core(s), %s: no mailbox here, every hand-off goes through the channel" %
+              (len(CORES), "SCHED_FIFO" if "SCHED_FIFO" in probe.stderr else "no SCHED_FIFO"))
+        return
+    for mode in ("lockstep", "cpu"):
+        shared = tcs("-m", mode, *argv, timeout=60).values()
+        channel = tcs("-m", mode, *argv, env={"TCS_NO_MAILBOX": "1"}, timeout=60).values()
+        print("  %-8s 3000 waits: %s context switches through the mailbox, %s through the channel" %
+              (mode, shared["switches"], channel["switches"]))
+        check(shared["loops"] == channel["loops"] == "3000", "%s: 3000 loops either way" % mode)
+        if mode == "lockstep":
+            for key in ("elapsed_s", "rate_hz", "misses", "sleep_failures"):
+                check(shared[key] == channel[key], "lockstep: %s the same: %s, %s" % (key, shared[key], channel[key]))
+        else:
+            check(shared["misses"] == channel["misses"] == "0", "cpu: no misses either way")
+        check(int(channel["switches"]) >= 3000, "%s: through the channel every wait leaves the core" % mode)
+        check(int(shared["switches"]) < 3000 / 10, "%s: through the mailbox fewer than one wait in ten does: %s" %
+              (mode, shared["switches"]))
+
+
 def test_cpu_mode_charges_each_controller_its_own_cpu_in_parallel():
     # In cpu mode each controller's time is its own CPU, whichever core it
     # ran on: a loop of 100 + 50 i us a cycle keeps its 1 kHz rate.

@@ -22,6 +22,9 @@ HOSTILE = {
     "pid": "HELLO from pid 1 on pid",
     "block-twice": "it asked to wait while already waiting",
     "huge": "it asked to wait while already waiting",
+    "mailbox-garbage": "bad request in its mailbox: bad magic",
+    "mailbox-hello": "bad request in its mailbox: a request the mailbox does not carry",
+    "doorbell-flood": "it rings without a request in its mailbox",
 }
 
 

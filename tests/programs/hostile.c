@@ -2,16 +2,21 @@
  * the way a buggy or malicious program could (it writes to the runtime's
  * socket itself). MODE: garbage (48 random bytes), short (10 bytes), flood
  * (HELLO after HELLO), pid (a HELLO naming another process), block-twice
- * (two BLOCKs without waiting), huge (a BLOCK claiming 10^18 ns of CPU).
+ * (two BLOCKs without waiting), huge (a BLOCK claiming 10^18 ns of CPU),
+ * mailbox-garbage (48 random bytes posted in its clock page's mailbox, then
+ * rung), mailbox-hello (a HELLO posted there, which only the channel may
+ * carry), doorbell-flood (rings without posting).
  * It first runs a while, then misbehaves, then sleeps as if nothing
  * happened; the coordinator must drop it and go on with the others. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <sys/socket.h>
 #include <time.h>
 #include <unistd.h>
 
+#include "tcs/clock_page.h"
 #include "tcs/protocol.h"
 #include "tcs/vtime.h"
 
@@ -26,10 +31,44 @@ static int channel_fd(void)
 	return -1;
 }
 
+/* The clock page, mapped again from the runtime's memfd. */
+static struct tcs_clock_page *clock_page(void)
+{
+	for (int fd = TCS_RUNTIME_FD_FLOOR; fd < TCS_RUNTIME_FD_FLOOR + 16; fd++) {
+		char link[64], target[128] = { 0 };
+		snprintf(link, sizeof link, "/proc/self/fd/%d", fd);
+		if (readlink(link, target, sizeof target - 1) <= 0 || !strstr(target, "tcs-clock-page"))
+			continue;
+		void *p = mmap(NULL, TCS_PAGE_SIZE, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+		return p == MAP_FAILED ? NULL : p;
+	}
+	return NULL;
+}
+
+/* Posts len bytes as a request in the mailbox and rings. */
+static int post(int fd, const void *request, size_t len)
+{
+	struct tcs_clock_page *page = clock_page();
+	if (!page) {
+		fprintf(stderr, "hostile: no clock page\n");
+		return -1;
+	}
+	memcpy(&page->mailbox.request, request, len);
+	__atomic_store_n(&page->mailbox.state, TCS_MBOX_REQUEST, __ATOMIC_SEQ_CST);
+	struct tcs_msg ring = tcs_msg_make(TCS_MSG_DOORBELL, 0);
+	send(fd, &ring, sizeof ring, 0);
+	/* Until the coordinator has taken it (our own next sleep would post
+	 * over it), spinning: any wait would be tcs's, through the mailbox.
+	 * Seconds at most, then the coordinator has failed. */
+	for (long i = 0; i < 1000000000L && (__atomic_load_n(&page->mailbox.state, __ATOMIC_ACQUIRE) & TCS_MBOX_REQUEST); i++)
+		tcs_cpu_relax();
+	return 0;
+}
+
 int main(int argc, char **argv)
 {
 	if (argc != 2) {
-		fprintf(stderr, "usage: hostile garbage|short|flood|early-flood|pid|block-twice|huge\n");
+		fprintf(stderr, "usage: hostile garbage|short|flood|early-flood|pid|block-twice|huge|mailbox-garbage|mailbox-hello|doorbell-flood\n");
 		return 2;
 	}
 	const char *mode = argv[1];
@@ -77,6 +116,21 @@ int main(int argc, char **argv)
 			m.seq++;
 			send(fd, &m, sizeof m, 0);
 		}
+	} else if (strcmp(mode, "mailbox-garbage") == 0) {
+		unsigned char junk[sizeof m];
+		srand(42);
+		for (size_t i = 0; i < sizeof junk; i++)
+			junk[i] = (unsigned char)rand();
+		if (post(fd, junk, sizeof junk) < 0)
+			return 3;
+	} else if (strcmp(mode, "mailbox-hello") == 0) {
+		if (post(fd, &m, sizeof m) < 0)
+			return 3;
+	} else if (strcmp(mode, "doorbell-flood") == 0) {
+		struct tcs_msg ring = tcs_msg_make(TCS_MSG_DOORBELL, 0);
+		for (int i = 0; i < 100000; i++)
+			if (send(fd, &ring, sizeof ring, MSG_DONTWAIT) < 0)
+				break;
 	} else {
 		fprintf(stderr, "hostile: unknown mode %s\n", mode);
 		return 2;

@@ -7,7 +7,8 @@
  * Stops after SECONDS of its own monotonic clock and prints what it saw,
  * with its CPU-time clock at the end (cpu_ns: all it computed, start
  * included), the CPU its loop used (loop_cpu_ns) and the cores it was seen
- * on after each wait (cores_seen, a bit per core).
+ * on after each wait (cores_seen, a bit per core), and how often it left its
+ * core in the loop (switches).
  * Any sleep that fails (EINTR included) is counted: there should be none. */
 #define _GNU_SOURCE
 #include <errno.h>
@@ -15,9 +16,18 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <time.h>
 
 #include "work.h"
+
+/* How often this process has left its core (context switches, voluntary
+ * or not): a wait answered through the channel is at least one. */
+static long context_switches(void)
+{
+	struct rusage ru;
+	return getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_nvcsw + ru.ru_nivcsw : -1;
+}
 
 int main(int argc, char **argv)
 {
@@ -31,6 +41,7 @@ int main(int argc, char **argv)
 	unsigned long long rounds = strtoull(argv[3], &unit, 10);
 	long long cpu_work = strcmp(unit, "us") == 0 ? (long long)rounds * 1000 : -1;
 	long long loop_cpu = clock_ns(CLOCK_PROCESS_CPUTIME_ID);
+	long switches = context_switches();
 	long long start = clock_ns(CLOCK_MONOTONIC), next = start, loops = 0, misses = 0, failures = 0;
 	unsigned long long cores_seen = 0;
 	while (clock_ns(CLOCK_MONOTONIC) - start < duration) {
@@ -55,8 +66,10 @@ int main(int argc, char **argv)
 	}
 	double elapsed = (clock_ns(CLOCK_MONOTONIC) - start) / 1e9;
 	loop_cpu = clock_ns(CLOCK_PROCESS_CPUTIME_ID) - loop_cpu;
+	switches = context_switches() - switches;
 	printf("loops=%lld\nelapsed_s=%.9f\nrate_hz=%.3f\nmisses=%lld\nsleep_failures=%lld\nloop_cpu_ns=%lld\ncpu_ns=%lld\n"
-	       "cores_seen=%llu\n",
-	       loops, elapsed, loops / elapsed, misses, failures, loop_cpu, clock_ns(CLOCK_PROCESS_CPUTIME_ID), cores_seen);
+	       "cores_seen=%llu\nswitches=%ld\n",
+	       loops, elapsed, loops / elapsed, misses, failures, loop_cpu, clock_ns(CLOCK_PROCESS_CPUTIME_ID), cores_seen,
+	       switches);
 	return 0;
 }
