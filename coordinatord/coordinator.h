@@ -172,7 +172,7 @@ private:
 	};
 	Status init_lanes();
 	int free_lane(const Controller &c) const;
-	int free_lane_polled(const Controller &c) const;
+	int free_other_lane(const Controller &c) const;
 	// A turn on a core shorter than this is not worth another core's
 	// hand-off (lanes.cc): a few inter-processor interrupts on a VM.
 	static constexpr int64_t kWorthAnotherCore = 50 * TCS_NS_PER_US;

@@ -36,25 +36,10 @@ Status Coordinator::init_lanes()
 	return Ok{};
 }
 
-// The lane c would run in now: the coordinator's if free, else the one of
-// the core it was on (no move), else any; -1 if it had better wait. A
-// controller that holds a core only briefly (a lockstep loop that reads,
-// writes and sleeps) waits for the coordinator's core while the one there
-// is as brief: another core's hand-off costs an inter-processor interrupt
-// each way, more than such a turn of the coordinator's core takes. (One
-// there that turns out long is seen by its lane's watchdog, which
-// schedules again: asleep.cc.)
-int Coordinator::free_lane(const Controller &c) const
+// A free lane other than the coordinator's, the one of the core c was on
+// first (no move); -1 if none.
+int Coordinator::free_other_lane(const Controller &c) const
 {
-	if (mailboxes_)
-		return free_lane_polled(c);
-	const Lane &home = *lanes_.front();
-	if (!home.running)
-		return 0;
-	const Controller &there = *home.running;
-	if (c.turn_cpu < kWorthAnotherCore && there.turn_cpu < kWorthAnotherCore &&
-	    wall_now() - there.resumed_wall < kWorthAnotherCore)
-		return -1;
 	int any = -1;
 	for (size_t i = 1; i < lanes_.size(); i++) {
 		if (lanes_[i]->running)
@@ -67,26 +52,38 @@ int Coordinator::free_lane(const Controller &c) const
 	return any;
 }
 
+// The lane c would run in now; -1 if it had better wait.
+//
 // With mailboxes, another core is where a controller's hand-offs are
 // cheapest (the coordinator polls for them from its own), and a controller
-// on the coordinator's core stops that polling. So: another free core (the
-// one it was on first); the coordinator's core only for one that computes
-// long enough between requests for the channel's hand-off not to matter
-// (then two run at once), else wait for another core.
-int Coordinator::free_lane_polled(const Controller &c) const
+// on the coordinator's core stops that polling. So: another free core; the
+// coordinator's core only for one that computes long enough between
+// requests for the channel's hand-off not to matter (then two run at
+// once), else wait for another core.
+//
+// Without: the coordinator's core if free, else another. A controller that
+// holds a core only briefly (a lockstep loop that reads, writes and sleeps)
+// waits for the coordinator's core while the one there is as brief:
+// another core's hand-off costs an inter-processor interrupt each way,
+// more than such a turn of the coordinator's core takes. (One there that
+// turns out long is seen by its lane's watchdog, which schedules again:
+// asleep.cc.)
+int Coordinator::free_lane(const Controller &c) const
 {
-	int any = -1;
-	for (size_t i = 1; i < lanes_.size(); i++) {
-		if (lanes_[i]->running)
-			continue;
-		if (lanes_[i]->cpu == c.core)
-			return (int)i;
-		if (any < 0)
-			any = (int)i;
+	const Lane &home = *lanes_.front();
+	if (mailboxes_) {
+		int other = free_other_lane(c);
+		if (other >= 0)
+			return other;
+		return !home.running && c.turn_cpu >= kWorthAnotherCore ? 0 : -1;
 	}
-	if (any >= 0)
-		return any;
-	return !lanes_.front()->running && c.turn_cpu >= kWorthAnotherCore ? 0 : -1;
+	if (!home.running)
+		return 0;
+	const Controller &there = *home.running;
+	if (c.turn_cpu < kWorthAnotherCore && there.turn_cpu < kWorthAnotherCore &&
+	    wall_now() - there.resumed_wall < kWorthAnotherCore)
+		return -1;
+	return free_other_lane(c);
 }
 
 void Coordinator::take_lane(Controller &c, int index)

@@ -4,8 +4,6 @@
 // through answer(), which says whether the channel must carry it too.
 #pragma once
 
-#include <cstddef>
-
 #include "tcs/mailbox.h"
 
 namespace tcs {
@@ -21,8 +19,6 @@ public:
 	// A posted request, copied into buf (sizeof(tcs_msg) bytes, unchecked)
 	// and its bit cleared; false if there is none.
 	bool take(unsigned char *buf);
-	// A request taken and not answered yet.
-	bool pending() const { return pending_; }
 	// The pending request will not be answered at once: the controller
 	// stops spinning and waits on its channel.
 	void park();

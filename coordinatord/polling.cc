@@ -11,16 +11,6 @@
 
 namespace tcs {
 
-namespace {
-
-// What a mailbox may carry: requests answered by a plain WAKE.
-bool mailbox_carries(uint16_t type)
-{
-	return type == TCS_MSG_BLOCK || type == TCS_MSG_DEV_SYNC || type == TCS_MSG_TIMER || type == TCS_MSG_KILL;
-}
-
-} // namespace
-
 bool Coordinator::take_mailbox(Controller &c)
 {
 	alignas(8) unsigned char buf[sizeof(struct tcs_msg)];
@@ -28,7 +18,7 @@ bool Coordinator::take_mailbox(Controller &c)
 		return false;
 	struct tcs_msg m;
 	const char *why = tcs_msg_check(buf, sizeof buf, &m);
-	if (!why && !mailbox_carries(m.type))
+	if (!why && !tcs_mailbox_carries(m.type))
 		why = "a request the mailbox does not carry";
 	if (why) {
 		take_lazy_commands(c, -1);

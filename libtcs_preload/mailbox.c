@@ -21,16 +21,7 @@ int tcs_mailbox_fits(const struct tcs_msg *m, int channel)
 	if (!(__atomic_load_n(&p->flags, __ATOMIC_RELAXED) & TCS_PAGE_MAILBOX) || channel != tcs_rt.channel_fd ||
 	    __atomic_load_n(&p->threads_started, __ATOMIC_RELAXED) != 0)
 		return 0;
-	switch (m->type) {
-	case TCS_MSG_BLOCK:
-		return m->deadline != TCS_NEVER;
-	case TCS_MSG_DEV_SYNC:
-	case TCS_MSG_TIMER:
-	case TCS_MSG_KILL:
-		return 1;
-	default:
-		return 0;
-	}
+	return tcs_mailbox_carries(m->type) && !(m->type == TCS_MSG_BLOCK && m->deadline == TCS_NEVER);
 }
 
 int tcs_mailbox_post(const struct tcs_msg *m)
@@ -51,10 +42,10 @@ static int64_t tcs_mailbox_clock(void)
 	return tcs_ts_to_ns(&ts);
 }
 
-static int tcs_mailbox_take(struct tcs_mailbox *b, struct tcs_msg *reply)
+static int tcs_mailbox_take(const struct tcs_mailbox *b, struct tcs_msg *reply)
 {
 	__builtin_memcpy(reply, &b->answer, sizeof *reply);
-	return 1;
+	return 1; /* (the answer is there) */
 }
 
 int tcs_mailbox_wait(struct tcs_msg *reply)

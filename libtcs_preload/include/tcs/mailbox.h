@@ -60,6 +60,12 @@ struct tcs_mailbox {
 	uint8_t pad2[16];
 };
 
+/* What a mailbox may carry: requests answered by a plain WAKE (no fd). */
+static inline int tcs_mailbox_carries(uint16_t type)
+{
+	return type == TCS_MSG_BLOCK || type == TCS_MSG_DEV_SYNC || type == TCS_MSG_TIMER || type == TCS_MSG_KILL;
+}
+
 #if defined(__cplusplus)
 static_assert(sizeof(struct tcs_mailbox) == 192, "mailbox layout changed: bump TCS_PAGE_VERSION");
 #else
