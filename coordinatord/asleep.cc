@@ -5,7 +5,8 @@
 // budget's own checks, or by a watchdog when it has no budget (lockstep):
 // if it used no CPU since the last look and every thread of it sleeps, it
 // steps aside (others go on meanwhile), and it is looked at again at each
-// step, resuming once it is runnable, at the world's time then. The
+// step, resuming once it is runnable, at the world's time then. A lane's
+// watchdog looks at each controller queued in it (lanes.cc). The
 // watchdog is slow (every 2 ms) because each look interrupts the controller
 // on its core.
 #include "coordinator.h"
@@ -25,7 +26,6 @@ void Coordinator::arm_watchdog(Controller &c)
 	// lockstep round trip). The first tick of a slice only marks it.
 	if (!lane->watching) {
 		lane->watching = true;
-		lane->watched = nullptr;
 		lane->watchdog.arm(kWatchdog, kWatchdog);
 	}
 }
@@ -33,33 +33,40 @@ void Coordinator::arm_watchdog(Controller &c)
 void Coordinator::on_watchdog(Lane &lane)
 {
 	lane.watchdog.consume();
-	Controller *running = lane.running;
-	if (!running || ending_) {
+	if (lane.running.empty() || ending_) {
 		lane.watchdog.disarm();
 		lane.watching = false;
 		return;
 	}
-	Controller &c = *running;
-	if (lane.watched != &c || lane.watched_slice != c.slices) {
-		// A slice begun since the last tick: look from its start.
-		lane.watched = &c;
-		lane.watched_slice = c.slices;
-		c.watch_cpu = c.slice().cpu_base; // read as it began: no system call
-		c.asleep_looks = 0;
-		return;
-	}
-	int64_t cpu = c.cpu_now();
-	// Asleep twice in a row, and not in a request of ours (waiting for its
-	// child to register after a fork, it is asleep in our hands).
-	bool asleep = cpu - c.watch_cpu <= kWatchdog / 100 && c.awaiting_child == 0 && proc_all_threads_asleep(c.pid);
-	c.asleep_looks = asleep ? c.asleep_looks + 1 : 0;
-	c.watch_cpu = cpu;
-	if (c.asleep_looks >= 2 && (block_if_all_waiting(c) || step_aside_if_asleep(c)))
-		return; // (it scheduled the others)
+	// A copy: one stepping aside leaves the lane.
+	const std::vector<Controller *> running = lane.running;
+	for (Controller *c : running)
+		if (look_at(*c))
+			return; // (it scheduled the others)
 	// A turn long enough to be worth another core: those waiting for this
 	// one may take a free one now (lanes.cc).
 	if (&lane == lanes_.front().get() && lanes_.size() > 1)
 		schedule();
+}
+
+// The watchdog's look at a running controller; true if it stepped aside.
+bool Coordinator::look_at(Controller &c)
+{
+	if (c.watched_slice != c.slices) {
+		// A slice begun since the last tick: look from its start.
+		c.watched_slice = c.slices;
+		c.watch_cpu = c.slice().cpu_base; // read as it began: no system call
+		c.asleep_looks = 0;
+		return false;
+	}
+	int64_t cpu = c.cpu_now();
+	// Asleep twice in a row, and not in a request of ours (waiting for its
+	// child to register after a fork, it is asleep in our hands). (One
+	// queued behind others on its core is runnable, not asleep.)
+	bool asleep = cpu - c.watch_cpu <= kWatchdog / 100 && c.awaiting_child == 0 && proc_all_threads_asleep(c.pid);
+	c.asleep_looks = asleep ? c.asleep_looks + 1 : 0;
+	c.watch_cpu = cpu;
+	return c.asleep_looks >= 2 && (block_if_all_waiting(c) || step_aside_if_asleep(c));
 }
 
 // The running controller, found making no progress: if every thread of it

@@ -179,7 +179,7 @@ void Controller::take_wait(const SideWait &w)
 // touches nothing.
 void Controller::set_page_flag(uint32_t flag, bool on)
 {
-	if (!page_)
+	if (!page_ || ((__atomic_load_n(&page_->flags, __ATOMIC_RELAXED) & flag) != 0) == on)
 		return;
 	if (on)
 		__atomic_fetch_or(&page_->flags, flag, __ATOMIC_RELEASE);

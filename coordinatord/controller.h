@@ -236,9 +236,9 @@ public:
 	int lane = -1;  // Running: the coordinator's lane it runs in (lanes.cc)
 	int core = -1;  // the core its threads were last pinned to (-1: not by us)
 	uint64_t slices = 0; // how many times it was resumed
-	// Real CPU it used in its last turn on a core, and its charge when
-	// this one began (lanes.cc).
-	int64_t turn_cpu = 0, charged_at_turn = 0;
+	// Real CPU it used in a turn on a core (the less of its last two), in
+	// its last, and its charge when this one began (lanes.cc).
+	int64_t turn_cpu = 0, last_turn_cpu = 0, charged_at_turn = 0;
 
 	int exit_status = -1;   // wait status when Exited
 	bool ended_by_tcs = false; // exited after the run's end was called
@@ -250,6 +250,7 @@ public:
 	int64_t next_timer_ = TCS_NEVER;
 	bool asleep = false;        // stepped aside, asleep in the kernel (asleep.cc)
 	int64_t watch_cpu = 0;      // its CPU at the watchdog's last look
+	uint64_t watched_slice = 0; // the slice it was in then
 	int asleep_looks = 0;       // looks in a row that found it asleep
 	pid_t awaiting_child = 0;   // right after a fork: the child not yet registered
 	UniqueFd awaiting_child_fd; // its pidfd (it may die before it registers)

@@ -106,7 +106,7 @@ Status Coordinator::init()
 	// The coordinator shares the running controller's core: each time it
 	// wakes, that controller's CPU-time estimates (cpu_estimate.c) are off.
 	loop_.set_on_wake([this] {
-		if (Controller *c = lanes_.front()->running)
+		for (Controller *c : lanes_.front()->running)
 			c->coordinator_ran();
 	});
 	Status st = Ok{};

@@ -160,31 +160,32 @@ private:
 	bool descends_from(const Controller &o, int root) const;
 	void warn_once(const std::string &what);
 
-	// Lanes (lanes.cc): one controller runs on each core tcs may use.
+	// Lanes (lanes.cc): one controller runs on each core tcs may use; in
+	// lockstep, beside a polling coordinator, several may be queued on one.
 	struct Lane {
 		int cpu = -1; // its core (-1: not pinned)
-		Controller *running = nullptr;
+		std::vector<Controller *> running; // in the order they were resumed
 		Timer budget;   // the running controller's budget (cpu mode)
-		Timer watchdog; // looks at it if it may be asleep (asleep.cc)
+		Timer watchdog; // looks at them if they may be asleep (asleep.cc)
 		bool watching = false; // the watchdog ticks
-		const Controller *watched = nullptr; // at its last tick, in slice
-		uint64_t watched_slice = 0;
 	};
 	Status init_lanes();
 	int free_lane(const Controller &c) const;
 	int free_other_lane(const Controller &c) const;
+	int shortest_other_lane(const Controller &c) const;
 	// A turn on a core shorter than this is not worth another core's
 	// hand-off (lanes.cc): a few inter-processor interrupts on a VM.
 	static constexpr int64_t kWorthAnotherCore = 50 * TCS_NS_PER_US;
 	void take_lane(Controller &c, int lane);
 	void leave_lane(Controller &c);
+	void set_queued(Lane &lane);
 	Lane *lane_of(const Controller &c);
 	bool any_running() const;
 	template <class F> void each_running(F f)
 	{
 		for (auto &l : lanes_)
-			if (l->running)
-				f(*l->running);
+			for (Controller *c : l->running)
+				f(*c);
 	}
 
 	// Scheduling (scheduler.cc).
@@ -238,6 +239,7 @@ private:
 	static constexpr int64_t kWatchdog = 2 * TCS_NS_PER_MS;
 	void arm_watchdog(Controller &c);
 	void on_watchdog(Lane &lane);
+	bool look_at(Controller &c);
 	bool step_aside_if_asleep(Controller &c);
 	bool still_asleep(Controller &c, int64_t at);
 	void wake_from_asleep(Controller &c);

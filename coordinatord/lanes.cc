@@ -9,6 +9,17 @@
 // inter-processor interrupt (15 against 26 us on one VM). A controller is
 // pinned to its lane's core before it resumes, all its threads (children
 // are controllers of their own).
+//
+// In lockstep beside a polling coordinator (mailboxes), a lane may hold
+// several: every controller behind the step is resumed at once, queued on
+// the other cores, and the kernel runs them one after another (SCHED_FIFO:
+// each holds its core until it waits). Computation is free there, so the
+// order changes no virtual time, and a controller going from one to the
+// next costs one context switch on its core, where handing the core over
+// through the coordinator costs it a round of the coordinator's as well
+// (45 against 28 us a controller-cycle, sixteen pendulums on one VM). A
+// queued controller parks its requests at once (TCS_PAGE_QUEUED): the one
+// behind it has the core meanwhile.
 #include "coordinator.h"
 
 #include <algorithm>
@@ -42,7 +53,7 @@ int Coordinator::free_other_lane(const Controller &c) const
 {
 	int any = -1;
 	for (size_t i = 1; i < lanes_.size(); i++) {
-		if (lanes_[i]->running)
+		if (!lanes_[i]->running.empty())
 			continue;
 		if (lanes_[i]->cpu == c.core)
 			return (int)i;
@@ -52,6 +63,20 @@ int Coordinator::free_other_lane(const Controller &c) const
 	return any;
 }
 
+// The lane other than the coordinator's with the fewest queued, the one of
+// the core c was on if it is among them (no move); -1 if there is none.
+int Coordinator::shortest_other_lane(const Controller &c) const
+{
+	int best = -1;
+	for (size_t i = 1; i < lanes_.size(); i++) {
+		const size_t n = lanes_[i]->running.size();
+		if (best < 0 || n < lanes_[(size_t)best]->running.size() ||
+		    (n == lanes_[(size_t)best]->running.size() && lanes_[i]->cpu == c.core))
+			best = (int)i;
+	}
+	return best;
+}
+
 // The lane c would run in now; -1 if it had better wait.
 //
 // With mailboxes, another core is where a controller's hand-offs are
@@ -59,7 +84,7 @@ int Coordinator::free_other_lane(const Controller &c) const
 // on the coordinator's core stops that polling. So: another free core; the
 // coordinator's core only for one that computes long enough between
 // requests for the channel's hand-off not to matter (then two run at
-// once), else wait for another core.
+// once); else, in lockstep, queued on another core, else wait for one.
 //
 // Without: the coordinator's core if free, else another. A controller that
 // holds a core only briefly (a lockstep loop that reads, writes and sleeps)
@@ -75,11 +100,13 @@ int Coordinator::free_lane(const Controller &c) const
 		int other = free_other_lane(c);
 		if (other >= 0)
 			return other;
-		return !home.running && c.turn_cpu >= kWorthAnotherCore ? 0 : -1;
+		if (home.running.empty() && c.turn_cpu >= kWorthAnotherCore)
+			return 0;
+		return cfg_.mode == TCS_MODE_LOCKSTEP ? shortest_other_lane(c) : -1;
 	}
-	if (!home.running)
+	if (home.running.empty())
 		return 0;
-	const Controller &there = *home.running;
+	const Controller &there = *home.running.front();
 	if (c.turn_cpu < kWorthAnotherCore && there.turn_cpu < kWorthAnotherCore &&
 	    wall_now() - there.resumed_wall < kWorthAnotherCore)
 		return -1;
@@ -96,9 +123,15 @@ void Coordinator::take_lane(Controller &c, int index)
 		c.set_page_flag(TCS_PAGE_SHARES_CORE, lane.cpu == rt_.cpu);
 		c.set_page_flag(TCS_PAGE_MAILBOX, mailboxes_ && lane.cpu != rt_.cpu);
 	}
-	lane.running = &c;
-	// What it computed in its last turn (from one resume to the next).
-	c.turn_cpu = (int64_t)((double)(c.charged - c.charged_at_turn) / c.scale);
+	lane.running.push_back(&c);
+	set_queued(lane);
+	// What it computes in a turn (from one resume to the next): the less
+	// of its last two, for in lockstep the charges are mostly learnt and
+	// a turn now and then takes up what the others missed (cpu_estimate.c:
+	// 500 us at once, seen), which must not make a light one look heavy.
+	const int64_t turn = (int64_t)((double)(c.charged - c.charged_at_turn) / c.scale);
+	c.turn_cpu = std::min(turn, c.last_turn_cpu);
+	c.last_turn_cpu = turn;
 	c.charged_at_turn = c.charged;
 	c.lane = index;
 	c.slices++;
@@ -117,13 +150,23 @@ void Coordinator::leave_lane(Controller &c)
 	if (!lane)
 		return;
 	lane->budget.disarm(); // (its watchdog ticks on: asleep.cc)
-	lane->running = nullptr;
+	std::erase(lane->running, &c);
+	c.set_page_flag(TCS_PAGE_QUEUED, false);
+	set_queued(*lane);
 	c.lane = -1;
+}
+
+// Tells those in the lane whether others are queued with them.
+void Coordinator::set_queued(Lane &lane)
+{
+	const bool queued = lane.running.size() > 1;
+	for (Controller *c : lane.running)
+		c->set_page_flag(TCS_PAGE_QUEUED, queued);
 }
 
 bool Coordinator::any_running() const
 {
-	return std::any_of(lanes_.begin(), lanes_.end(), [](auto &l) { return l->running != nullptr; });
+	return std::any_of(lanes_.begin(), lanes_.end(), [](auto &l) { return !l->running.empty(); });
 }
 
 } // namespace tcs

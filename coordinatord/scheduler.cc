@@ -420,9 +420,9 @@ void Coordinator::resume(Controller &c, int64_t target, int lane)
 
 void Coordinator::on_budget(Lane &lane)
 {
-	if (!lane.budget.consume() || !lane.running)
-		return;
-	Controller &c = *lane.running;
+	if (!lane.budget.consume() || lane.running.size() != 1)
+		return; // (budgets are cpu mode's, where a lane runs one at most)
+	Controller &c = *lane.running.front();
 	int64_t used = c.slice_cpu(c.cpu_now());
 	if (c.checked_used < 0) {
 		// First check of the slice: learn the lag (an integrating

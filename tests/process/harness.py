@@ -4,6 +4,7 @@ in a session of their own, and fails a test that leaves any process behind
 them and ends with the line 'N passed, N failed'."""
 
 import contextlib
+import ctypes
 import os
 import re
 import signal
@@ -87,12 +88,20 @@ def tcs_core():
     return max(os.sched_getaffinity(0))
 
 
+PR_SET_PDEATHSIG = 1
+
+
 def start(args, env=None, pin=False):
     full_env = dict(os.environ)
     full_env.update(env or {})
     # A native run compared with a tcs run must use the same core: the
     # cores of a shared virtual machine are not equally fast.
-    pre = (lambda: os.sched_setaffinity(0, {tcs_core()})) if pin else None
+    def pre():
+        # Killed with this harness, should meson's own timeout end it: its
+        # own session is out of reach of the signal meson sends.
+        ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
+        if pin:
+            os.sched_setaffinity(0, {tcs_core()})
     return subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, stdin=subprocess.DEVNULL,
                             start_new_session=True, env=full_env, text=True, preexec_fn=pre)
 

@@ -7,7 +7,7 @@ import io
 import os
 import tempfile
 
-from harness import TCS_RUN, check, main, prog, run, scenario_file, tcs
+from harness import PYTHON, TCS_RUN, check, main, prog, run, scenario_file, tcs
 
 TCS_TRACE = os.environ.get("TCS_TRACE", "tcs-trace")
 
@@ -51,10 +51,22 @@ def trace_content(path):
     return content
 
 
-def lockstep_run(taskset):
+# Eight light loops (0 to 14 us a cycle): in lockstep, beside a polling
+# coordinator, they are queued together on the other cores (lanes.cc).
+LIGHT = """\
+[sim]
+step = "1ms"
+
+[[model]]
+name = "pendulum"
+type = "pendulum"
+""" + "".join('[[controller]]\ncommand = "%s 1000 0.3 %dus"\n' % (prog("periodic"), 2 * i) for i in range(8))
+
+
+def lockstep_run(taskset, text=WORLD):
     d = tempfile.mkdtemp(prefix="tcs-test-cores-")
     path = os.path.join(d, "run.mcap")
-    with scenario_file(WORLD) as world:
+    with scenario_file(text) as world:
         argv = [TCS_RUN, "-m", "lockstep", "--epoch", "2024-01-01T00:00:00Z", "--trace", path, "-w", world]
         r = run((["taskset", "-c", ONE] if taskset else []) + argv, timeout=120)
     check(r.returncode == 0, "the run succeeds", r)
@@ -84,6 +96,58 @@ def test_a_run_on_every_core_gives_what_one_core_gives():
         seen |= int(v["cores_seen"])
     check(seen == sum(1 << c for c in CORES), "controllers ran on every allowed core: seen %#x" % seen, wide)
     check(("on CPUs " if len(CORES) > 1 else "on CPU ") in wide.stderr, "the summary names the cores", wide)
+
+
+def test_light_controllers_queued_on_a_core_give_what_one_core_gives():
+    wide, wide_trace = lockstep_run(taskset=False, text=LIGHT)
+    narrow, narrow_trace = lockstep_run(taskset=True, text=LIGHT)
+    a, b = loops(wide), loops(narrow)
+    check(len(a) == len(b) == 8, "eight controllers' results each", wide)
+    for x, y in zip(a, b):
+        check(x["loops"] == "300" and x["misses"] == "0", "300 loops, no misses: %s, %s" % (x["loops"], x["misses"]),
+              wide)
+        for key in ("loops", "elapsed_s", "rate_hz", "misses", "sleep_failures"):
+            check(x[key] == y[key], "%s the same on %d cores as on one: %s, %s" % (key, len(CORES), x[key], y[key]))
+    ta, tb = trace_content(wide_trace), trace_content(narrow_trace)
+    for topic in ta:
+        check(ta[topic] == tb[topic], "the trace's %s records, in virtual time, the same (%d, %d)" %
+              (topic, len(ta[topic]), len(tb[topic])))
+    print("  8 light controllers: 300 loops each, the same on %d cores and on one" % len(CORES))
+
+
+def test_controllers_asleep_among_queued_ones_step_aside():
+    # Two readers asleep in open(2) of a FIFO each, where no hook sees them,
+    # among light loops queued on the same core: each is looked at, steps
+    # aside while the others go on, and learns of the writer's line
+    # (written at 0.2 s) at most a step late.
+    d = tempfile.mkdtemp(prefix="tcs-test-cores-")
+    text = LIGHT
+    writer = os.path.join(d, "writer.sh")
+    with open(writer, "w") as w:
+        w.write("sleep 0.2\n")
+        for i in range(2):
+            fifo = os.path.join(d, "fifo%d" % i)
+            os.mkfifo(fifo)
+            w.write("echo hi%d > %s\n" % (i, fifo))
+            reader = os.path.join(d, "reader%d.py" % i)
+            with open(reader, "w") as f:
+                f.write("import time\nt = time.monotonic()\nline = open(%r).read().strip()\n"
+                        "print('got%d=%%s after%d=%%.6f' %% (line, time.monotonic() - t), flush=True)\n" %
+                        (fifo, i, i))
+            text += '[[controller]]\ncommand = "%s %s"\n' % (PYTHON, reader)
+    text += '[[controller]]\ncommand = "sh %s"\n' % writer
+    with scenario_file(text) as world:
+        r = tcs("-m", "lockstep", "-w", world, timeout=120)
+    check(r.returncode == 0, "the run succeeds", r)
+    v = r.values()
+    for i in range(2):
+        check(v.get("got%d" % i) == "hi%d" % i, "reader %d got the writer's line" % i, r)
+        after = float(v.get("after%d" % i, "-1"))
+        check(0.2 <= after <= 0.202, "reader %d: at 0.2 s of its time, give or take a step: %.6f" % (i, after), r)
+    check(len(loops(r)) == 8 and all(x["loops"] == "300" and x["misses"] == "0" for x in loops(r)),
+          "the loops beside them kept their 1 kHz", r)
+    print("  two readers, asleep in open(2) among 8 loops, got their lines after %s and %s s" %
+          (v["after0"], v["after1"]))
 
 
 def test_a_controller_on_a_core_of_its_own_hands_off_through_shared_memory():

@@ -63,6 +63,10 @@ enum tcs_mode {
  * polling on its core: its main thread hands requests over the page's
  * mailbox (tcs/mailbox.h). */
 #define TCS_PAGE_MAILBOX 64u
+/* flags: with TCS_PAGE_MAILBOX, other controllers are queued behind this
+ * one on its core (lockstep): a request through the mailbox is parked at
+ * once rather than spun for, so that the next one has the core. */
+#define TCS_PAGE_QUEUED 128u
 
 /* The seqlock-protected part: where the current slice started. */
 struct tcs_slice {
