@@ -1,6 +1,8 @@
 // A main for any fuzz target where libFuzzer is not at hand (gcc builds):
 // for --seconds it feeds LLVMFuzzerTestOneInput the seeds and random
-// mutations of them, in an order fixed by a printed --seed. Without seed
+// mutations of them, in an order fixed by a printed --seed (by default
+// $TCS_FUZZ_SEED, else 1: the suite's runs repeat; explore with another,
+// e.g. --seed $RANDOM). Without seed
 // files it starts from the target's own (fuzz_target.h). Not
 // coverage-guided, so besides blind mutations it splices in the target's
 // tokens, makes numbers lie, and lets the target mutate its own structure.
@@ -263,7 +265,11 @@ int main(int argc, char **argv)
 {
 	const char *name = tcs_fuzz_name();
 	uint64_t seconds = 10, max_len = 1 << 20;
-	uint64_t seed = uint64_t(std::chrono::system_clock::now().time_since_epoch().count()) ^ uint64_t(getpid());
+	uint64_t seed = 1;
+	if (const char *env = getenv("TCS_FUZZ_SEED"); env && !parse_u64(env, seed)) {
+		fprintf(stderr, "%s: TCS_FUZZ_SEED=%s is not a number\n", name, env);
+		return 2;
+	}
 	std::string write_dir, dict_path;
 	std::vector<std::string> paths;
 	for (int i = 1; i < argc; i++) {

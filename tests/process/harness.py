@@ -162,10 +162,28 @@ def calibrate():
     return int(native([prog("calibrate")]).stdout.strip())
 
 
+class Skip(Exception):
+    """What a test could not check here, and why."""
+
+
+def skip(reason):
+    """Ends the test as skipped: the check it makes needs what this machine
+    lacks. A weaker check in its place is no pass of the stronger one."""
+    raise Skip(reason)
+
+
+# Meson's exit status for a test that was skipped as a whole.
+EXIT_SKIP = 77
+
+
 def main(namespace):
+    """Runs the file's test_ functions (or those named on the command line),
+    one line each: ok, FAILED with the traceback, or SKIP with the reason
+    (tools/bootstrap.sh lists those at the end). Exit 1 if any failed, 77 if
+    every one was skipped."""
     tests = [(n, f) for n, f in namespace.items() if n.startswith("test_") and callable(f)]
     only = sys.argv[1:]
-    passed = failed = 0
+    passed = failed = skipped = 0
     for name, fn in tests:
         if only and name not in only:
             continue
@@ -174,9 +192,12 @@ def main(namespace):
             fn()
             passed += 1
             print("ok     %-48s %6.2fs" % (name, time.monotonic() - t0), flush=True)
+        except Skip as why:
+            skipped += 1
+            print("SKIP   %-48s %s" % (name, why), flush=True)
         except Exception:
             failed += 1
             print("FAILED %-48s %6.2fs" % (name, time.monotonic() - t0), flush=True)
             traceback.print_exc(file=sys.stdout)
-    print("%d passed, %d failed" % (passed, failed))
-    sys.exit(1 if failed else 0)
+    print("%d passed, %d failed, %d skipped" % (passed, failed, skipped))
+    sys.exit(1 if failed else EXIT_SKIP if skipped and not passed else 0)

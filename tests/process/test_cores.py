@@ -7,7 +7,7 @@ import io
 import os
 import tempfile
 
-from harness import PYTHON, TCS_RUN, check, main, prog, run, scenario_file, tcs
+from harness import PYTHON, TCS_RUN, check, main, prog, run, scenario_file, skip, tcs
 
 TCS_TRACE = os.environ.get("TCS_TRACE", "tcs-trace")
 
@@ -75,7 +75,7 @@ def lockstep_run(taskset, text=WORLD):
 
 def test_a_run_on_every_core_gives_what_one_core_gives():
     if len(CORES) < 2:
-        print("  one core allowed here: nothing runs in parallel (the comparison is trivial)")
+        skip("one core allowed here: nothing runs in parallel (the comparison is trivial)")
     wide, wide_trace = lockstep_run(taskset=False)
     narrow, narrow_trace = lockstep_run(taskset=True)
     a, b = loops(wide), loops(narrow)
@@ -159,9 +159,8 @@ def test_a_controller_on_a_core_of_its_own_hands_off_through_shared_memory():
     argv = ["-q", prog("periodic"), "1000", "3", "0"]
     probe = tcs("-m", "lockstep", *argv[1:], timeout=60)
     if len(CORES) < 2 or "SCHED_FIFO on CPUs" not in probe.stderr:
-        print("  %d core(s), %s: no mailbox here, every hand-off goes through the channel" %
-              (len(CORES), "SCHED_FIFO" if "SCHED_FIFO" in probe.stderr else "no SCHED_FIFO"))
-        return
+        skip("%d core(s), %s: no mailbox here, every hand-off goes through the channel" %
+             (len(CORES), "SCHED_FIFO" if "SCHED_FIFO" in probe.stderr else "no SCHED_FIFO"))
     for mode in ("lockstep", "cpu"):
         shared = tcs("-m", mode, *argv, timeout=60).values()
         channel = tcs("-m", mode, *argv, env={"TCS_NO_MAILBOX": "1"}, timeout=60).values()

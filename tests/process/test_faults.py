@@ -39,10 +39,12 @@ def test_hostile_controllers_are_dropped_and_the_others_served():
         check(r.returncode == 2, "%s: exit 2 (tcs dropped a controller)" % mode, r)
         check(lines and reason in lines[0], "%s: dropped, saying why" % mode, r)
         v = r.values()
-        # (A miss now and then comes from this shared VM's hiccups, charged
-        # as CPU: up to 1 % of its 2000 cycles when other tests share the core.)
-        check(abs(float(v.get("rate_hz", 0)) - 1000) <= 1 and int(v.get("misses", 99)) <= 20,
-              "%s: the other controller kept its rate" % mode, r)
+        # Its only misses: those pauses of the machine inside its work
+        # cause, by its own account from the kernel's clock (periodic.c).
+        check(abs(float(v.get("rate_hz", 0)) - 1000) <= 1 and
+              int(v.get("misses", 99)) <= int(v.get("pause_misses", -1)),
+              "%s: the other controller kept its rate (%s misses, pauses explain %s)" %
+              (mode, v.get("misses"), v.get("pause_misses")), r)
         check("hostile: still here" not in r.stdout, "%s: the hostile one did not run on" % mode, r)
 
 

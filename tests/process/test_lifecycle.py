@@ -7,7 +7,7 @@ import signal
 import subprocess
 import time
 
-from harness import TCS_RUN, assert_nothing_left, calibrate, check, main, prog, run, start, tcs
+from harness import TCS_RUN, assert_nothing_left, calibrate, check, main, prog, run, session_processes, start, tcs
 
 
 def test_exit_status_passes_through():
@@ -45,14 +45,58 @@ def test_sigterm_and_sigint_end_the_run_cleanly():
     for mode in ("cpu", "lockstep"):
         check(signal_run(signal.SIGTERM, mode) == 143, "SIGTERM to tcs-run: exit 143, nothing left (%s)" % mode)
         check(signal_run(signal.SIGINT, mode) == 130, "SIGINT to tcs-run: exit 130, nothing left (%s)" % mode)
+    # tcs-run(1): SIGHUP and SIGQUIT end it the same way.
+    check(signal_run(signal.SIGHUP, "cpu") == 129, "SIGHUP to tcs-run: exit 129, nothing left")
+    check(signal_run(signal.SIGQUIT, "cpu") == 131, "SIGQUIT to tcs-run: exit 131, nothing left")
+
+
+def stubborn_run():
+    """tcs-run over a shell that ignores SIGTERM and sleeps on."""
+    p = start([TCS_RUN, "-q", "--", "sh", "-c", "trap '' TERM; while :; do sleep 0.01; done"])
+    time.sleep(0.5)
+    check(p.poll() is None, "the run is still going before the signal")
+    return p
+
+
+def test_a_program_that_ignores_sigterm_is_killed_after_the_grace():
+    # tcs-run(1): the programs get SIGTERM, and SIGKILL if still there 2 s
+    # (wall time) later. The lower bound is the contract; the upper one
+    # only says it does not hang.
+    p = stubborn_run()
+    t0 = time.monotonic()
+    p.send_signal(signal.SIGTERM)
+    p.communicate(timeout=20)
+    took = time.monotonic() - t0
+    assert_nothing_left(p.pid)
+    print("  a program ignoring SIGTERM was killed %.2f s after it" % took)
+    check(p.returncode == 143 and 2.0 <= took < 10, "exit 143, after the 2 s grace: %.2f s" % took)
+
+
+def test_a_second_signal_kills_at_once():
+    # A second signal during the grace: SIGKILL at once, not 2 s later.
+    p = stubborn_run()
+    t0 = time.monotonic()
+    p.send_signal(signal.SIGTERM)
+    time.sleep(0.2)
+    p.send_signal(signal.SIGTERM)
+    p.communicate(timeout=20)
+    took = time.monotonic() - t0
+    assert_nothing_left(p.pid)
+    print("  with a second signal 0.2 s after the first, it ended %.2f s after the first" % took)
+    check(p.returncode == 143 and took < 2.0, "ended before the grace was over: %.2f s" % took)
 
 
 def test_controller_dies_with_a_killed_coordinator():
     for mode in ("cpu", "lockstep"):
         p = start([TCS_RUN, "-q", "-m", mode, prog("periodic"), "1000", "1000000", "20000"])
         time.sleep(0.5)
+        # Both running before the kill: else there is nothing to outlive it.
+        running = [cmd for _, state, cmd in session_processes(p.pid) if state not in "ZX"]
+        check(p.poll() is None and running.count("tcs-run") == 1 and running.count("periodic") == 1,
+              "%s: tcs-run and its controller run before the SIGKILL: %s" % (mode, running))
         os.kill(p.pid, signal.SIGKILL)
         p.communicate(timeout=10)
+        check(p.returncode == -signal.SIGKILL, "%s: tcs-run was killed" % mode)
         # Within a second every controller is gone, stopped ones included.
         assert_nothing_left(p.pid, grace=1.0)
 

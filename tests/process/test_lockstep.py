@@ -6,6 +6,7 @@ import re
 import shutil
 import tempfile
 import textwrap
+import time
 
 from harness import PYTHON, TCS_RUN, check, main, prog, run, tcs
 
@@ -73,16 +74,36 @@ def test_every_clock_reads_virtual_time():
     r = tcs("-q", "-m", "lockstep", "--epoch", "2000-01-01T00:00:00Z", prog("clocks"))
     lines = [line for line in r.stdout.splitlines() if line.startswith("step")]
     expected = [125000000, 375000000, 750000000, 1250000000]
+    check(len(lines) == len(expected), "a line after each of the four sleeps", r)
+    # TAI runs ahead of UTC by the host's whole seconds of leap (0 where
+    # the kernel was never told, 37 since 2017 where it was).
+    host_tai = round((time.clock_gettime_ns(time.CLOCK_TAI) - time.time_ns()) / 1e9)
     for line, v in zip(lines, expected):
         for k in range(4):
             check(" mono%d=%d " % (k, v) in line, "monotonic clock %d after the sleeps" % k, r)
         real = 946684800 * 10**9 + v
         check(" real0=%d " % real in line and " real1=%d " % real in line, "realtime clocks", r)
+        check(" real2=%d " % (real + host_tai * 10**9) in line, "CLOCK_TAI: realtime + %d s" % host_tai, r)
         check("gettimeofday=%d.%06d" % (real // 10**9, real % 10**9 // 1000) in line, "gettimeofday", r)
         check("time=%d " % (real // 10**9) in line, "time()", r)
         check("timespec_get=%d.%09d" % (real // 10**9, real % 10**9) in line, "timespec_get", r)
         check("ftime=%d.%03d" % (real // 10**9, real % 10**9 // 10**6) in line, "ftime", r)
-    check(r.values()["backwards"] == "0", "no clock ever goes backwards", r)
+    v = r.values()
+    check(v["backwards"] == "0", "no clock ever goes backwards", r)
+    # The process's CPU by every interface, read in this order, each one the
+    # same virtual CPU at its own resolution: times() in clock ticks,
+    # getrusage in us, clock() in us, the process's CPU-time clock in ns.
+    tick = 10**9 // int(v["ticks_per_s"])
+    times_ns, rusage, clock_ns = int(v["times_ticks"]) * tick, int(v["rusage_ns"]), int(v["clock_us"]) * 1000
+    cpu, thread = int(v["cpu_clock_ns"]), int(v["thread_clock_ns"])
+    check(rusage - tick < times_ns <= rusage, "times() is getrusage's, in whole ticks", r)
+    check(rusage <= clock_ns <= cpu and cpu - rusage < 1000000, "getrusage, clock() and the CPU clock agree", r)
+    # Virtual CPU is what the kernel charged less tcs's own: never more.
+    kernel = int(v["kernel_cpu_ns"])
+    check(0 < cpu <= kernel, "no more CPU than the kernel charged: %d, %d" % (cpu, kernel), r)
+    # The thread's CPU clock is its real CPU, tcs's own included (as built,
+    # docs/DESIGN.md "Differs"): between the two, read in that order.
+    check(cpu <= thread <= kernel, "the thread's CPU clock: %d, between %d and %d" % (thread, cpu, kernel), r)
 
 
 def test_cpp_chrono_loop():
@@ -91,6 +112,21 @@ def test_cpp_chrono_loop():
     check(v["steady_elapsed_ns"] == "1000000000", "200 x sleep_until(+5ms) = 1 s of steady_clock", r)
     check(v["system_now_ns"] == "1001000000000", "system_clock = epoch + virtual time", r)
     check(v["sleep_for_ns"] == "250000000", "sleep_for(250ms) lasts 250 ms", r)
+
+
+def test_epoch_in_cpu_mode():
+    # CLOCK_REALTIME is the epoch plus virtual time in cpu mode too: when
+    # the loop ends, its 1 s of sleeps plus the CPU the program had used by
+    # then, which is at most what the kernel charged it.
+    r = tcs("-q", "--epoch", "1000", prog("chrono_loop"), "200", "5")
+    v = r.values()
+    elapsed = int(v["steady_elapsed_ns"])
+    check(r.returncode == 0 and 10**9 <= elapsed <= 10**9 + 25000,
+          "200 sleeps of 5 ms: 1 s, and the last one's return (under 25 us): %d ns" % elapsed, r)
+    beyond = int(v["system_now_ns"]) - 1000 * 10**9 - elapsed
+    check(0 <= beyond <= int(v["kernel_cpu_ns"]),
+          "system_clock = epoch + 1 s + its CPU so far: %d ns beyond (the kernel charged %s)" %
+          (beyond, v["kernel_cpu_ns"]), r)
 
 
 def test_multiplexer_timeouts_are_virtual():
@@ -109,12 +145,35 @@ def test_signal_handler_interrupts_waits():
     for mode in ("lockstep", "cpu"):
         r = tcs("-q", "-m", mode, prog("interrupt"), timeout=30)
         check(r.returncode == 0, "interrupt exits 0 (%s)" % mode, r)
-        out = r.stdout
-        check("nanosleep=-1 errno=EINTR rem_large=1 handled=1" in out, "nanosleep: EINTR and time left", r)
+        out, v = r.stdout, r.values()
+        check("nanosleep=-1 errno=EINTR handled=1" in out, "nanosleep: EINTR", r)
         check("clock_nanosleep=EINTR handled=2" in out, "clock_nanosleep returns EINTR", r)
+        for call in ("nanosleep", "clock_nanosleep"):
+            # What is left is what was asked less the time slept: the
+            # timer's 50 ms from its arming (in lockstep, arming takes no
+            # time) less the virtual time from the arming to the sleep,
+            # which in cpu mode is the arming call's return and one clock
+            # read (window: the arming itself; each side under 25 us).
+            slept, window = int(v[call + "_slept_ns"]), int(v[call + "_arm_window_ns"])
+            if mode == "lockstep":
+                check(slept == 50000000 and window == 0, "%s: slept exactly the timer's 50 ms: %d ns" % (call, slept), r)
+            else:
+                check(0 <= window < 25000 and 50000000 - window - 25000 <= slept <= 50000000,
+                      "%s: slept the timer's 50 ms less the time since it was armed: %d ns (arming took %d)" %
+                      (call, slept, window), r)
         check("poll=-1 errno=EINTR handled=3" in out, "poll: EINTR", r)
         check("epoll_wait=-1 errno=EINTR handled=4" in out, "epoll_wait: EINTR", r)
         check("select=-1 errno=EINTR handled=5" in out, "select: EINTR", r)
+        check("ppoll=-1 errno=EINTR handled=6" in out, "ppoll with a mask: EINTR", r)
+        check("pselect=-1 errno=EINTR handled=7" in out, "pselect with a mask: EINTR", r)
+        check("epoll_pwait=-1 errno=EINTR handled=8" in out, "epoll_pwait with a mask: EINTR", r)
+        check("epoll_pwait2=-1 errno=EINTR handled=9" in out, "epoll_pwait2 with a mask: EINTR", r)
+        check("clock_nanosleep_abs=EINTR handled=10" in out, "an absolute clock_nanosleep: EINTR", r)
+        # C11: -1 for a signal, and the time left in rem as nanosleep's.
+        check("thrd_sleep=-1 handled=11" in out, "thrd_sleep: -1", r)
+        check((int(v["thrd_sleep_slept_ns"]) == 50000000) if mode == "lockstep" else
+              (50000000 - 2 * 25000 <= int(v["thrd_sleep_slept_ns"]) <= 50000000),
+              "thrd_sleep: slept the timer's 50 ms: %s ns" % v["thrd_sleep_slept_ns"], r)
         check("sleep_left=0" in out, "a later sleep completes", r)
     check("slept_ns=1000000000" in tcs("-q", "-m", "lockstep", prog("interrupt")).stdout, "exactly 1 s", r)
 

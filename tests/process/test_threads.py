@@ -105,11 +105,14 @@ def test_every_thread_is_heard_while_another_polls():
 def test_pthread_timed_waits():
     for mode in ("lockstep", "cpu"):
         v, r = run(mode, prog("threads"), "cond")
-        for line in r.stdout.splitlines():
-            if line.startswith("variant="):
-                f = dict(kv.split("=") for kv in line.split())
-                check(f["result"] == "0", "%s: cond variant %s signalled" % (mode, f["variant"]), r)
-                within(f["signalled_after_ns"], 1 * MS, mode, "cond variant %s signalled" % f["variant"], r)
+        # Four ways to wait on a condition variable (threads.c): each one
+        # must report, in order, signalled after 1 ms.
+        variants = [dict(kv.split("=") for kv in line.split()) for line in r.stdout.splitlines()
+                    if line.startswith("variant=")]
+        check([f["variant"] for f in variants] == ["0", "1", "2", "3"], "%s: all four cond variants report" % mode, r)
+        for f in variants:
+            check(f["result"] == "0", "%s: cond variant %s signalled" % (mode, f["variant"]), r)
+            within(f["signalled_after_ns"], 1 * MS, mode, "cond variant %s signalled" % f["variant"], r)
         check(v["timeout_result"] == "110", "%s: pthread_cond_timedwait times out (ETIMEDOUT)" % mode, r)
         within(v["timed_out_after_ns"], 3 * MS, mode, "cond timeout", r)
         v, r = run(mode, prog("threads"), "mutex")

@@ -1,10 +1,13 @@
 // chrono_loop N PERIOD_MS: N iterations of std::this_thread::sleep_until on
 // std::chrono::steady_clock, as a C++ controller would pace itself; prints
-// the steady_clock time elapsed and system_clock's final time (ns).
+// the steady_clock time elapsed and system_clock's final time (ns), and the
+// CPU the kernel had charged the process by then (kernel_cpu_ns: work.h).
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <thread>
+
+#include "work.h"
 
 int main(int argc, char **argv)
 {
@@ -23,7 +26,9 @@ int main(int argc, char **argv)
 	}
 	const auto elapsed = duration_cast<nanoseconds>(steady_clock::now() - start).count();
 	const auto wall = duration_cast<nanoseconds>(system_clock::now().time_since_epoch()).count();
-	std::printf("steady_elapsed_ns=%lld\nsystem_now_ns=%lld\n", (long long)elapsed, (long long)wall);
+	const long long kernel = kernel_cpu_ns();
+	std::printf("steady_elapsed_ns=%lld\nsystem_now_ns=%lld\nkernel_cpu_ns=%lld\n", (long long)elapsed, (long long)wall,
+		    kernel);
 	// And a relative sleep_for, which goes through nanosleep.
 	const auto t0 = steady_clock::now();
 	std::this_thread::sleep_for(milliseconds(250));

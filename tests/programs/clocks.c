@@ -52,14 +52,22 @@ int main(void)
 		if (i % 1000 == 0)
 			usleep(100);
 	}
-	struct rusage ru;
-	getrusage(RUSAGE_SELF, &ru);
+	/* The CPU, by every interface, in this order (each read later than
+	 * the one before), and last as the kernel charged it. */
 	struct tms t;
 	times(&t);
+	struct rusage ru;
+	getrusage(RUSAGE_SELF, &ru);
+	long clock_us = (long)clock();
+	long long cpu_clock = clock_ns(CLOCK_PROCESS_CPUTIME_ID);
+	long long thread_clock = clock_ns(CLOCK_THREAD_CPUTIME_ID);
+	long long kernel = kernel_cpu_ns();
 	printf("backwards=%lld\n", backwards);
-	printf("cpu_clock_ns=%lld rusage_ns=%lld clock_us=%ld\n", clock_ns(CLOCK_PROCESS_CPUTIME_ID),
+	printf("times_ticks=%lld ticks_per_s=%ld rusage_ns=%lld clock_us=%ld cpu_clock_ns=%lld thread_clock_ns=%lld "
+	       "kernel_cpu_ns=%lld\n",
+	       (long long)(t.tms_utime + t.tms_stime), sysconf(_SC_CLK_TCK),
 	       ru.ru_utime.tv_sec * 1000000000LL + ru.ru_utime.tv_usec * 1000LL + ru.ru_stime.tv_sec * 1000000000LL +
 		       ru.ru_stime.tv_usec * 1000LL,
-	       (long)clock());
+	       clock_us, cpu_clock, thread_clock, kernel);
 	return 0;
 }

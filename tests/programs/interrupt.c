@@ -1,7 +1,9 @@
-/* interrupt: POSIX semantics of waits that a real signal handler interrupts.
- * A real-time interval timer (setitimer is not virtualised yet) fires
- * SIGALRM while the program waits forever, so virtual time idles at real
- * speed until the signal comes. Prints one key=value line per check. */
+/* interrupt: POSIX semantics of waits that a signal handler interrupts.
+ * A one-shot interval timer (50 ms of virtual time: tcs keeps setitimer's)
+ * fires SIGALRM while the program waits forever. Prints one key=value line
+ * per check; for the sleeps, how long they slept by what they say is left
+ * (*_slept_ns), and how much virtual time arming the timer took
+ * (arm_window_ns: the timer started within it). */
 #include <errno.h>
 #include <poll.h>
 #include <signal.h>
@@ -10,6 +12,7 @@
 #include <sys/epoll.h>
 #include <sys/select.h>
 #include <sys/time.h>
+#include <threads.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -21,10 +24,27 @@ static void on_alarm(int sig)
 	handled++;
 }
 
-static void arm(void)
+static long long now_ns(void)
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_MONOTONIC, &ts);
+	return ts.tv_sec * 1000000000LL + ts.tv_nsec;
+}
+
+/* Arms the 50 ms timer; returns the virtual time the arming took. */
+static long long arm(void)
 {
 	struct itimerval it = { { 0, 0 }, { 0, 50000 } };
+	long long before = now_ns();
 	setitimer(ITIMER_REAL, &it, NULL);
+	return now_ns() - before;
+}
+
+/* What a sleep of `asked` slept, by the `rem` it left (asked is 2^40 s:
+ * in ns it does not fit in 64 bits, the difference does). */
+static long long slept_ns(struct timespec asked, struct timespec rem)
+{
+	return (long long)(asked.tv_sec - rem.tv_sec) * 1000000000LL + (asked.tv_nsec - rem.tv_nsec);
 }
 
 int main(void)
@@ -35,15 +55,17 @@ int main(void)
 	sa.sa_flags = SA_RESTART; /* nanosleep and poll fail with EINTR even so */
 	sigaction(SIGALRM, &sa, NULL);
 
-	arm();
+	long long window = arm();
 	struct timespec forever = { (time_t)1 << 40, 0 }, rem = { 0, 0 };
 	int r = nanosleep(&forever, &rem);
-	printf("nanosleep=%d errno=%s rem_large=%d handled=%d\n", r, r ? strerrorname_np(errno) : "0",
-	       rem.tv_sec > ((time_t)1 << 39), (int)handled);
+	printf("nanosleep=%d errno=%s handled=%d nanosleep_slept_ns=%lld nanosleep_arm_window_ns=%lld\n", r,
+	       r ? strerrorname_np(errno) : "0", (int)handled, slept_ns(forever, rem), window);
 
-	arm();
+	window = arm();
+	rem = (struct timespec){ 0, 0 };
 	int cr = clock_nanosleep(CLOCK_MONOTONIC, 0, &forever, &rem);
-	printf("clock_nanosleep=%s handled=%d\n", cr ? strerrorname_np(cr) : "0", (int)handled);
+	printf("clock_nanosleep=%s handled=%d clock_nanosleep_slept_ns=%lld clock_nanosleep_arm_window_ns=%lld\n",
+	       cr ? strerrorname_np(cr) : "0", (int)handled, slept_ns(forever, rem), window);
 
 	arm();
 	errno = 0;
@@ -59,6 +81,42 @@ int main(void)
 	arm();
 	r = select(0, NULL, NULL, NULL, NULL);
 	printf("select=%d errno=%s handled=%d\n", r, strerrorname_np(errno), (int)handled);
+
+	/* The variants with a signal mask of their own (an empty one here),
+	 * an absolute sleep, and C11's. */
+	sigset_t none;
+	sigemptyset(&none);
+	arm();
+	errno = 0;
+	r = ppoll(NULL, 0, NULL, &none);
+	printf("ppoll=%d errno=%s handled=%d\n", r, strerrorname_np(errno), (int)handled);
+
+	arm();
+	errno = 0;
+	r = pselect(0, NULL, NULL, NULL, NULL, &none);
+	printf("pselect=%d errno=%s handled=%d\n", r, strerrorname_np(errno), (int)handled);
+
+	arm();
+	errno = 0;
+	r = epoll_pwait(ep, &ev, 1, -1, &none);
+	printf("epoll_pwait=%d errno=%s handled=%d\n", r, strerrorname_np(errno), (int)handled);
+
+	arm();
+	errno = 0;
+	r = epoll_pwait2(ep, &ev, 1, NULL, &none);
+	printf("epoll_pwait2=%d errno=%s handled=%d\n", r, strerrorname_np(errno), (int)handled);
+
+	arm();
+	struct timespec far;
+	clock_gettime(CLOCK_MONOTONIC, &far);
+	far.tv_sec += 1000000;
+	cr = clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &far, NULL);
+	printf("clock_nanosleep_abs=%s handled=%d\n", cr ? strerrorname_np(cr) : "0", (int)handled);
+
+	arm();
+	rem = (struct timespec){ 0, 0 };
+	r = thrd_sleep(&forever, &rem);
+	printf("thrd_sleep=%d handled=%d thrd_sleep_slept_ns=%lld\n", r, (int)handled, slept_ns(forever, rem));
 
 	/* After all that, plain timed waits still end on virtual schedule. */
 	struct timespec a, b;

@@ -15,6 +15,32 @@ static inline long long clock_ns(clockid_t clock)
 	return ts.tv_sec * 1000000000LL + ts.tv_nsec;
 }
 
+/* A CPU-time clock as the kernel keeps it, read with a system call
+ * instruction of our own: libc's clock_gettime and syscall() are tcs's
+ * hooks, which answer with virtual CPU. Work measured on it is real work,
+ * so a test that compares virtual time with it checks tcs's charging
+ * against the kernel's, not against itself. */
+static inline long long kernel_clock_ns(clockid_t clock)
+{
+	struct timespec ts = { 0, 0 };
+#if defined(__x86_64__)
+	long ret;
+	__asm__ volatile("syscall"
+			 : "=a"(ret)
+			 : "0"(228L /* SYS_clock_gettime */), "D"((long)clock), "S"(&ts)
+			 : "rcx", "r11", "memory");
+	(void)ret;
+#else
+#error "kernel_clock_ns: a raw system call for this architecture"
+#endif
+	return ts.tv_sec * 1000000000LL + ts.tv_nsec;
+}
+
+static inline long long kernel_cpu_ns(void)
+{
+	return kernel_clock_ns(CLOCK_PROCESS_CPUTIME_ID);
+}
+
 static inline uint64_t work(uint64_t n)
 {
 	static volatile uint64_t sink;
@@ -26,6 +52,16 @@ static inline uint64_t work(uint64_t n)
 	}
 	sink = x;
 	return x;
+}
+
+/* Computes until `clock` (a CPU-time clock) has advanced ns by the
+ * kernel's account; returns how far it did. */
+static inline long long compute_ns(clockid_t clock, long long ns)
+{
+	long long c0 = kernel_clock_ns(clock), used = 0;
+	while ((used = kernel_clock_ns(clock) - c0) < ns)
+		work(100);
+	return used;
 }
 
 #endif
