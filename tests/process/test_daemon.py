@@ -346,9 +346,14 @@ def test_ros2_tools_see_the_virtual_clock_on_dds():
     check(lines[0] == "type rosgraph_msgs::msg::dds_::Clock_", "the ROS 2 type name", clock)
     times = [int(l.split()[1]) * 10**9 + int(l.split()[2]) for l in lines[1:]]
     check(len(times) == 300, "300 samples", clock)
-    # One per step of 1 ms, none missed, none twice (the very first ones
-    # may go before the writer has seen the reader: not asserted).
-    check(all(b - a == 10**6 for a, b in zip(times, times[1:])), "one sample per 1 ms step, in order", clock)
+    # Each a step's time (a whole number of 1 ms steps), in order, none
+    # twice. rt/clock keeps the last sample only (docs/DESIGN.md §7): one a
+    # lagging reader has not taken yet is replaced by the next, so gaps are
+    # the contract, not a fault.
+    check(all(t % 10**6 == 0 for t in times) and all(b > a for a, b in zip(times, times[1:])),
+          "every sample a 1 ms step's time, in order, none twice", clock)
+    print("  300 clock samples over %.3f s of steps (%d steps left out by keep-last-1)" %
+          ((times[-1] - times[0]) / 1e9, (times[-1] - times[0]) // 10**6 + 1 - 300))
     r = run([TCS_TRACE, "export", d.trace, "--format", "json"], timeout=120)
     check(r.returncode == 0, "the trace exports", r)
     messages = json.loads(r.stdout)["messages"]
