@@ -49,7 +49,14 @@ def test_periodic_loop_with_30_percent_work_keeps_its_rate():
     v = r.values()
     print("  1 kHz loop, 30%% work: %s loops in %s s of virtual time (%s Hz), %s misses" %
           (v["loops"], v["elapsed_s"], v["rate_hz"], v["misses"]))
-    close_to(float(v["rate_hz"]), 1000, 0.02, "loops per virtual second", r)
+    # 3000 periods of 1 ms; the loop ends at the last one's release, plus
+    # the last wait's return and a clock read (under 25 us), unless a pause
+    # of the machine, by the kernel's account, made it late (periodic.c).
+    check(v["loops"] == "3000", "3000 loops", r)
+    check(int(v["misses"]) <= int(v["pause_misses"]), "misses only where the kernel's CPU explains them: %s, %s" %
+          (v["misses"], v["pause_misses"]), r)
+    if v["pause_misses"] == "0":
+        check(3.0 <= float(v["elapsed_s"]) <= 3.0 + 25e-6, "3 s of virtual time: %s" % v["elapsed_s"], r)
     check(v["sleep_failures"] == "0", "no sleep failed (no spurious EINTR)", r)
 
 
@@ -86,7 +93,8 @@ def test_overloaded_loop_fails_as_on_hardware_but_not_in_lockstep():
     check(1.5e6 <= per_loop <= 1.5e6 * 1.02, "1500 us of work per loop, and little else: %.1f us" % (per_loop / 1e3))
     close_to(float(exact["rate_hz"]), 1e9 / per_loop, 0.001, "cpu mode runs at 1/(CPU per loop)")
     check(exact["misses"] == exact["loops"], "every deadline missed")
-    close_to(float(lockstep["rate_hz"]), 1000, 0.01, "lockstep (wrongly) reports the full 1 kHz")
+    check(lockstep["loops"] == "2000" and lockstep["elapsed_s"] == "2.000000000",
+          "lockstep (wrongly) reports the full 1 kHz: 2000 loops in exactly 2 s")
     check(lockstep["misses"] == "0", "lockstep (wrongly) reports no missed deadline")
     check(cpu["sleep_failures"] == "0", "no sleep failed under preemption")
 

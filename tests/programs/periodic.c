@@ -2,10 +2,10 @@
  * Every 1/HZ it does WORK: ROUNDS of work(), or, written "300us", that much
  * CPU time by the kernel's account (work.h: not the CPU-time clock tcs
  * virtualises, so that a test compares tcs's charge with the kernel's).
- * Rounds whose work took much longer than asked by that clock (only a pause
- * of the machine charged as CPU does that) are paused_rounds, and the
- * deadline misses they can cause, pause_misses: the only misses a loop whose
- * work fits its period may have. Then it sleeps with clock_nanosleep
+ * Rounds that took more CPU than a period by that clock are paused_rounds
+ * (for work that fits its period, only a pause of the machine charged as
+ * CPU does that), and the deadline misses such CPU can cause, pause_misses:
+ * the only misses such a loop may have. Then it sleeps with clock_nanosleep
  * (TIMER_ABSTIME, CLOCK_MONOTONIC) until its next release; a release already
  * past counts as a deadline miss (the loop then runs late, as on hardware).
  * Stops after SECONDS of its own monotonic clock and prints what it saw,
@@ -48,9 +48,10 @@ int main(int argc, char **argv)
 	long long start = clock_ns(CLOCK_MONOTONIC), next = start, loops = 0, misses = 0, failures = 0, paused_rounds = 0,
 		  pause_misses = 0;
 	unsigned long long cores_seen = 0;
-	/* (Read only for work in CPU time: a loop of rounds makes no system
-	 * call of its own, which test_lockstep counts.) */
-	long long round_start = cpu_work >= 0 ? kernel_cpu_ns() : 0;
+	/* (A loop with no work makes no system call of its own, which
+	 * test_lockstep counts.) */
+	const int account = cpu_work > 0 || rounds > 0;
+	long long round_start = account ? kernel_cpu_ns() : 0, debt = 0;
 	while (clock_ns(CLOCK_MONOTONIC) - start < duration) {
 		if (cpu_work >= 0)
 			compute_ns(CLOCK_PROCESS_CPUTIME_ID, cpu_work);
@@ -60,23 +61,25 @@ int main(int argc, char **argv)
 		next += period;
 		if (clock_ns(CLOCK_MONOTONIC) > next)
 			misses++;
-		if (cpu_work >= 0) {
-			/* A round (from the last wait's return to the next wait)
-			 * that took E more CPU than its work asked, by the
-			 * kernel's clock, did so because the machine paused in it
-			 * (charged as CPU, natively too). Past the period's slack
-			 * it makes the loop late by E - slack, which the rounds
-			 * after catch up by slack each: ceil(E / slack) misses at
-			 * most. Counted from half the slack on. */
-			long long extra = kernel_cpu_ns() - round_start - cpu_work, slack = period - cpu_work;
-			if (slack > 0 && 2 * extra > slack) {
-				paused_rounds++;
-				pause_misses += (extra + slack - 1) / slack;
+		if (account) {
+			/* The loop is late at a round's check only if the CPU of
+			 * the rounds since it was last on time, from each wait's
+			 * return to the next wait, exceeds their periods; virtual
+			 * time charges no more CPU than the kernel did. So misses
+			 * are at most the rounds after which that debt, by the
+			 * kernel's clock, is positive: for work that fits its
+			 * period, rounds a pause of the machine made longer
+			 * (charged as CPU, natively too). */
+			long long round = kernel_cpu_ns() - round_start;
+			debt = debt + round - period > 0 ? debt + round - period : 0;
+			if (debt > 0) {
+				pause_misses++;
+				paused_rounds += round > period;
 			}
 		}
 		struct timespec ts = { next / 1000000000LL, next % 1000000000LL };
 		int r = clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL);
-		if (cpu_work >= 0)
+		if (account)
 			round_start = kernel_cpu_ns();
 		if (r != 0)
 			failures++;
