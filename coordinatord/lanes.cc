@@ -47,22 +47,6 @@ Status Coordinator::init_lanes()
 	return Ok{};
 }
 
-// A free lane other than the coordinator's, the one of the core c was on
-// first (no move); -1 if none.
-int Coordinator::free_other_lane(const Controller &c) const
-{
-	int any = -1;
-	for (size_t i = 1; i < lanes_.size(); i++) {
-		if (!lanes_[i]->running.empty())
-			continue;
-		if (lanes_[i]->cpu == c.core)
-			return (int)i;
-		if (any < 0)
-			any = (int)i;
-	}
-	return any;
-}
-
 // The lane other than the coordinator's with the fewest queued, the one of
 // the core c was on if it is among them (no move); -1 if there is none.
 int Coordinator::shortest_other_lane(const Controller &c) const
@@ -75,6 +59,14 @@ int Coordinator::shortest_other_lane(const Controller &c) const
 			best = (int)i;
 	}
 	return best;
+}
+
+// A free lane other than the coordinator's, the one of the core c was on
+// first (no move); -1 if none.
+int Coordinator::free_other_lane(const Controller &c) const
+{
+	const int best = shortest_other_lane(c);
+	return best >= 0 && lanes_[(size_t)best]->running.empty() ? best : -1;
 }
 
 // The lane c would run in now; -1 if it had better wait.

@@ -8,10 +8,12 @@
  * during ppoll would (nothing tells): the spin lasts only until the
  * coordinator answers or parks the request, a few microseconds, and such a
  * handler is as if the signal had come just before the wait began, which
- * a real program meets too. With others queued on its core it parks at
- * once: the answer comes only once they have run. Waits where that would matter take the
+ * a real program meets too. Waits where that would matter take the
  * channel: those with a signal mask of their own, with real fds, or
- * without a deadline (pause, and waits for a handler). */
+ * without a deadline (pause, and waits for a handler).
+ *
+ * With other controllers queued behind it on its core (TCS_PAGE_QUEUED,
+ * lockstep), it parks at once: its answer comes only once they have run. */
 #include "mailbox.h"
 
 #include "raw_syscall.h"
@@ -54,8 +56,9 @@ int tcs_mailbox_wait(struct tcs_msg *reply)
 	struct tcs_mailbox *b = &tcs_rt.page->mailbox;
 	int64_t until = 0;
 	/* Others queued behind us: no spin, the core is theirs meanwhile. */
-	const int spin = !(__atomic_load_n(&tcs_rt.page->flags, __ATOMIC_RELAXED) & TCS_PAGE_QUEUED);
-	for (unsigned i = 0; spin; i++) {
+	if (__atomic_load_n(&tcs_rt.page->flags, __ATOMIC_RELAXED) & TCS_PAGE_QUEUED)
+		goto park;
+	for (unsigned i = 0;; i++) {
 		uint32_t s = __atomic_load_n(&b->state, __ATOMIC_ACQUIRE);
 		if (s & TCS_MBOX_ANSWER)
 			return tcs_mailbox_take(b, reply);
@@ -71,6 +74,7 @@ int tcs_mailbox_wait(struct tcs_msg *reply)
 		}
 		tcs_cpu_relax();
 	}
+park:;
 	uint32_t old = __atomic_fetch_or(&b->state, TCS_MBOX_PARK, __ATOMIC_ACQ_REL);
 	return (old & TCS_MBOX_ANSWER) ? tcs_mailbox_take(b, reply) : 0;
 }

@@ -7,10 +7,11 @@
  * loop took (and from just before the timer was armed to just after the
  * last tick: ticked_ns, with the CPU the kernel charged from just before
  * that first read to the arming call's return, head_kernel_ns, and from
- * the last wait's call to that last read, tail_kernel_ns), what the timer said was left right after arming, how long
- * sleep(5) slept when an alarm(1) interrupted it, and how many ticks rounds
- * of work that took longer than asked by the kernel's clock may have lost
- * (pause_ticks: only a pause of the machine makes work take longer). */
+ * the last wait's call to that last read, tail_kernel_ns), what the timer
+ * said was left right after arming, how long sleep(5) slept when an
+ * alarm(1) interrupted it, and how many ticks rounds of work that took
+ * longer than a period by the kernel's clock may have lost (pause_ticks:
+ * for work that fits its period, only a pause of the machine does that). */
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -100,7 +101,7 @@ int main(int argc, char **argv)
 			 * may span several expiries, which coalesce into one
 			 * signal: at most ceil(round / period) - 1 ticks lost. */
 			long long round = compute_ns(CLOCK_PROCESS_CPUTIME_ID, work_ns);
-			if (round > period && round > work_ns + (period - work_ns) / 2)
+			if (round > period)
 				pause_ticks += (round + period - 1) / period - 1;
 			last_wait = kernel_cpu_ns();
 			sigsuspend(&empty);
