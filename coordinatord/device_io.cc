@@ -133,7 +133,9 @@ void Coordinator::make_records(OpenDevice &d, int64_t until)
 	for (; d.next_due < until; d.next_due += dev.cfg.period_ns) {
 		if (d.queue.size() == kMaxQueued) {
 			d.queue.pop_front();
-			d.dropped++;
+			if (d.dropped++ == 0)
+				warn_once(dev.cfg.path + ": more than " + std::to_string(kMaxQueued) +
+					  " records unread: the oldest are dropped");
 		}
 		d.queue.emplace_back(d.next_due, record);
 	}
@@ -147,9 +149,22 @@ void Coordinator::fill_streams(int64_t until)
 				make_records(*d, until);
 }
 
+// A record goes into an fd only once the controller has read all that the
+// fd held: so a reader that stalls keeps at most what it had then, and the
+// records waiting here, kMaxQueued at most, lose their oldest first. (Filled
+// whenever there was room, the fd's buffer would keep hundreds of the oldest
+// records and the drops would cut out the middle.)
+static bool drained(const OpenDevice &d)
+{
+	int unread = 0;
+	return ioctl(d.sock.get(), SIOCOUTQ, &unread) == 0 && unread == 0;
+}
+
 void Coordinator::deliver(Controller &c)
 {
 	for (auto &d : c.devices) {
+		if (d->gone || d->queue.empty() || d->queue.front().first > c.v || !drained(*d))
+			continue;
 		while (!d->gone && !d->queue.empty() && d->queue.front().first <= c.v) {
 			const std::string &rec = d->queue.front().second;
 			ssize_t n = send(d->sock.get(), rec.data(), rec.size(), MSG_DONTWAIT | MSG_NOSIGNAL);
@@ -330,9 +345,7 @@ bool Coordinator::complete_sync(Controller &c)
 		return true;
 	}
 	OpenDevice &d = *c.devices[(size_t)c.sync_handle];
-	int unread = 0;
-	ioctl(d.sock.get(), SIOCOUTQ, &unread);
-	if (unread > 0 || d.gone) {
+	if (!drained(d) || d.gone) {
 		c.wake_pending = true;
 		return true;
 	}

@@ -6,6 +6,7 @@ scenario errors reported as FILE:LINE before anything starts."""
 import csv
 import io
 import os
+import re
 import tempfile
 
 from harness import check, close_to, main, prog, run, scenario_file, tcs
@@ -124,12 +125,55 @@ def test_stream_records_come_at_the_rate():
 def test_nonblocking_reads_and_poll_readiness():
     with scenario_file(SCENARIO) as world:
         r = probe(world, "nonblock", "/dev/tcs/pendulum/state")
-        check("first=1 second=-1 second_errno=EAGAIN third=1" in r.stdout,
-              "O_NONBLOCK: a due record, then EAGAIN, then the next one a ms later", r)
+        v = r.values()
+        check((v["first"], v["more"], v["drain_errno"], v["drain_ns"], v["third"]) == ("1", "0", "EAGAIN", "0", "1"),
+              "O_NONBLOCK: a due record, then EAGAIN at once, then the next one a ms later", r)
         r = probe(world, "poll", "/dev/tcs/pendulum/state")
         check("poll=1 revents_in=1 waited=1000000" in r.stdout, "poll wakes when the next record is due", r)
         check("select=1 isset=1 waited=1000000" in r.stdout, "so does select", r)
         check("epoll_wait=1 fd_ok=1 waited=1000000" in r.stdout, "and epoll_wait", r)
+        # In cpu mode the program's time moves with its CPU between reads.
+        # Rules: a non-blocking read never waits, so a drain to EAGAIN
+        # takes the virtual time of its CPU and no more (up to what a
+        # clock read's CPU estimate may run ahead, as above); a wait for
+        # readiness ends when the next record is due, at most a record's
+        # period (1 ms) after it began, plus its own CPU.
+        ahead = 50000
+        r = probe(world, "nonblock", "/dev/tcs/pendulum/state", mode="cpu")
+        v = r.values()
+        # (Opened after 0, the program finds its first record due at the
+        # next whole ms: its first read may be EAGAIN already.)
+        check(v["drain_errno"] == "EAGAIN" and v["third"] == "1",
+              "cpu mode: reads end in EAGAIN, and a ms later a record is there", r)
+        check(int(v["drain_ns"]) <= int(v["drain_cpu_ns"]) + ahead,
+              "cpu mode: the drain (%s reads) waited for nothing" % v["more"], r)
+        r = probe(world, "poll", "/dev/tcs/pendulum/state", mode="cpu")
+        v = r.values()
+        for call, ready in (("poll", "revents_in"), ("select", "isset"), ("epoll_wait", "fd_ok")):
+            check(v[call] == "1" and v[ready] == "1", "cpu mode: %s reports the stream readable" % call, r)
+        waits = re.findall(r"(\w+)=1 \w+=1 waited=(\d+) \w+_cpu=(\d+)", r.stdout)
+        check(len(waits) == 3, "three waits reported", r)
+        for call, waited, cpu in waits:
+            check(0 < int(waited) <= 1000000 + int(cpu) + ahead,
+                  "cpu mode: %s waited %s ns, for the next record (its CPU %s ns)" % (call, waited, cpu), r)
+
+
+def test_a_stalled_reader_keeps_the_newest_records():
+    """A stream keeps at most 4096 unread records, the oldest dropped
+    (DESIGN.md §4): of a 1 kHz stream, a reader that reads nothing for 6 s
+    then finds the one record its descriptor held when it stopped and the
+    newest 4096, in order, all as another reader of the stream saw them;
+    then it reads on, the next record when it is due. The drop is reported."""
+    with scenario_file(SCENARIO) as world:
+        r = probe(world, "overflow", "/dev/tcs/pendulum/state", "6000")
+        v = r.values()
+        print("  drained %s records: %s of the 6000 the other reader saw" % (v["records"], v["runs"]))
+        check(v["missing"] == "0" and v["drained_errno"] == "EAGAIN", "every record drained is one of the stream's", r)
+        check(v["runs"] == "0-0,1904-5999" and v["records"] == "4097",
+              "the record held, then the newest 4096 (%s)" % v["runs"], r)
+        check(v["next_same"] == "1" and v["next_at"] == "6000000000", "the next record, read when due", r)
+        check(r.stderr.count("more than 4096 records unread: the oldest are dropped") == 1,
+              "the drop is reported once", r)
 
 
 def test_latest_and_binary_records():
@@ -150,19 +194,21 @@ def test_commands_hold_and_malformed_ones_fail():
         for mode in ("lockstep", "cpu"):
             r = probe(world, "write", "/dev/tcs/pendulum/torque", "/dev/tcs/pendulum/latest", mode=mode)
             v = r.values()
-            check(v["ok"] == "4" and v["bad1"] == "-1" and v["bad1_errno"] == "EINVAL", "garbage: EINVAL", r)
+            check(v["several"] == "1" and v["ok"] == "4" and v["bad1"] == "-1" and v["bad1_errno"] == "EINVAL", "garbage: EINVAL", r)
             check(v["bad2"] == "-1" and v["bad2_errno"] == "EINVAL", "a wrong count of numbers: EINVAL", r)
             check("malformed record" in r.stderr, "and it is reported", r)
             check(v["read_open_of_actuator_errno"] == "EACCES", "an actuator is write-only", r)
+            check(v["rdwr_open_of_actuator_errno"] == "EACCES" and v["rdwr_open_of_sensor_errno"] == "EACCES",
+                  "neither opens for reading and writing", r)
             check(v["read_of_actuator"] == "-1" and v["read_of_actuator_errno"] == "EBADF", "so reading one fails", r)
             check(v["write_of_sensor"] == "-1" and v["write_of_sensor_errno"] == "EBADF", "a sensor is read-only", r)
             if mode == "cpu":
                 continue  # its CPU moves when each command starts: the figures below are lockstep's
-            # Started at 1 rad, gravity decelerates it; 2 N*m (the last valid
-            # command) adds 2 / (m L^2 / 3) = 6 rad/s^2: over 10 ms, velocity
+            # Started at 1 rad, gravity decelerates it; 2 N*m (the last of
+            # three written at one instant, the last valid one) adds 2 / (m L^2 / 3) = 6 rad/s^2: over 10 ms, velocity
             # 0.06 - 4.905 * sin(1) * 3 * 0.01 = -0.0638 rad/s.
             close_to(float(v["velocity_after_10ms"]), 0.06 - 14.715 * 0.8415 * 0.01, 0.05,
-                     "the last valid command stays in force", r)
+                     "of several commands at one instant the last, the last valid, stays in force", r)
             # 100 N*m saturates at the 5 N*m limit: 15 rad/s^2 more for 10 ms.
             close_to(float(v["velocity_gain_next_10ms"]), (15 - 14.715 * 0.84) * 0.01, 0.1,
                      "saturation at limit", r)

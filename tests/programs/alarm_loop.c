@@ -9,9 +9,10 @@
  * that first read to the arming call's return, head_kernel_ns, and from
  * the last wait's call to that last read, tail_kernel_ns), what the timer
  * said was left right after arming, how long sleep(5) slept when an
- * alarm(1) interrupted it, and how many ticks rounds of work that took
- * longer than a period by the kernel's clock may have lost (pause_ticks:
- * for work that fits its period, only a pause of the machine does that). */
+ * alarm(1) interrupted it, and how many ticks rounds (from one sigsuspend
+ * to the next) that took longer than a period by the kernel's clock may
+ * have lost (pause_ticks: for work that fits its period, only a pause of
+ * the machine does that). */
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -95,15 +96,20 @@ int main(int argc, char **argv)
 			left = cur.it_value.tv_sec * 1000000000LL + cur.it_value.tv_nsec;
 			posix = t;
 		}
+		last_wait = kernel_cpu_ns();
 		while (ticks < n) {
-			/* A round whose work took longer than asked by the
-			 * kernel's clock (a pause of the machine, charged as CPU)
-			 * may span several expiries, which coalesce into one
-			 * signal: at most ceil(round / period) - 1 ticks lost. */
-			long long round = compute_ns(CLOCK_PROCESS_CPUTIME_ID, work_ns);
+			compute_ns(CLOCK_PROCESS_CPUTIME_ID, work_ns);
+			/* Expiries while the loop is out of sigsuspend stay
+			 * pending and coalesce into one signal. Virtual time out
+			 * of it is CPU tcs charged, no more than the kernel's
+			 * from one sigsuspend to the next (the wait's own
+			 * included): a round longer than a period by that clock
+			 * (a pause of the machine, charged as CPU) may lose at
+			 * most ceil(round / period) - 1 ticks. */
+			long long now = kernel_cpu_ns(), round = now - last_wait;
 			if (round > period)
 				pause_ticks += (round + period - 1) / period - 1;
-			last_wait = kernel_cpu_ns();
+			last_wait = now;
 			sigsuspend(&empty);
 		}
 		ticked = clock_ns(CLOCK_MONOTONIC) - armed_at;

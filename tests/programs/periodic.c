@@ -2,8 +2,9 @@
  * Every 1/HZ it does WORK: ROUNDS of work(), or, written "300us", that much
  * CPU time by the kernel's account (work.h: not the CPU-time clock tcs
  * virtualises, so that a test compares tcs's charge with the kernel's).
- * Rounds that took more CPU than a period by that clock are paused_rounds
- * (for work that fits its period, only a pause of the machine charged as
+ * Rounds (from one deadline check to the next, the wait included) that took
+ * more CPU than a period by that clock are paused_rounds (for work that
+ * fits its period, only a pause of the machine charged as
  * CPU does that), and the deadline misses such CPU can cause, pause_misses:
  * the only misses such a loop may have. Then it sleeps with clock_nanosleep
  * (TIMER_ABSTIME, CLOCK_MONOTONIC) until its next release; a release already
@@ -63,14 +64,17 @@ int main(int argc, char **argv)
 			misses++;
 		if (account) {
 			/* The loop is late at a round's check only if the CPU of
-			 * the rounds since it was last on time, from each wait's
-			 * return to the next wait, exceeds their periods; virtual
+			 * the rounds since it was last on time, each from one
+			 * check to the next (its wait included: tcs charges the
+			 * CPU of the hook before and after the wait, though not
+			 * that of a spin in it), exceeds their periods; virtual
 			 * time charges no more CPU than the kernel did. So misses
 			 * are at most the rounds after which that debt, by the
 			 * kernel's clock, is positive: for work that fits its
 			 * period, rounds a pause of the machine made longer
 			 * (charged as CPU, natively too). */
-			long long round = kernel_cpu_ns() - round_start;
+			long long now = kernel_cpu_ns(), round = now - round_start;
+			round_start = now;
 			debt = debt + round - period > 0 ? debt + round - period : 0;
 			if (debt > 0) {
 				pause_misses++;
@@ -79,8 +83,6 @@ int main(int argc, char **argv)
 		}
 		struct timespec ts = { next / 1000000000LL, next % 1000000000LL };
 		int r = clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL);
-		if (account)
-			round_start = kernel_cpu_ns();
 		if (r != 0)
 			failures++;
 		int core = sched_getcpu();
