@@ -169,15 +169,15 @@ def test_a_client_gone_takes_its_controller():
 
 def test_a_controller_gone_before_the_start_is_waited_for_again():
     with Daemon(TWO_CONTROLLERS) as d:
-        p = d.connect(PERIODIC, "--seconds", 1)
+        p = d.connect(prog("periodic"), 1000, 1, 0)
         d.wait_log(r"1 of 2 expected")
         os.killpg(p.pid, signal.SIGKILL)
         p.communicate()
-        d.wait_log(r"the world waits for periodic_controller, periodic_controller again")
-        runs = [d.connect(PERIODIC, "--seconds", 1) for _ in range(2)]
+        d.wait_log(r"the world waits for periodic, periodic again")
+        runs = [d.connect(prog("periodic"), 1000, 1, 0) for _ in range(2)]
         for q in runs:
             r = finish(q, 60, q.t0)
-            check(r.returncode == 0 and cycles_line(r)[0] == 1000, "the two that came next run the world", r)
+            check(r.returncode == 0 and r.values()["loops"] == "1000", "the two that came next run the world", r)
         check(d.log().count("2 of 2 expected") == 1, "the world started with both\n" + d.log())
 
 
