@@ -5,6 +5,7 @@ them and ends with the line 'N passed, N failed'."""
 
 import contextlib
 import ctypes
+import itertools
 import os
 import re
 import signal
@@ -66,7 +67,11 @@ def demote(sid):
 
 
 def assert_nothing_left(sid, grace=2.0):
-    """Every process of the session must be gone (zombies of ours aside)."""
+    """Every process of the session must be gone (zombies of ours aside).
+    tcs-run's end kills what is left of its run at once (and the harness's
+    processes die with it: PR_SET_PDEATHSIG), so nothing should remain; the
+    grace is only the time a loaded machine may take to let them exit, and
+    a process still there after it (stopped ones above all) is left behind."""
     deadline = time.monotonic() + grace
     while True:
         left = [p for p in session_processes(sid) if p[1] != "Z"]
@@ -160,6 +165,17 @@ def scenario_file(text):
 def calibrate():
     """Rounds of work() per millisecond of CPU, measured natively."""
     return int(native([prog("calibrate")]).stdout.strip())
+
+
+def periodic_reports(stdout):
+    """The reports of several tests/programs/periodic sharing one stdout
+    (each printed in one write at its end, starting with asked_hz=), as
+    dicts in the order they ended."""
+    reports = []
+    for block in stdout.split("asked_hz=")[1:]:
+        lines = itertools.takewhile(lambda line: "=" in line and " " not in line, ("asked_hz=" + block).splitlines())
+        reports.append(dict(line.split("=", 1) for line in lines))
+    return reports
 
 
 def charged_as_the_kernel_says(v, scale, result=None):

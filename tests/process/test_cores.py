@@ -7,7 +7,7 @@ import io
 import os
 import tempfile
 
-from harness import PYTHON, TCS_RUN, check, main, prog, run, scenario_file, skip, tcs
+from harness import PYTHON, TCS_RUN, check, main, periodic_reports, prog, run, scenario_file, skip, tcs
 
 TCS_TRACE = os.environ.get("TCS_TRACE", "tcs-trace")
 
@@ -29,9 +29,7 @@ type = "pendulum"
 def loops(r):
     """Each controller's key=value lines, in controller order (each prints
     its lines in one write at its end, so runs may interleave them)."""
-    out = [dict(kv.split("=", 1) for kv in block.split()) for block in
-           ("loops=" + b for b in r.stdout.split("loops=")[1:])]
-    return sorted(out, key=lambda v: int(v["loop_cpu_ns"]))
+    return sorted(periodic_reports(r.stdout), key=lambda v: int(v["loop_cpu_ns"]))
 
 
 def trace_content(path):
@@ -143,7 +141,11 @@ def test_controllers_asleep_among_queued_ones_step_aside():
     for i in range(2):
         check(v.get("got%d" % i) == "hi%d" % i, "reader %d got the writer's line" % i, r)
         after = float(v.get("after%d" % i, "-1"))
-        check(0.2 <= after <= 0.202, "reader %d: at 0.2 s of its time, give or take a step: %.6f" % (i, after), r)
+        # Two calls asleep outside the hooks, open(2) until the writer opens
+        # and read(2) until it writes, each learnt of at most a step (1 ms)
+        # late; never early.
+        check(0.2 <= after <= 0.2 + 2 * 0.001, "reader %d: at 0.2 s of its time, two steps late at most: %.6f" %
+              (i, after), r)
     check(len(loops(r)) == 8 and all(x["loops"] == "300" and x["misses"] == "0" for x in loops(r)),
           "the loops beside them kept their 1 kHz", r)
     print("  two readers, asleep in open(2) among 8 loops, got their lines after %s and %s s" %
@@ -173,7 +175,10 @@ def test_a_controller_on_a_core_of_its_own_hands_off_through_shared_memory():
         else:
             check(shared["misses"] == channel["misses"] == "0", "cpu: no misses either way")
         check(int(channel["switches"]) >= 3000, "%s: through the channel every wait leaves the core" % mode)
-        check(int(shared["switches"]) < 3000 / 10, "%s: through the mailbox fewer than one wait in ten does: %s" %
+        # A wait leaves the core only when its answer takes longer than the
+        # spin (TCS_MBOX_SPIN_NS, 30 us: above a ping-pong on the machines
+        # seen, 3.5-20 us), so most do not.
+        check(int(shared["switches"]) < 3000 / 2, "%s: through the mailbox fewer than half the waits do: %s" %
               (mode, shared["switches"]))
 
 
@@ -185,8 +190,9 @@ def test_cpu_mode_charges_each_controller_its_own_cpu_in_parallel():
     check(r.returncode == 0, "the run succeeds", r)
     for i, v in enumerate(loops(r)):
         per_loop = int(v["loop_cpu_ns"]) / int(v["loops"])
-        check(int(v["loops"]) == 300 and int(v["misses"]) <= 3, "controller %d: 300 loops at 1 kHz, %s misses" %
-              (i, v["misses"]), r)
+        check(int(v["loops"]) == 300 and int(v["misses"]) <= int(v["pause_misses"]),
+              "controller %d: 300 loops at 1 kHz, %s misses, those the kernel's CPU explains: %s" %
+              (i, v["misses"], v["pause_misses"]), r)
         check((100 + 50 * i) * 1000 <= per_loop, "controller %d computed its %d us a cycle: %.1f us" %
               (i, 100 + 50 * i, per_loop / 1e3), r)
 

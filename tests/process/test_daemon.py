@@ -36,7 +36,9 @@ def test_two_controllers_share_one_world_and_keep_their_rates():
     with Daemon(TWO_CONTROLLERS) as d:
         fast = d.connect(prog("periodic"), 1000, 2, "20us")
         d.wait_log(r"attached .*periodic .*1 of 2 expected")
-        # The world waits for the second: nothing may run meanwhile.
+        # The world waits for the second: nothing may run meanwhile (a world
+        # that ran would say so at once; that both begin at its time 0 is
+        # checked below).
         time.sleep(0.3)
         check("the world runs" not in d.log(), "the world is held until both have attached", None)
         slow = d.connect(prog("periodic"), 250, 3, "40us")
@@ -97,15 +99,22 @@ def test_the_pendulum_experiment_comes_out_as_in_process():
 def test_a_controller_joins_a_running_world_at_its_time():
     # No [[controller]]: the world runs at once, at real-time speed while
     # nobody is attached.
+    t0 = time.monotonic()
     with Daemon('[sim]\nmodel = "pendulum"\n', "--mode", "lockstep") as d:
         time.sleep(0.5)
         p = d.connect(PERIODIC, "--rate", 100, "--seconds", 1)
+        d.wait_log(r"attached .*periodic_controller")
+        attached = time.monotonic() - t0
         r = finish(p, 60, p.t0)
         check(r.returncode == 0 and cycles_line(r)[0] == 100, "its loop runs", r)
     ctl = trace_summary(d.trace)["controllers"]
     check(len(ctl) == 1, "one controller: %s" % ctl)
-    # It began where the world was (> 0.3 s of real-time pace), not at 0.
-    check(ctl[0]["start_ns"] >= 300e6, "it joins at the world's time: %s" % ctl)
+    # It began where the world was, not at 0: after 0.5 s of real time at
+    # real-time pace, never ahead of real time. (An idle world behind by
+    # more than 50 ms, the machine paused, goes on from then: 0.2 s lost
+    # would be the machine stopped for 40 % of the time.)
+    check(0.3e9 <= ctl[0]["start_ns"] <= attached * 1e9,
+          "it joins at the world's time: %s, attached %.3f s after the daemon's start" % (ctl, attached))
 
 
 def test_exit_statuses_environment_and_folder_come_back():
@@ -137,14 +146,19 @@ def test_ctrl_c_at_tcs_run_reaches_the_controller():
         r = finish(p, 30, p.t0)
         # periodic_controller ends its loop on SIGINT and reports it.
         check(r.returncode == 0, "the controller's own status after its SIGINT handler", r)
+        # It ran its loop until then: n cycles at 1 kHz, the last period cut
+        # by Ctrl-C, are no faster than n / (n - 1) ms (0.05: the rate is
+        # printed to 0.1 Hz); slower only by lateness.
         n, hz, _ = cycles_line(r)
-        check(n > 0 and abs(hz - 1000) < 1, "it ran until Ctrl-C", r)
+        check(n > 1 and hz <= 1000.0 * n / (n - 1) + 0.05, "it ran until Ctrl-C", r)
 
         # One that ignores SIGINT: a second Ctrl-C kills it.
         q = d.connect("/bin/sh", "-c", "trap '' INT; while :; do sleep 0.01; done")
         d.wait_log(r"attached /bin/sh")
         time.sleep(0.3)
         q.send_signal(signal.SIGINT)
+        # (A forwarded signal is delivered at once: 0.3 s is thirty of the
+        # shell's rounds, in which one that killed it would have.)
         time.sleep(0.3)
         check(q.poll() is None, "SIGINT ignored: it runs on", None)
         q.send_signal(signal.SIGINT)
@@ -332,11 +346,11 @@ def test_sigterm_ends_the_daemon_cleanly():
         p = d.connect(PERIODIC, "--rate", 1000, "--seconds", 1000)
         d.wait_log(r"attached .*periodic_controller")
         time.sleep(0.5)
-        t0 = time.monotonic()
         check(d.stop() == 0, "exit 0 after SIGTERM\n" + d.log())
-        check(time.monotonic() - t0 < 5, "it ends within the 2 s grace (and a little)")
         d.wait_notice("STOPPING=1", 1)
         r = finish(p, 10, p.t0)
+        # Its status is its own: it ended at SIGTERM, not at the SIGKILL
+        # the 2 s grace would have sent.
         check(r.returncode == 0 and cycles_line(r)[0] > 0, "the controller got SIGTERM and reported", r)
         check(not os.path.exists(d.socket), "the socket is removed")
     counts = mcap_counts(d.trace)
@@ -386,7 +400,8 @@ def test_ros2_tools_see_the_virtual_clock_on_dds():
         pos, vel = (float(x) for x in values.split(",")[:2])
         check(name == "pendulum.hinge", "the joint's name", joints)
         traced_pos = steps[t]["pendulum.hinge.position"]
-        check(abs(pos - traced_pos) <= 1e-9 * max(1, abs(traced_pos)), "joint state at %d as in the trace" % t, joints)
+        # Both print the double with 17 digits, which reads back exactly.
+        check(pos == traced_pos, "joint state at %d as in the trace: %r, %r" % (t, pos, traced_pos), joints)
 
 
 if __name__ == "__main__":

@@ -11,7 +11,8 @@
  * past counts as a deadline miss (the loop then runs late, as on hardware).
  * Stops after SECONDS of its own monotonic clock and prints what it saw,
  * with its CPU-time clock at the end (cpu_ns: all it computed, start
- * included), the CPU its loop used (loop_cpu_ns) and the cores it was seen
+ * included), the CPU its loop used (loop_cpu_ns; and by the kernel's clock,
+ * around that, loop_kernel_cpu_ns) and the cores it was seen
  * on after each wait (cores_seen, a bit per core), and how often it left its
  * core in the loop (switches).
  * Any sleep that fails (EINTR included) is counted: there should be none. */
@@ -44,7 +45,7 @@ int main(int argc, char **argv)
 	char *unit;
 	unsigned long long rounds = strtoull(argv[3], &unit, 10);
 	long long cpu_work = strcmp(unit, "us") == 0 ? (long long)rounds * 1000 : -1;
-	long long loop_cpu = clock_ns(CLOCK_PROCESS_CPUTIME_ID);
+	long long loop_kernel_cpu = kernel_cpu_ns(), loop_cpu = clock_ns(CLOCK_PROCESS_CPUTIME_ID);
 	long switches = context_switches();
 	long long start = clock_ns(CLOCK_MONOTONIC), next = start, loops = 0, misses = 0, failures = 0, paused_rounds = 0,
 		  pause_misses = 0;
@@ -91,10 +92,11 @@ int main(int argc, char **argv)
 	}
 	double elapsed = (clock_ns(CLOCK_MONOTONIC) - start) / 1e9;
 	loop_cpu = clock_ns(CLOCK_PROCESS_CPUTIME_ID) - loop_cpu;
+	loop_kernel_cpu = kernel_cpu_ns() - loop_kernel_cpu;
 	switches = context_switches() - switches;
-	printf("loops=%lld\nelapsed_s=%.9f\nrate_hz=%.3f\nmisses=%lld\nsleep_failures=%lld\nloop_cpu_ns=%lld\ncpu_ns=%lld\n"
-	       "cores_seen=%llu\nswitches=%ld\npaused_rounds=%lld\npause_misses=%lld\n",
-	       loops, elapsed, loops / elapsed, misses, failures, loop_cpu, clock_ns(CLOCK_PROCESS_CPUTIME_ID), cores_seen,
+	printf("asked_hz=%s\nloops=%lld\nelapsed_s=%.9f\nrate_hz=%.3f\nmisses=%lld\nsleep_failures=%lld\nloop_cpu_ns=%lld\ncpu_ns=%lld\n"
+	       "loop_kernel_cpu_ns=%lld\ncores_seen=%llu\nswitches=%ld\npaused_rounds=%lld\npause_misses=%lld\n",
+	       argv[1], loops, elapsed, loops / elapsed, misses, failures, loop_cpu, clock_ns(CLOCK_PROCESS_CPUTIME_ID), loop_kernel_cpu, cores_seen,
 	       switches, paused_rounds, pause_misses);
 	return 0;
 }

@@ -107,6 +107,8 @@ static void test_reader_waits_for_writer(void **state)
 
 	pthread_t t;
 	assert_int_equal(pthread_create(&t, NULL, odd_reader, NULL), 0);
+	/* A reader that took the half-written slice would be done within
+	 * microseconds: 50 ms is thousands of its tries. */
 	sleep_ms(50);
 	assert_int_equal(__atomic_load_n(&odd_reader_done, __ATOMIC_ACQUIRE), 0);
 
