@@ -1,4 +1,4 @@
-/* periodic HZ SECONDS WORK: a periodic control loop as found on robots.
+/* periodic HZ SECONDS WORK [SCALE]: a periodic control loop as found on robots.
  * Every 1/HZ it does WORK: ROUNDS of work(), or, written "300us", that much
  * CPU time by the kernel's account (work.h: not the CPU-time clock tcs
  * virtualises, so that a test compares tcs's charge with the kernel's).
@@ -6,7 +6,8 @@
  * more CPU than a period by that clock are paused_rounds (for work that
  * fits its period, only a pause of the machine charged as
  * CPU does that), and the deadline misses such CPU can cause, pause_misses:
- * the only misses such a loop may have. Then it sleeps with clock_nanosleep
+ * the only misses such a loop may have (its CPU times SCALE, the run's
+ * --cpu-scale, when given). Then it sleeps with clock_nanosleep
  * (TIMER_ABSTIME, CLOCK_MONOTONIC) until its next release; a release already
  * past counts as a deadline miss (the loop then runs late, as on hardware).
  * Stops after SECONDS of its own monotonic clock and prints what it saw,
@@ -36,10 +37,12 @@ static long context_switches(void)
 
 int main(int argc, char **argv)
 {
-	if (argc != 4) {
-		fprintf(stderr, "usage: periodic HZ SECONDS ROUNDS|MICROSECONDSus\n");
+	if (argc != 4 && argc != 5) {
+		fprintf(stderr, "usage: periodic HZ SECONDS ROUNDS|MICROSECONDSus [CPU_SCALE]\n");
 		return 2;
 	}
+	/* The run's --cpu-scale (or cpu_scale): virtual seconds per CPU second. */
+	double scale = argc == 5 ? atof(argv[4]) : 1.0;
 	long long period = (long long)(1e9 / atof(argv[1]));
 	long long duration = (long long)(atof(argv[2]) * 1e9);
 	char *unit;
@@ -74,7 +77,7 @@ int main(int argc, char **argv)
 			 * kernel's clock, is positive: for work that fits its
 			 * period, rounds a pause of the machine made longer
 			 * (charged as CPU, natively too). */
-			long long now = kernel_cpu_ns(), round = now - round_start;
+			long long now = kernel_cpu_ns(), round = (long long)((now - round_start) * scale);
 			round_start = now;
 			debt = debt + round - period > 0 ? debt + round - period : 0;
 			if (debt > 0) {
