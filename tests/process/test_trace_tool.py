@@ -71,14 +71,14 @@ def test_summary_of_a_loop_that_keeps_its_deadlines():
            c["period"]["p50_ns"], c["period"]["p99_ns"], c["period"]["max_ns"]))
     check(not s["truncated"] and c["periodic"], "a complete trace of a periodic loop")
     check(c["cycles"] == int(own["loops"]), "one cycle per loop the program counted (%s)" % own["loops"])
-    check(c["deadline_misses"] == int(own["misses"]), "misses as the program counted them (%s)" % own["misses"])
+    misses_as_counted(c, own)
     # 300 us of work fits a 1 ms period: the only misses are those a pause
     # of the machine inside the work causes (charged as CPU by the kernel,
     # natively too), which the program counts from the kernel's own clock,
     # not from tcs's (pause_misses: periodic.c).
-    check(c["deadline_misses"] <= int(own["pause_misses"]),
-          "no deadline missed but for pauses of the machine (%d misses; %s rounds paused, explaining %s)" %
-          (c["deadline_misses"], own["paused_rounds"], own["pause_misses"]))
+    check(int(own["misses"]) <= int(own["pause_misses"]),
+          "no deadline missed but for pauses of the machine (%s misses; %s rounds paused, explaining %s)" %
+          (own["misses"], own["paused_rounds"], own["pause_misses"]))
     check(c["asked_period_ns"] == 1000000, "the period it asked for: 1 ms")
     waits = wakes_on_schedule(path, c, 1000000)
     # Kept, the first and the last wait end at their deadlines, (cycles - 1)
@@ -126,6 +126,17 @@ def charged_as_the_program_saw(path, c, own):
     check(total - after <= seen <= total,
           "charged CPU %.3f ms (%.3f ms of it after the last wait), %.3f ms when the program last read its CPU "
           "clock" % (total / 1e6, after / 1e6, seen / 1e6))
+
+
+def misses_as_counted(c, own):
+    """tcs counts a miss where a wait is asked for after its deadline, the
+    program where it checks, just before asking: each miss the program
+    counts is tcs's too, and tcs's others are waits whose call's CPU, by
+    the kernel's clock, may have crossed the deadline (periodic.c:
+    crossed_waits)."""
+    m, mine, crossed = c["deadline_misses"], int(own["misses"]), int(own["crossed_waits"])
+    check(mine <= m <= mine + crossed, "%d misses in the trace: the program's %d, and up to %d crossed in the call" %
+          (m, mine, crossed))
 
 
 def loop_waits(path, c):
@@ -256,9 +267,9 @@ cpu_scale = 2.0
     check(b["cpu_scale"] == 2.0 and a["cpu_scale"] == 1.0, "each controller's CPU scale")
     check(a["preemptions"] + b["preemptions"] > 0, "controllers were preempted")
     for c, own, period in ((a, fast, 1000000), (b, slow, 4000000)):
-        check(c["asked_period_ns"] == period and c["cycles"] == int(own["loops"]) and
-              c["deadline_misses"] == int(own["misses"]),
-              "cycles and misses as the program counted them: %s" % own)
+        check(c["asked_period_ns"] == period and c["cycles"] == int(own["loops"]),
+              "cycles as the program counted them: %s" % own)
+        misses_as_counted(c, own)
         waits = wakes_on_schedule(path, c, period)
         # Preempted or not, kept waits end at their deadlines: kept, the
         # first and the last wait make the rate exactly the one asked for.
@@ -267,14 +278,14 @@ cpu_scale = 2.0
     # Broken preemption would miss nearly every cycle. The 1 kHz one's
     # 400 us of work fits its period: it misses only where the kernel's CPU
     # explains it (periodic.c: pause_misses).
-    check(a["deadline_misses"] <= int(fast["pause_misses"]),
-          "the 1 kHz one misses no deadline but for pauses (%d misses, %s explained)" %
-          (a["deadline_misses"], fast["pause_misses"]))
+    check(int(fast["misses"]) <= int(fast["pause_misses"]),
+          "the 1 kHz one misses no deadline but for pauses (%s misses, %s explained)" %
+          (fast["misses"], fast["pause_misses"]))
     # The 250 Hz one's 1.6 ms of work is 3.2 ms of its 4 ms at scale 2,
     # which it is told: its pause_misses count its rounds at that scale.
-    check(b["deadline_misses"] <= int(slow["pause_misses"]),
-          "the 250 Hz one misses no deadline but for pauses (%d misses, %s explained)" %
-          (b["deadline_misses"], slow["pause_misses"]))
+    check(int(slow["misses"]) <= int(slow["pause_misses"]),
+          "the 250 Hz one misses no deadline but for pauses (%s misses, %s explained)" %
+          (slow["misses"], slow["pause_misses"]))
     check(int(slow["cpu_ns"]) >= b["cycles"] * 1.6e6, "1.6 ms of virtual CPU per cycle, at scale 2")
     charged_as_the_program_saw(path, b, slow)
 

@@ -9,7 +9,9 @@
  * the only misses such a loop may have (its CPU times SCALE, the run's
  * --cpu-scale, when given). Then it sleeps with clock_nanosleep
  * (TIMER_ABSTIME, CLOCK_MONOTONIC) until its next release; a release already
- * past counts as a deadline miss (the loop then runs late, as on hardware).
+ * past counts as a deadline miss (the loop then runs late, as on hardware);
+ * crossed_waits are the waits on time at the check that the CPU of their
+ * call (by the kernel's clock) may have made late by the request.
  * Stops after SECONDS of its own monotonic clock and prints what it saw,
  * with its CPU-time clock at the end (cpu_ns: all it computed, start
  * included), the CPU its loop used (loop_cpu_ns; and by the kernel's clock,
@@ -56,7 +58,7 @@ int main(int argc, char **argv)
 	/* (A loop with no work makes no system call of its own, which
 	 * test_lockstep counts.) */
 	const int account = cpu_work > 0 || rounds > 0;
-	long long round_start = account ? kernel_cpu_ns() : 0, debt = 0;
+	long long round_start = account ? kernel_cpu_ns() : 0, debt = 0, crossed_waits = 0;
 	while (clock_ns(CLOCK_MONOTONIC) - start < duration) {
 		if (cpu_work >= 0)
 			compute_ns(CLOCK_PROCESS_CPUTIME_ID, cpu_work);
@@ -64,8 +66,9 @@ int main(int argc, char **argv)
 			work(rounds);
 		loops++;
 		next += period;
-		if (clock_ns(CLOCK_MONOTONIC) > next)
-			misses++;
+		long long checked = clock_ns(CLOCK_MONOTONIC);
+		int late = checked > next;
+		misses += late;
 		if (account) {
 			/* The loop is late at a round's check only if the CPU of
 			 * the rounds since it was last on time, each from one
@@ -89,6 +92,12 @@ int main(int argc, char **argv)
 		int r = clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL);
 		if (r != 0)
 			failures++;
+		/* The wait itself may be asked for after its deadline though the
+		 * check before it was on time (tcs counts a miss where the
+		 * request is late): only if the CPU of the call, by the
+		 * kernel's clock, can span what was left of the period. */
+		if (account && !late && checked + (long long)((kernel_cpu_ns() - round_start) * scale) > next)
+			crossed_waits++;
 		int core = sched_getcpu();
 		if (core >= 0 && core < 64)
 			cores_seen |= 1ull << core;
@@ -98,8 +107,8 @@ int main(int argc, char **argv)
 	loop_kernel_cpu = kernel_cpu_ns() - loop_kernel_cpu;
 	switches = context_switches() - switches;
 	printf("asked_hz=%s\nloops=%lld\nelapsed_s=%.9f\nrate_hz=%.3f\nmisses=%lld\nsleep_failures=%lld\nloop_cpu_ns=%lld\ncpu_ns=%lld\n"
-	       "loop_kernel_cpu_ns=%lld\ncores_seen=%llu\nswitches=%ld\npaused_rounds=%lld\npause_misses=%lld\n",
+	       "loop_kernel_cpu_ns=%lld\ncores_seen=%llu\nswitches=%ld\npaused_rounds=%lld\npause_misses=%lld\ncrossed_waits=%lld\n",
 	       argv[1], loops, elapsed, loops / elapsed, misses, failures, loop_cpu, clock_ns(CLOCK_PROCESS_CPUTIME_ID), loop_kernel_cpu, cores_seen,
-	       switches, paused_rounds, pause_misses);
+	       switches, paused_rounds, pause_misses, crossed_waits);
 	return 0;
 }
