@@ -147,9 +147,15 @@ def test_a_lost_agent_stops_the_world():
             last = host.log().strip().splitlines()[-1]
             check(last.startswith("coordinatord: agent far is gone (no sign of life for 1000 ms): the world stops"),
                   "a clear error naming the agent: %r" % last)
-            # The lease is 1 s; DDS looks at it every so often, the VM is noisy.
-            check(took < 3, "seen within the lease (and a little): %.2f s" % took)
-            print("  the loss was seen %.2f s after the agent died" % took)
+            # The lease is 1 s from the agent's last message (sent before
+            # the SIGKILL); Cyclone's gc thread sleeps until a lease's end
+            # (no polling between), then the host's listener, event loop
+            # and log line follow, and this test looks at the log every
+            # 20 ms. Allowed for the host's threads to get a core on this
+            # shared VM: a quarter of the lease (the longest pause seen in
+            # these tests is 5.7 ms).
+            print("  the loss was seen %.3f s after the agent died" % took)
+            check(took <= 1.0 + 0.02 + 0.25, "seen at the lease's end: %.3f s" % took)
     check(client.returncode == 2 and "went away" in client.stderr, "its tcs-run is told", client)
     counts = mcap_counts(host.trace)
     check(not counts["truncated"], "the host's trace is closed whole: %s" % counts)

@@ -53,7 +53,8 @@ int main(void)
 			usleep(100);
 	}
 	/* The CPU, by every interface, in this order (each read later than
-	 * the one before), and last as the kernel charged it. */
+	 * the one before), and as the kernel charged it before and after. */
+	long long kernel_before = kernel_cpu_ns();
 	struct tms t;
 	times(&t);
 	struct rusage ru;
@@ -64,10 +65,10 @@ int main(void)
 	long long kernel = kernel_cpu_ns();
 	printf("backwards=%lld\n", backwards);
 	printf("times_ticks=%lld ticks_per_s=%ld rusage_ns=%lld clock_us=%ld cpu_clock_ns=%lld thread_clock_ns=%lld "
-	       "kernel_cpu_ns=%lld\n",
+	       "kernel_cpu_ns=%lld kernel_cpu_before_ns=%lld\n",
 	       (long long)(t.tms_utime + t.tms_stime), sysconf(_SC_CLK_TCK),
 	       ru.ru_utime.tv_sec * 1000000000LL + ru.ru_utime.tv_usec * 1000LL + ru.ru_stime.tv_sec * 1000000000LL +
 		       ru.ru_stime.tv_usec * 1000LL,
-	       clock_us, cpu_clock, thread_clock, kernel);
+	       clock_us, cpu_clock, thread_clock, kernel, kernel_before);
 	return 0;
 }
