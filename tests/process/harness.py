@@ -178,6 +178,25 @@ def periodic_reports(stdout):
     return reports
 
 
+def periodic_on_time(v, hz, seconds, what, result=None):
+    """tests/programs/periodic HZ SECONDS with work that fits its period:
+    misses only where the kernel's CPU explains them (pause_misses), and
+    unless it explains lateness (pause_misses, crossed_waits), exactly
+    HZ * SECONDS loops ending at the last one's release plus the wait's
+    return and periodic's CPU-clock and clock reads after it (two system
+    calls, under 25 us each) and what the last read runs ahead (20 us)."""
+    loops, elapsed = int(v.get("loops", 0)), float(v.get("elapsed_s", 0))
+    misses, pauses = int(v.get("misses", 1 << 30)), int(v.get("pause_misses", -1))
+    check(misses <= pauses, "%s: misses only where the kernel's CPU explains them (%d, %d)" % (what, misses, pauses),
+          result)
+    if pauses == 0 and v.get("crossed_waits") == "0":
+        check(loops == round(hz * seconds) and seconds <= elapsed <= seconds + 2 * 25e-6 + 20e-6,
+              "%s: %d loops in %.9f s" % (what, loops, elapsed), result)
+    else:
+        check(loops <= round(hz * seconds) and seconds <= elapsed, "%s: %d loops in %.9f s" % (what, loops, elapsed),
+              result)
+
+
 def charged_as_the_kernel_says(v, scale, result=None):
     """burn's figures (tests/programs/burn.c) against the contract: virtual
     time is the CPU the kernel charged the program, times the scale, less
