@@ -1,10 +1,20 @@
 /* threads MODE: multi-threaded controllers, each mode one scenario whose
  * figures (key=value lines, times in virtual ns from CLOCK_MONOTONIC) a
- * test checks against what virtual time must give.
+ * test checks against what virtual time must give; with each timed wait,
+ * the process's CPU clock (under tcs the CPU charged to it) over the same
+ * span, read just before it began and just after it ended (*cpu_ns).
  *   loops        two threads, 1 kHz and 300 Hz periodic loops (200 us and
- *                1 ms of their own CPU per cycle) for 1 s: cycles, misses
+ *                1 ms of their own CPU per cycle) for 1 s: cycles, misses,
+ *                and the misses the process's CPU explains (*_cpu_misses:
+ *                see run_loop); when the 300 Hz loop began its last wait
+ *                (slow_last_from_ns), and the CPU from there to the end
+ *                (tail_cpu_ns)
  *   compute      main sleeps 10 ms while a worker computes 20 ms of CPU:
- *                how much the worker had computed when main woke
+ *                how much the worker had computed when main woke, with
+ *                main's own CPU till then (main_cpu_at_wake_ns), the
+ *                worker's before it began counting (worker_start_cpu_ns)
+ *                and the longest the worker went between two counts
+ *                (worker_chunk_max_ns), by the kernel's thread clocks
  *                (compute slow-main: main at nice 19, so the worker
  *                finishes before main's turn)
  *   cond         condition variables: signalled at 1 ms (timedwait, both
@@ -33,11 +43,21 @@
 
 #define MS 1000000LL
 
-static long long t0;
+static long long t0, t0_cpu, t0_kernel_cpu, t0_main_thread_cpu;
 static long long now(void)
 {
 	return clock_ns(CLOCK_MONOTONIC) - t0;
 }
+
+/* The process's CPU as its CPU clock says (under tcs: what it was charged). */
+static long long cpu(void)
+{
+	return clock_ns(CLOCK_PROCESS_CPUTIME_ID);
+}
+
+/* How far an estimated clock read may run ahead of the kernel's CPU
+ * (libtcs_preload/cpu_estimate.c: its anchor is read again after 20 us). */
+#define AHEAD_NS 20000LL
 
 static void burn_cpu(long long ns) /* of this thread's own CPU, by the kernel's clock */
 {
@@ -61,19 +81,37 @@ static struct timespec abs_on(clockid_t clock, long long from_now)
 
 /* ---- loops ---- */
 struct loop {
-	long long period, work, cycles, misses;
+	long long period, work, cycles, misses, cpu_misses, last_from, last_from_cpu;
 };
 
 static void *run_loop(void *arg)
 {
 	struct loop *l = arg;
-	long long next = 0;
+	long long next = 0, round_start = t0_kernel_cpu, debt = 0;
 	while (next < 1000 * MS) {
 		burn_cpu(l->work);
 		l->cycles++;
 		next += l->period;
-		if (now() > next)
+		long long before = kernel_cpu_ns(), at = now(), k = kernel_cpu_ns();
+		if (at > next)
 			l->misses++;
+		/* Virtual time passes by the process's CPU, both threads' (or
+		 * jumps while all wait, never past this loop's release). So
+		 * this loop is late at a check only if the process's CPU over
+		 * the rounds since it was last on time, each from one check to
+		 * the next (its wait included), by the kernel's clock, exceeds
+		 * their periods: cpu_misses counts the checks after which that
+		 * debt is positive. On one core the other loop's bursts make
+		 * some; for work that fits, only a pause of the machine
+		 * (charged as CPU) makes more. A round's CPU is read from just
+		 * before one check's look at the clock to just after the
+		 * next's (all of the time between them in it). */
+		long long round = k - round_start;
+		round_start = before;
+		debt = debt + round + AHEAD_NS - l->period > 0 ? debt + round + AHEAD_NS - l->period : 0;
+		l->cpu_misses += debt > 0;
+		l->last_from_cpu = cpu();
+		l->last_from = now();
 		sleep_until(next);
 	}
 	return NULL;
@@ -81,27 +119,35 @@ static void *run_loop(void *arg)
 
 static int mode_loops(void)
 {
-	struct loop fast = { 1 * MS, 200000, 0, 0 }, slow = { 3333333, 1 * MS, 0, 0 };
+	struct loop fast = { 1 * MS, 200000, 0, 0, 0, 0, 0 }, slow = { 3333333, 1 * MS, 0, 0, 0, 0, 0 };
 	pthread_t a, b;
 	pthread_create(&a, NULL, run_loop, &fast);
 	pthread_create(&b, NULL, run_loop, &slow);
 	pthread_join(a, NULL);
 	pthread_join(b, NULL);
+	long long elapsed = now(), end_cpu = cpu();
 	printf("fast_cycles=%lld fast_misses=%lld slow_cycles=%lld slow_misses=%lld elapsed_ns=%lld\n", fast.cycles,
-	       fast.misses, slow.cycles, slow.misses, now());
+	       fast.misses, slow.cycles, slow.misses, elapsed);
+	printf("fast_cpu_misses=%lld slow_cpu_misses=%lld slow_last_from_ns=%lld tail_cpu_ns=%lld\n", fast.cpu_misses,
+	       slow.cpu_misses, slow.last_from, end_cpu - slow.last_from_cpu);
 	return 0;
 }
 
 /* ---- compute ---- */
 static volatile long long worker_done_ns; /* the worker's CPU so far */
+static volatile long long worker_start_cpu, worker_chunk_max;
 
 static void *compute(void *arg)
 {
 	(void)arg;
-	long long c0 = kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID);
+	long long c0 = kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID), last = 0;
+	worker_start_cpu = c0; /* its CPU from its creation to here */
 	while (worker_done_ns < 20 * MS) {
 		work(1000);
-		worker_done_ns = kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID) - c0;
+		long long done = kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID) - c0;
+		if (done - last > worker_chunk_max)
+			worker_chunk_max = done - last;
+		worker_done_ns = last = done;
 	}
 	return NULL;
 }
@@ -118,9 +164,12 @@ static int mode_compute(int slow_main)
 	pthread_create(&w, NULL, compute, NULL);
 	struct timespec ten = { 0, 10 * MS };
 	nanosleep(&ten, NULL);
-	long long woke = now(), seen = worker_done_ns;
+	long long woke = now();
+	long long main_cpu = kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID) - t0_main_thread_cpu, seen = worker_done_ns;
 	pthread_join(w, NULL);
 	printf("main_woke_ns=%lld worker_cpu_at_wake_ns=%lld end_ns=%lld\n", woke, seen, now());
+	printf("main_cpu_at_wake_ns=%lld worker_start_cpu_ns=%lld worker_chunk_max_ns=%lld\n", main_cpu, worker_start_cpu,
+	       worker_chunk_max);
 	return 0;
 }
 
@@ -159,7 +208,7 @@ static int cond_wait_variant(int v, pthread_cond_t *c)
 	flag = 0;
 	pthread_t s;
 	pthread_mutex_lock(&mu);
-	long long start = now();
+	long long c0 = cpu(), start = now();
 	pthread_create(&s, NULL, signal_at_1ms, NULL);
 	int r = 0;
 	while (!flag && r == 0) {
@@ -177,10 +226,10 @@ static int cond_wait_variant(int v, pthread_cond_t *c)
 			r = pthread_cond_timedwait(c, &mu, &at);
 		}
 	}
-	long long took = now() - start;
+	long long took = now() - start, took_cpu = cpu() - c0;
 	pthread_mutex_unlock(&mu);
 	pthread_join(s, NULL);
-	printf("variant=%d result=%d signalled_after_ns=%lld\n", v, r, took);
+	printf("variant=%d result=%d signalled_after_ns=%lld cpu_ns=%lld\n", v, r, took, took_cpu);
 	return 0;
 }
 
@@ -207,13 +256,14 @@ static int mode_cond(void)
 	pthread_t s;
 	pthread_create(&s, NULL, sleeper, NULL);
 	pthread_mutex_lock(&mu);
-	long long start = now();
+	long long c0 = cpu(), start = now();
 	struct timespec at = abs_on(CLOCK_REALTIME, 3 * MS);
 	int r = pthread_cond_timedwait(&cv, &mu, &at);
-	long long took = now() - start;
+	long long took = now() - start, took_cpu = cpu() - c0;
 	pthread_mutex_unlock(&mu);
 	pthread_join(s, NULL);
-	printf("timeout_result=%d timed_out_after_ns=%lld sleeper_done_ns=%lld\n", r, took, now());
+	printf("timeout_result=%d timed_out_after_ns=%lld timed_out_cpu_ns=%lld sleeper_done_ns=%lld\n", r, took, took_cpu,
+	       now());
 	return 0;
 }
 
@@ -234,17 +284,18 @@ static int mode_mutex(void)
 	pthread_create(&h, NULL, lock_then_unlock_at_5ms, NULL);
 	while (!__atomic_load_n(&flag, __ATOMIC_ACQUIRE))
 		sched_yield();
-	long long start = now();
+	long long c0 = cpu(), start = now();
 	struct timespec at = abs_on(CLOCK_REALTIME, 2 * MS);
 	int r1 = pthread_mutex_timedlock(&mu, &at);
-	long long t1 = now() - start;
+	long long t1 = now() - start, c1 = cpu() - c0;
 	at = abs_on(CLOCK_REALTIME, 10 * MS);
 	int r2 = pthread_mutex_timedlock(&mu, &at);
-	long long t2 = now();
+	long long t2 = now(), c2 = cpu() - t0_cpu;
 	if (r2 == 0)
 		pthread_mutex_unlock(&mu);
 	pthread_join(h, NULL);
-	printf("first_result=%d first_after_ns=%lld second_result=%d second_at_ns=%lld\n", r1, t1, r2, t2);
+	printf("first_result=%d first_after_ns=%lld first_cpu_ns=%lld second_result=%d second_at_ns=%lld second_cpu_ns=%lld\n",
+	       r1, t1, c1, r2, t2, c2);
 	return 0;
 }
 
@@ -261,19 +312,20 @@ static void *post_at_4ms(void *arg)
 static int mode_sem(void)
 {
 	sem_init(&sem, 0, 0);
-	long long start = now();
+	long long c0 = cpu(), start = now();
 	struct timespec at = abs_on(CLOCK_REALTIME, 3 * MS);
 	int r1 = sem_timedwait(&sem, &at);
 	int e1 = r1 ? errno : 0;
-	long long t1 = now() - start;
+	long long t1 = now() - start, c1 = cpu() - c0;
 	pthread_t p;
 	pthread_create(&p, NULL, post_at_4ms, NULL);
 	at = abs_on(CLOCK_MONOTONIC, 50 * MS);
 	int r2 = sem_clockwait(&sem, CLOCK_MONOTONIC, &at);
-	long long t2 = now();
+	long long t2 = now(), c2 = cpu() - t0_cpu;
 	pthread_join(p, NULL);
-	printf("timedwait_errno=%s timedwait_after_ns=%lld clockwait_result=%d clockwait_at_ns=%lld\n",
-	       e1 == ETIMEDOUT ? "ETIMEDOUT" : strerror(e1), t1, r2, t2);
+	printf("timedwait_errno=%s timedwait_after_ns=%lld timedwait_cpu_ns=%lld clockwait_result=%d clockwait_at_ns=%lld "
+	       "clockwait_cpu_ns=%lld\n",
+	       e1 == ETIMEDOUT ? "ETIMEDOUT" : strerror(e1), t1, c1, r2, t2, c2);
 	return 0;
 }
 
@@ -297,11 +349,11 @@ static int mode_asleep(void)
 	pthread_create(&r, NULL, reader, NULL);
 	struct timespec five = { 0, 5 * MS };
 	nanosleep(&five, NULL);
-	long long woke = now();
+	long long woke = now(), woke_cpu = cpu() - t0_cpu;
 	if (write(pipefd[1], "x", 1) != 1)
 		return 1;
 	pthread_join(r, NULL);
-	printf("main_woke_ns=%lld reader_got_ns=%lld\n", woke, got_at);
+	printf("main_woke_ns=%lld main_woke_cpu_ns=%lld reader_got_ns=%lld\n", woke, woke_cpu, got_at);
 	return 0;
 }
 
@@ -337,6 +389,11 @@ static int mode_poll(void)
 
 int main(int argc, char **argv)
 {
+	/* The CPU figures from the start are read before it: all of the time
+	 * from t0 on is in them. */
+	t0_main_thread_cpu = kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID);
+	t0_kernel_cpu = kernel_cpu_ns();
+	t0_cpu = cpu();
 	t0 = clock_ns(CLOCK_MONOTONIC);
 	const char *mode = argc > 1 ? argv[1] : "";
 	if (!strcmp(mode, "loops"))

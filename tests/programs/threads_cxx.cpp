@@ -6,15 +6,25 @@
  *   cv_notified_ns     condition_variable::wait_until, notified at 1 ms
  *   future_timeout_ns  future::wait_for(3 ms) on a promise set at 5 ms
  *   future_ready_ns    the same future's wait() returning
- *   std::thread joins; the figures must not depend on the machine. */
+ *   std::thread joins; the figures must not depend on the machine.
+ * With each, *_cpu: the process's CPU clock (under tcs the CPU charged to
+ * it) from just before its start was read to just after it ended. */
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
 #include <future>
 #include <mutex>
 #include <thread>
+#include <time.h>
 
 using namespace std::chrono;
+
+static long long cpu()
+{
+	struct timespec ts;
+	clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+	return ts.tv_sec * 1000000000LL + ts.tv_nsec;
+}
 
 int main()
 {
@@ -27,13 +37,16 @@ int main()
 	{
 		std::thread sleeper([] { std::this_thread::sleep_for(milliseconds(20)); });
 		std::unique_lock<std::mutex> lk(m);
+		auto c0 = cpu();
 		auto start = since();
 		bool got = cv.wait_for(lk, milliseconds(2), [&] { return flag; });
-		std::printf("cv_timeout_result=%d cv_timeout_ns=%lld\n", got ? 1 : 0, since() - start);
+		auto took = since() - start;
+		std::printf("cv_timeout_result=%d cv_timeout_ns=%lld cv_timeout_cpu=%lld\n", got ? 1 : 0, took, cpu() - c0);
 		lk.unlock();
 		sleeper.join();
 	}
 	{
+		auto c0 = cpu();
 		auto start = since();
 		std::thread notifier([&] {
 			std::this_thread::sleep_for(milliseconds(1));
@@ -43,23 +56,27 @@ int main()
 		});
 		std::unique_lock<std::mutex> lk(m);
 		bool got = cv.wait_until(lk, steady_clock::now() + seconds(1), [&] { return flag; });
-		std::printf("cv_notified_result=%d cv_notified_ns=%lld\n", got ? 1 : 0, since() - start);
+		auto took = since() - start;
+		std::printf("cv_notified_result=%d cv_notified_ns=%lld cv_notified_cpu=%lld\n", got ? 1 : 0, took, cpu() - c0);
 		lk.unlock();
 		notifier.join();
 	}
 	{
 		std::promise<int> p;
 		std::future<int> f = p.get_future();
+		auto c0 = cpu();
 		auto start = since();
 		std::thread setter([&] {
 			std::this_thread::sleep_for(milliseconds(5));
 			p.set_value(7);
 		});
 		auto st = f.wait_for(milliseconds(3));
-		std::printf("future_status=%s future_timeout_ns=%lld\n", st == std::future_status::timeout ? "timeout" : "other",
-			    since() - start);
+		auto took = since() - start;
+		std::printf("future_status=%s future_timeout_ns=%lld future_timeout_cpu=%lld\n",
+			    st == std::future_status::timeout ? "timeout" : "other", took, cpu() - c0);
 		f.wait();
-		std::printf("future_value=%d future_ready_ns=%lld\n", f.get(), since() - start);
+		took = since() - start;
+		std::printf("future_value=%d future_ready_ns=%lld future_ready_cpu=%lld\n", f.get(), took, cpu() - c0);
 		setter.join();
 	}
 	return 0;
