@@ -6,7 +6,7 @@ controller's virtual timing stays exactly what it is in a cheap world."""
 import os
 import re
 
-from harness import calibrate, check, main, prog, scenario_file, tcs
+from harness import calibrate, check, main, prog, scenario_file, skip, tcs
 
 PD = os.path.join(os.environ.get("TCS_EXAMPLES", "."), "pendulum_pd")
 
@@ -124,6 +124,7 @@ def test_two_robots_keep_their_own_rates():
 def test_box_world_costs_wall_time_not_virtual_time():
     rounds = calibrate() * 3 // 10
     boxes = os.path.join(os.environ.get("TCS_SCENARIOS", "scenarios"), "boxes.toml")
+    check(os.path.exists(boxes), "scenarios/boxes.toml ships")
     with scenario_file('[sim]\nstep = "1ms"\nmodel = "boxes"\n[model]\ncount = 1000\n') as world:
         runs = {}
         for name, args in (("pendulum", []), ("1000 boxes", ["-w", world])):
@@ -143,10 +144,12 @@ def test_box_world_costs_wall_time_not_virtual_time():
         # each box step costs more wall time than the 1 ms of virtual time
         # it stands for (that world runs slower than real time), a
         # pendulum step (its median) less (it runs faster).
+        # (Not so on a machine that steps 1000 boxes faster than real
+        # time: then the test shows nothing.)
         lo = ns(runs["1000 boxes"][1][0])
-        check(lo > 1e6, "every box step costs more than the 1 ms it stands for (%.0f ns at least)" % lo)
-        check(ns(runs["pendulum"][1][1]) < 1e6, "and a pendulum step less")
-    check(os.path.exists(boxes), "scenarios/boxes.toml ships")
+        if lo <= 1e6 or ns(runs["pendulum"][1][1]) >= 1e6:
+            skip("a box step costs %.0f ns at least, a pendulum step %s: not one world slower than real time "
+                 "and one faster" % (lo, runs["pendulum"][1][1]))
 
 
 def test_shipped_scenarios_are_valid_and_two_pendulums_runs():

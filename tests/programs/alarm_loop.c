@@ -4,7 +4,8 @@
  * periodic, waited for with sigsuspend, doing WORK_US of CPU time per tick
  * (by the kernel's clock: work.h); or alarm (alarm(1) and pause, N times).
  * Prints, as key=value lines, the ticks handled, the monotonic time the
- * loop took (and from just before the timer was armed to just after the
+ * loop took with its CPU read outside and inside that span and the
+ * kernel's CPU around it (and from just before the timer was armed to just after the
  * last tick: ticked_ns, with the CPU the kernel charged from just before
  * that first read to the arming call's return, head_kernel_ns, and from
  * the last wait's call to that last read, tail_kernel_ns), what the timer
@@ -52,8 +53,11 @@ int main(int argc, char **argv)
 	sigemptyset(&empty);
 	long long left = -1, pause_ticks = 0, armed_at = 0, ticked = -1, head_kernel = 0, tail_kernel = 0, last_wait = 0;
 	timer_t posix = 0;
-	long long start = clock_ns(CLOCK_MONOTONIC);
-	long long cpu_start = clock_ns(CLOCK_PROCESS_CPUTIME_ID);
+	/* The loop's CPU read outside its monotonic span and inside it (so a
+	 * pause between two reads is on the right side of each bound), and by
+	 * the kernel's clock around all of them. */
+	long long kernel_start = kernel_cpu_ns(), cpu_start = clock_ns(CLOCK_PROCESS_CPUTIME_ID);
+	long long start = clock_ns(CLOCK_MONOTONIC), inner_start = clock_ns(CLOCK_PROCESS_CPUTIME_ID);
 	if (strcmp(mode, "alarm") == 0) {
 		for (long i = 0; i < n; i++) {
 			alarm(1);
@@ -120,8 +124,10 @@ int main(int argc, char **argv)
 			timer_delete(posix);
 		sigprocmask(SIG_UNBLOCK, &block, NULL);
 	}
+	long long took_inner_cpu = clock_ns(CLOCK_PROCESS_CPUTIME_ID) - inner_start;
 	long long took = clock_ns(CLOCK_MONOTONIC) - start;
 	long long took_cpu = clock_ns(CLOCK_PROCESS_CPUTIME_ID) - cpu_start;
+	long long took_kernel_cpu = kernel_cpu_ns() - kernel_start;
 	long handled = ticks;
 	/* alarm(1) interrupts sleep(5): it returns the 4 s it did not sleep. */
 	signal(SIGALRM, on_tick);
@@ -129,8 +135,9 @@ int main(int argc, char **argv)
 	alarm(1);
 	unsigned unslept = sleep(5);
 	long long slept = clock_ns(CLOCK_MONOTONIC) - s0;
-	printf("ticks=%ld\nloop_ns=%lld\nloop_cpu_ns=%lld\nleft_ns=%lld\nunslept=%u\nslept_ns=%lld\npause_ticks=%lld\n"
-	       "ticked_ns=%lld\nhead_kernel_ns=%lld\ntail_kernel_ns=%lld\n",
-	       handled, took, took_cpu, left, unslept, slept, pause_ticks, ticked, head_kernel, tail_kernel);
+	printf("ticks=%ld\nloop_ns=%lld\nloop_cpu_ns=%lld\nloop_inner_cpu_ns=%lld\nloop_kernel_cpu_ns=%lld\nleft_ns=%lld\n"
+	       "unslept=%u\nslept_ns=%lld\npause_ticks=%lld\nticked_ns=%lld\nhead_kernel_ns=%lld\ntail_kernel_ns=%lld\n",
+	       handled, took, took_cpu, took_inner_cpu, took_kernel_cpu, left, unslept, slept, pause_ticks, ticked,
+	       head_kernel, tail_kernel);
 	return 0;
 }
