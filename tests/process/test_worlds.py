@@ -112,7 +112,9 @@ def test_two_robots_keep_their_own_rates():
     # deadline missed, by its own count and the coordinator's. Its loop
     # still ends by its own clock, after the cycle running at 4 s.
     cycles, elapsed, misses = next(x for x in reports(r) if x[0] == heavy[1][0])
-    check(heavy[1][2] == heavy[1][0] and misses == cycles and elapsed >= 4.0,
+    # (The cycle that ends the loop by its clock may end it before its
+    # wait: its miss is then not counted.)
+    check(heavy[1][2] == heavy[1][0] and cycles - 1 <= misses <= cycles and elapsed >= 4.0,
           "right falls below its rate: every deadline missed (%d cycles in %.3f s)" % (cycles, elapsed), r)
     # Left's own virtual CPU: right's work does not touch its schedule
     # (its misses are not compared: the example prints no evidence of the
