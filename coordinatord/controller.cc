@@ -187,6 +187,15 @@ void Controller::set_page_flag(uint32_t flag, bool on)
 		__atomic_fetch_and(&page_->flags, ~flag, __ATOMIC_RELEASE);
 }
 
+// The count is ours; the page holds a copy for the controller to read (what
+// it writes there can only make its own waits look again).
+void Controller::count_raised_signal()
+{
+	signals_raised_++;
+	if (page_)
+		__atomic_store_n(&page_->signals_raised, signals_raised_, __ATOMIC_RELEASE);
+}
+
 void Controller::publish_slice(int64_t cpu_base)
 {
 	slice_ = tcs_slice{ v, cpu_base, charged, page_ ? __atomic_load_n(&page_->own_cpu, __ATOMIC_RELAXED) : 0 };

@@ -149,6 +149,9 @@ public:
 	// Starts a new slice at the controller's current v and charge.
 	void publish_slice(int64_t cpu_base);
 	void set_page_flag(uint32_t flag, bool on);
+	// Signals raised in it by the coordinator (the page's signals_raised).
+	void count_raised_signal();
+	uint64_t raised_signals() const { return signals_raised_; }
 	// Its own wait (in_block) as a side wait, and a side wait made its own.
 	SideWait own_wait() const;
 	void take_wait(const SideWait &w);
@@ -262,6 +265,7 @@ private:
 				   const RealtimePlan &rt, const std::vector<BoundDevice> &bound);
 	Status take_pid(pid_t p);
 	tcs_clock_page *page_ = nullptr;
+	uint64_t signals_raised_ = 0;
 	uint64_t final_quick_waits_ = 0, final_past_deadlines_ = 0; // once released
 	clockid_t cpu_clock_ = 0;
 	tcs_slice slice_ = {};

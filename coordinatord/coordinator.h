@@ -247,6 +247,7 @@ private:
 	void child_settled(Controller &parent);
 	void deliver_due_timers(Controller &c);
 	uint64_t due_timer_signals(Controller &c);
+	bool missed_raised_signal(const Controller &c, const ::tcs_msg &m) const;
 	void budget_to_next_timer(Controller &c);
 	void wake(Controller &c, int64_t v, uint16_t reason);
 	void send_wake(Controller &c);

@@ -534,6 +534,8 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		}
 		// A thread that was asleep outside the hooks woke and waits now.
 		c.side.push_back(side_wait_of(m, fd, tid, c.v, sim_ns_));
+		if (missed_raised_signal(c, m))
+			c.side.back().wake_reason = TCS_WAKE_RECHECK;
 		child_wait_begins(c, m, &c.side.back());
 		c.stats.waits++;
 		hear_threads(c);
@@ -547,6 +549,15 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 			c.stats.absolute_waits++;
 			if (m.deadline <= c.v)
 				c.stats.reported_misses++;
+		}
+		if (missed_raised_signal(c, m)) {
+			// (At the time its process has reached, as on_early's.)
+			if (c.state == CtlState::Running && cfg_.mode == TCS_MODE_CPU)
+				c.account(c.cpu_now(), cfg_.mode);
+			SideWait w = c.side.back();
+			c.side.pop_back();
+			w.wake_reason = TCS_WAKE_RECHECK;
+			answer_side(c, w);
 		}
 		return;
 	}
@@ -584,6 +595,8 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	// Threads asleep outside the hooks: looked at each step (threads.cc).
 	c.others_asleep = c.multithreaded() && proc_thread_count(c.pid) > 1 + (int)c.side.size();
 	child_wait_begins(c, m, nullptr);
+	if (missed_raised_signal(c, m))
+		wake(c, c.v, TCS_WAKE_RECHECK);
 	hear_threads(c);
 	schedule();
 }

@@ -69,7 +69,17 @@ void Coordinator::deliver_due_timers(Controller &c)
 			syscall(SYS_tgkill, c.pid, t.tid, t.signo);
 		else
 			kill(c.pid, t.signo);
+		c.count_raised_signal(); // (after: pending before it is counted)
 	});
+}
+
+// Whether a wait with its own signal mask looked for pending signals before
+// one of ours was raised (a preemption between its look and its BLOCK): the
+// kernel would have ended it at once, so it must look again before any time
+// passes (answered RECHECK at its own time).
+bool Coordinator::missed_raised_signal(const Controller &c, const ::tcs_msg &m) const
+{
+	return (m.flags & TCS_BLOCK_SIGMASK) && (uint64_t)m.arg != c.raised_signals();
 }
 
 // A running controller's budget ends no later than its next timer (cpu mode:

@@ -260,17 +260,24 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 	/* A wait with its own signal mask (sigsuspend, ppoll, pselect,
 	 * epoll_pwait) may let in a signal already pending: then it ends now,
 	 * before the coordinator could decide anything else. */
+	uint64_t raised = 0;
 	if (mask) {
+		/* What tcs had raised before the look (TCS_BLOCK_SIGMASK): one it
+		 * raises after, stopping us between the look and the BLOCK, is
+		 * pending unseen, and the coordinator has us look again. */
+		raised = __atomic_load_n(&p->signals_raised, __ATOMIC_ACQUIRE);
 		struct timespec zero = { 0, 0 };
 		if (tcs_sys5(SYS_ppoll, NULL, 0, &zero, mask, TCS_KERNEL_SIGSET_SIZE) == -EINTR) {
 			t->end = v;
 			return -EINTR;
 		}
+		flags |= TCS_BLOCK_SIGMASK;
 	}
 
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_BLOCK, t->seq);
 	m.kind = (uint16_t)kind;
 	m.flags = (uint16_t)flags;
+	m.arg = (int64_t)raised;
 	m.deadline = deadline;
 	m.v = v;
 	m.cpu = cpu;

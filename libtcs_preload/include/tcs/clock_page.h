@@ -96,7 +96,12 @@ struct tcs_clock_page {
 	uint32_t seq;
 	uint32_t gen; /* bumped whenever the coordinator ran on the controller's core */
 	struct tcs_slice slice;
-	uint64_t reserved3[3];
+	/* Signals the coordinator has sent the process (a timer's, due while it
+	 * computed): one atomic add after each kill. A wait with its own mask
+	 * says in its BLOCK how many it had seen when it looked for pending ones
+	 * (TCS_BLOCK_SIGMASK). */
+	uint64_t signals_raised;
+	uint64_t reserved3[2];
 
 	/* Controller-written, one atomic store each. */
 	int64_t exit_cpu;        /* process CPU when the last hook returned */

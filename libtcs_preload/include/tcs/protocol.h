@@ -113,7 +113,14 @@ enum tcs_block_flags {
 	TCS_BLOCK_RECHECK = 1u << 1,  /* wake at every step so real fds get re-checked */
 	TCS_BLOCK_DEVICES = 1u << 2,  /* also wake when a record is due on an open sensor */
 	TCS_BLOCK_CHILD = 1u << 3,    /* also wake when a child of the controller ends */
-	TCS_BLOCK_FLAGS_ALL = TCS_BLOCK_ABSOLUTE | TCS_BLOCK_RECHECK | TCS_BLOCK_DEVICES | TCS_BLOCK_CHILD,
+	/* The wait lets signals in by a mask of its own (sigsuspend, ppoll,
+	 * pselect, epoll_pwait) and found none pending; arg = the clock page's
+	 * signals_raised before it looked. If the coordinator has raised one
+	 * since (the look and the BLOCK straddled a preemption), the kernel
+	 * would have ended the wait at once: it is answered RECHECK at once. */
+	TCS_BLOCK_SIGMASK = 1u << 4,
+	TCS_BLOCK_FLAGS_ALL = TCS_BLOCK_ABSOLUTE | TCS_BLOCK_RECHECK | TCS_BLOCK_DEVICES | TCS_BLOCK_CHILD |
+			      TCS_BLOCK_SIGMASK,
 };
 
 enum tcs_early_reason {
