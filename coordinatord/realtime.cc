@@ -164,6 +164,12 @@ RealtimeWish realtime_wish_from_env()
 	w.fifo = getenv("TCS_NO_FIFO") == nullptr;
 	w.tsc = getenv("TCS_NO_TSC") == nullptr;
 	w.mailbox = getenv("TCS_NO_MAILBOX") == nullptr;
+	if (const char *s = getenv("TCS_STOP_DELAY_US")) {
+		char *end;
+		long us = strtol(s, &end, 10);
+		if (*s && !*end && us > 0 && us <= 100000)
+			w.stop_delay_ns = us * 1000;
+	}
 	return w;
 }
 

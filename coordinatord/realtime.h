@@ -47,10 +47,15 @@ struct RealtimeWish {
 	bool fifo = true;
 	bool tsc = true;
 	bool mailbox = true;
+	// Each preemption's stop this late (sleeping meanwhile: the controller
+	// computes on), as on a busy machine where the coordinator gets its
+	// core late. For tests only.
+	int64_t stop_delay_ns = 0;
 };
 
 // The wish the environment makes: TCS_NO_FIFO, TCS_NO_TSC, TCS_NO_MAILBOX
-// (every hand-off through the channel, as on one core).
+// (every hand-off through the channel, as on one core), TCS_STOP_DELAY_US
+// (1 to 100000; anything else is no delay).
 RealtimeWish realtime_wish_from_env();
 
 // Applies the plan to the calling process (the coordinator) before any

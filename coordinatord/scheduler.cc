@@ -482,6 +482,11 @@ bool Coordinator::wait_until_stopped(Controller &c)
 void Coordinator::preempt(Controller &c)
 {
 	leave_lane(c);
+	if (cfg_.realtime.stop_delay_ns > 0) {
+		// (At most 100 ms: TCS_STOP_DELAY_US.)
+		struct timespec late = { 0, (long)cfg_.realtime.stop_delay_ns };
+		nanosleep(&late, nullptr);
+	}
 	kill(c.pid, SIGSTOP);
 	if (!wait_until_stopped(c)) {
 		on_pidfd(c); // it died before it could stop
