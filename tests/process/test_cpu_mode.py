@@ -22,11 +22,13 @@ def test_virtual_time_is_the_cpu_burned():
             v = r.values()
             virtual.append(int(v["monotonic_ns"]))
             # The contract, checked against the kernel in the same run: for
-            # a pure computation virtual time and the virtual CPU clock
-            # (both read inside the kernel's outer reads and around its
-            # inner ones) advance alike, by its CPU times the scale.
+            # a pure computation virtual time and the virtual CPU clocks,
+            # the process's and its one thread's (all read inside the
+            # kernel's outer reads and around its inner ones), advance
+            # alike, by its CPU times the scale.
             charged_as_the_kernel_says(v, float(scale), r)
             charged_as_the_kernel_says(dict(v, monotonic_ns=v["cpu_ns"]), float(scale), r)
+            charged_as_the_kernel_says(dict(v, monotonic_ns=v["thread_cpu_ns"]), float(scale), r)
         ratio = min(virtual) / (min(native_cpu) * float(scale))
         print("  cpu-scale %s: virtual time %.1f ms for %.1f ms of native CPU: ratio %.4f" %
               (scale, min(virtual) / 1e6, min(native_cpu) / 1e6, ratio))

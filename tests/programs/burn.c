@@ -1,7 +1,7 @@
 /* burn ROUNDS: does ROUNDS of work() once and prints, as key=value lines,
- * the elapsed time of its monotonic clock and of its CPU-time clock (ns),
- * and the CPU the kernel charged it meanwhile, read around both and
- * inside both. */
+ * the elapsed time of its monotonic clock and of its process and thread
+ * CPU-time clocks (ns), and the CPU the kernel charged it meanwhile, read
+ * around all three and inside them. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
@@ -20,17 +20,20 @@ int main(int argc, char **argv)
 	 * reads' own cost. */
 	clock_ns(CLOCK_MONOTONIC);
 	clock_ns(CLOCK_PROCESS_CPUTIME_ID);
+	clock_ns(CLOCK_THREAD_CPUTIME_ID);
 	/* The kernel's CPU read outside the virtual clocks' span and inside it:
 	 * a pause of the machine between two reads is then on the right side
 	 * of each bound. */
 	long long k0 = kernel_cpu_ns();
 	long long m0 = clock_ns(CLOCK_MONOTONIC), c0 = clock_ns(CLOCK_PROCESS_CPUTIME_ID);
+	long long t0 = clock_ns(CLOCK_THREAD_CPUTIME_ID);
 	long long i0 = kernel_cpu_ns();
 	work(rounds);
 	long long i1 = kernel_cpu_ns();
+	long long t1 = clock_ns(CLOCK_THREAD_CPUTIME_ID);
 	long long m1 = clock_ns(CLOCK_MONOTONIC), c1 = clock_ns(CLOCK_PROCESS_CPUTIME_ID);
 	long long k1 = kernel_cpu_ns();
-	printf("monotonic_ns=%lld\ncpu_ns=%lld\nkernel_cpu_ns=%lld\nkernel_inner_cpu_ns=%lld\n", m1 - m0, c1 - c0, k1 - k0,
-	       i1 - i0);
+	printf("monotonic_ns=%lld\ncpu_ns=%lld\nthread_cpu_ns=%lld\nkernel_cpu_ns=%lld\nkernel_inner_cpu_ns=%lld\n", m1 - m0,
+	       c1 - c0, t1 - t0, k1 - k0, i1 - i0);
 	return 0;
 }

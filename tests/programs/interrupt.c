@@ -82,30 +82,37 @@ int main(void)
 	r = select(0, NULL, NULL, NULL, NULL);
 	printf("select=%d errno=%s handled=%d\n", r, strerrorname_np(errno), (int)handled);
 
-	/* The variants with a signal mask of their own (an empty one here),
-	 * an absolute sleep, and C11's. */
-	sigset_t none;
+	/* The variants with a signal mask of their own: SIGALRM blocked
+	 * outside them, their empty mask lets it in (their reason to be);
+	 * 10 s time-outs, which a wait that ignored its mask would reach. */
+	sigset_t none, alarm_only;
 	sigemptyset(&none);
+	sigemptyset(&alarm_only);
+	sigaddset(&alarm_only, SIGALRM);
+	sigprocmask(SIG_BLOCK, &alarm_only, NULL);
+	struct timespec ten = { 10, 0 };
 	arm();
 	errno = 0;
-	r = ppoll(NULL, 0, NULL, &none);
+	r = ppoll(NULL, 0, &ten, &none);
 	printf("ppoll=%d errno=%s handled=%d\n", r, strerrorname_np(errno), (int)handled);
 
 	arm();
 	errno = 0;
-	r = pselect(0, NULL, NULL, NULL, NULL, &none);
+	r = pselect(0, NULL, NULL, NULL, &ten, &none);
 	printf("pselect=%d errno=%s handled=%d\n", r, strerrorname_np(errno), (int)handled);
 
 	arm();
 	errno = 0;
-	r = epoll_pwait(ep, &ev, 1, -1, &none);
+	r = epoll_pwait(ep, &ev, 1, 10000, &none);
 	printf("epoll_pwait=%d errno=%s handled=%d\n", r, strerrorname_np(errno), (int)handled);
 
 	arm();
 	errno = 0;
-	r = epoll_pwait2(ep, &ev, 1, NULL, &none);
+	r = epoll_pwait2(ep, &ev, 1, &ten, &none);
 	printf("epoll_pwait2=%d errno=%s handled=%d\n", r, strerrorname_np(errno), (int)handled);
+	sigprocmask(SIG_UNBLOCK, &alarm_only, NULL);
 
+	/* An absolute sleep, and C11's. */
 	arm();
 	struct timespec far;
 	clock_gettime(CLOCK_MONOTONIC, &far);
