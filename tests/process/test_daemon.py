@@ -19,6 +19,8 @@ from daemon import (CLOCK_LISTEN, COORDINATORD, DDS_ENV, EXAMPLES, PERIODIC, TCS
                     mcap_counts, trace_summary)
 from harness import TCS_RUN, calibrate, charged_as_the_kernel_says, check, finish, main, prog, run, start
 
+STEP_NS = 10**6  # the scenarios' step below
+
 TWO_CONTROLLERS = """
 [sim]
 step = "1ms"
@@ -109,12 +111,27 @@ def test_a_controller_joins_a_running_world_at_its_time():
         check(r.returncode == 0 and cycles_line(r)[0] == 100, "its loop runs", r)
     ctl = trace_summary(d.trace)["controllers"]
     check(len(ctl) == 1, "one controller: %s" % ctl)
-    # It began where the world was, not at 0: after 0.5 s of real time at
-    # real-time pace, never ahead of real time. (An idle world behind by
-    # more than 50 ms, the machine paused, goes on from then: 0.2 s lost
-    # would be the machine stopped for 40 % of the time.)
-    check(0.3e9 <= ctl[0]["start_ns"] <= attached * 1e9,
-          "it joins at the world's time: %s, attached %.3f s after the daemon's start" % (ctl, attached))
+    start = ctl[0]["start_ns"]
+    check(start <= attached * 1e9, "never ahead of real time: %d ns, attached %.3f s after the daemon's start" %
+          (start, attached))
+    # It began where the world was, not at 0: at the last step before it
+    # (or within the step that follows), which the world reached at the
+    # pace of real time, as the trace's wall clock says: never ahead of it,
+    # and behind only by a step not yet taken (an idle world falls behind
+    # by up to kIdleCatchUp, 50 ms, and catches up; scheduler.cc) and by
+    # each gap of more than that between two steps (the machine paused:
+    # the world goes on from then, losing at most the gap).
+    r = run([TCS_TRACE, "export", d.trace, "--format", "csv", "--topic", "/tcs/step"])
+    rows = [line.split(",") for line in r.stdout.splitlines()[1:]]
+    steps = [(int(row[1]), int(row[2])) for row in rows if int(row[1]) <= start]
+    check(len(steps) > 1, "the world stepped before it joined", r)
+    (v0, w0), (vl, wl) = steps[0], steps[-1]
+    check(vl <= start <= vl + STEP_NS, "it joins at the world's time: %d ns, the world at %d ns" % (start, vl), r)
+    lost = sum(b[1] - a[1] for a, b in zip(steps, steps[1:]) if b[1] - a[1] > 50 * 10**6)
+    check(wl - w0 - 50 * 10**6 - lost <= vl - v0 <= wl - w0 + STEP_NS,
+          "the idle world at real-time pace: %d ns of virtual time in %d ns of wall time (%d ns lost to gaps)" %
+          (vl - v0, wl - w0, lost), r)
+    check(wl >= 0.5e9, "the world was 0.5 s old when it joined: the step before at %d ns of wall time" % wl, r)
 
 
 def test_exit_statuses_environment_and_folder_come_back():
