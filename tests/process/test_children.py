@@ -5,13 +5,9 @@ writes) wakes at the child's virtual time."""
 
 import re
 
-from harness import PYTHON, check, main, prog, tcs
+from harness import AHEAD, PYTHON, check, main, prog, tcs
 
 MS = 1000000
-# A clock read estimated from the TSC or the vDSO clock may run ahead of the
-# kernel's CPU by 20 us (its anchor is read again after 20 us:
-# libtcs_preload/cpu_estimate.c).
-AHEAD = 20000
 # The summary's figures have three decimals (tools/cli_time.cc), rounded:
 # half of the last either way, 0.5 ms of its seconds, 0.5 us (ROUNDED) of
 # its milliseconds.

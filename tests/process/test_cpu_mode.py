@@ -3,24 +3,23 @@ as the CPU it burns (times --cpu-scale), so a loop too slow for its rate
 runs as slowly in virtual time as it does natively in real time."""
 
 import math
-import statistics
 
-from harness import (calibrate, charged_as_the_kernel_says, check, close_to, main, native, periodic_on_time,
-                     periodic_reports, prog, run, scenario_file, tcs)
+from harness import (AHEAD, READ, calibrate, charged_as_the_kernel_says, check, costs_as_natively, first_core, main,
+                     native, periodic_on_time, periodic_reports, prog, run, scenario_file, tcs)
 
 
 def test_virtual_time_is_the_cpu_burned():
     rounds = calibrate() * 300  # about 300 ms of CPU
     for scale in ("1", "2.5"):
         # The CPU time of the same work varies by a few per cent from run
-        # to run on a shared machine, and disturbances only ever add to it:
-        # compare the least-disturbed of several interleaved runs.
+        # to run on a shared machine: several interleaved runs of each, the
+        # native one on the core the tcs one ran on.
         native_cpu, virtual = [], []
-        for _ in range(7):
-            native_cpu.append(int(native([prog("burn"), rounds]).values()["cpu_ns"]))
+        for _ in range(9):
             r = tcs("-q", "--cpu-scale", scale, prog("burn"), rounds)
             v = r.values()
             virtual.append(int(v["monotonic_ns"]))
+            native_cpu.append(int(native([prog("burn"), rounds], core=int(v["core"])).values()["cpu_ns"]))
             # The contract, checked against the kernel in the same run: for
             # a pure computation virtual time and the virtual CPU clocks,
             # the process's and its one thread's (all read inside the
@@ -32,10 +31,10 @@ def test_virtual_time_is_the_cpu_burned():
         ratio = min(virtual) / (min(native_cpu) * float(scale))
         print("  cpu-scale %s: virtual time %.1f ms for %.1f ms of native CPU: ratio %.4f" %
               (scale, min(virtual) / 1e6, min(native_cpu) / 1e6, ratio))
-        # The same work's CPU time scatters by 3 % (here) to 15 % (CI) between runs on
-        # this shared VM (measured, native and under tcs alike); the exact
-        # part, virtual time = virtual CPU clock, is checked to 0.5 % above.
-        close_to(ratio, 1.0, 0.1, "virtual time vs CPU burned x %s" % scale)
+        # And that CPU is what the work costs natively (tcs's hooks, stops
+        # and its world beside it make it no dearer than the machine's own
+        # scatter).
+        costs_as_natively([x / float(scale) for x in virtual], native_cpu, "burn's virtual time / %s, ns" % scale)
 
 
 def test_cpu_scale_of_the_command_line_over_the_scenarios():
@@ -63,30 +62,27 @@ def test_periodic_loop_with_30_percent_work_keeps_its_rate():
 
 def test_overloaded_loop_fails_as_on_hardware_but_not_in_lockstep():
     rounds = calibrate() * 3 // 2  # 150 % of a 1 ms period
-    # This shared machine's speed drifts by several per cent over tens of
-    # seconds: compare each tcs run with a native run made just before it,
-    # and take the median of those ratios.
-    ratios, cpu_runs, native_runs = [], [], []
-    for _ in range(5):
-        native_runs.append(float(run([prog("periodic"), 1000, 1, rounds]).values()["rate_hz"]))
+    # Interleaved native and tcs runs (this shared machine's speed drifts
+    # over tens of seconds): natively the loop runs at the pace of its work
+    # in real time, under tcs at the pace of the CPU charged for it.
+    native_runs, cpu_runs = [], []
+    for _ in range(9):
         cpu_runs.append(tcs("-q", prog("periodic"), 1000, 1, rounds, timeout=120).values())
-        ratios.append(float(cpu_runs[-1]["rate_hz"]) / native_runs[-1])
-    ratio = statistics.median(ratios)
-    cpu = cpu_runs[ratios.index(ratio)]
-    native_rate = native_runs[ratios.index(ratio)]
+        native_runs.append(native([prog("periodic"), 1000, 1, rounds], core=first_core(cpu_runs[-1]["cores_seen"]))
+                           .values())
     lockstep = tcs("-q", "-m", "lockstep", prog("periodic"), 1000, 2, rounds, timeout=120).values()
-    print("  1 kHz loop, 150%% work: natively %.1f Hz in real time; tcs cpu mode %s Hz, lockstep %s Hz" %
-          (native_rate, cpu["rate_hz"], lockstep["rate_hz"]))
-    print("  (tcs/native ratios: %s)" % " ".join("%.3f" % x for x in ratios))
-    # Native runs on a shared machine scatter by up to 15 % between
-    # neighbouring runs (measured on CI: 0.92 to 1.15): this comparison
-    # shows the loop fails as it does natively, far from lockstep's 1 kHz;
-    # the exact rate is checked below with work measured in CPU time.
-    close_to(ratio, 1.0, 0.2, "cpu-mode rate vs native real-time rate")
+    rates = sorted(float(v["rate_hz"]) for v in native_runs), sorted(float(v["rate_hz"]) for v in cpu_runs)
+    print("  1 kHz loop, 150%% work: natively %.1f to %.1f Hz in real time; tcs cpu mode %.1f to %.1f Hz, "
+          "lockstep %s Hz" % (rates[0][0], rates[0][-1], rates[1][0], rates[1][-1], lockstep["rate_hz"]))
+    # It fails as it does natively, far from lockstep's 1 kHz: a loop
+    # under tcs costs what it costs natively (the exact rate is checked
+    # below with work measured in CPU time).
+    costs_as_natively([int(v["loop_cpu_ns"]) / int(v["loops"]) for v in cpu_runs],
+                      [int(v["loop_kernel_cpu_ns"]) / int(v["loops"]) for v in native_runs], "CPU per loop, ns")
     # Work of 1.5 periods by the native calibration (whose scatter, 15 % at
     # most, leaves it over a period) makes the first round late, and the
     # lateness only grows: every deadline is missed.
-    check(cpu["misses"] == cpu["loops"], "cpu mode: every deadline missed")
+    check(all(v["misses"] == v["loops"] for v in cpu_runs), "cpu mode: every deadline missed")
     exact = tcs("-q", prog("periodic"), 1000, 2, "1500us", timeout=120).values()
     print("  1500 us of CPU per 1 ms period: %s Hz in cpu mode, %s misses in %s loops" %
           (exact["rate_hz"], exact["misses"], exact["loops"]))
@@ -94,19 +90,19 @@ def test_overloaded_loop_fails_as_on_hardware_but_not_in_lockstep():
     # loop's own calls; tcs charges no more than the kernel did around it
     # (loop_kernel_cpu_ns), less at most what a read runs ahead (20 us).
     loops, loop_cpu = int(exact["loops"]), int(exact["loop_cpu_ns"])
-    check(loops * 1.5e6 - 20000 <= loop_cpu <= int(exact["loop_kernel_cpu_ns"]) + 20000,
+    check(loops * 1.5e6 - AHEAD <= loop_cpu <= int(exact["loop_kernel_cpu_ns"]) + AHEAD,
           "%d loops of 1500 us: %d ns charged, the kernel's %s ns" % (loops, loop_cpu, exact["loop_kernel_cpu_ns"]))
     # Always busy (never waiting), its time is its CPU: the loop's monotonic
     # span lies inside its CPU clock's, apart by the reads and getrusage
     # between them (three calls under 25 us) and what two reads run ahead.
     apart = loop_cpu - round(float(exact["elapsed_s"]) * 1e9)
-    check(-2 * 20000 <= apart <= 3 * 25000 + 2 * 20000,
+    check(-2 * AHEAD <= apart <= 3 * READ + 2 * AHEAD,
           "cpu mode: its time is its CPU (%d ns apart), so it runs at 1/(CPU per loop)" % apart)
     check(exact["misses"] == exact["loops"], "every deadline missed")
     check(lockstep["loops"] == "2000" and lockstep["elapsed_s"] == "2.000000000",
           "lockstep (wrongly) reports the full 1 kHz: 2000 loops in exactly 2 s")
     check(lockstep["misses"] == "0", "lockstep (wrongly) reports no missed deadline")
-    check(cpu["sleep_failures"] == "0", "no sleep failed under preemption")
+    check(all(v["sleep_failures"] == "0" for v in cpu_runs), "no sleep failed under preemption")
 
 
 def test_clocks_never_go_backwards_under_preemption():
@@ -126,7 +122,7 @@ def test_time_outside_the_cpu_costs_nothing_and_never_goes_back():
               ("estimated" if not env else "exact", int(v["raw_sleep_virtual_ns"]) / 1e3, v["reads"], v["backwards"]))
         # Virtual time over the sleep is CPU the kernel charged around it
         # (the call and the reads), plus what an estimated read runs ahead.
-        check(int(v["raw_sleep_virtual_ns"]) <= int(v["raw_sleep_kernel_cpu_ns"]) + 20000,
+        check(int(v["raw_sleep_virtual_ns"]) <= int(v["raw_sleep_kernel_cpu_ns"]) + AHEAD,
               "a raw sleep costs no more virtual time than its CPU (%s ns)" % v["raw_sleep_kernel_cpu_ns"], r)
         check(v["backwards"] == "0", "the clock never went back", r)
 

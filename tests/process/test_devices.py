@@ -10,14 +10,10 @@ import os
 import re
 import tempfile
 
-from harness import check, main, prog, run, scenario_file, tcs
+from harness import AHEAD, READ, check, main, prog, run, scenario_file, tcs
 
 TCS_TRACE = os.environ.get("TCS_TRACE", "tcs-trace")
 
-# A cpu-mode time read is an estimate from the TSC or the vDSO clock, whose
-# anchor is read again after 20 us (libtcs_preload/cpu_estimate.c); a
-# CPU-clock read costs under 25 us (harness.charged_as_the_kernel_says).
-AHEAD, READ = 20000, 25000
 
 SCENARIO = """\
 [sim]

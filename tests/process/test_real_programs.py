@@ -9,7 +9,7 @@ import re
 import shutil
 import time
 
-from harness import PROGRAMS, PYTHON, check, main, tcs
+from harness import AHEAD, PROGRAMS, PYTHON, check, main, tcs
 
 
 def virtual_s(r):
@@ -140,9 +140,7 @@ def test_a_child_outside_tcs_is_said_and_waited_for_in_real_time():
               "%s: the wait for it passes in real time (%.3f s in all, %.3f s wall)" % (how, t, wall_s(r)), r)
 
 
-# A cpu-mode clock read is estimated from the TSC or the vDSO clock, whose
-# anchor is read again after 20 us (libtcs_preload/cpu_estimate.c).
-AHEAD_US = 20
+AHEAD_US = AHEAD // 1000
 
 CYCLIC = re.compile(r"C:\s*(\d+)\s+Min:\s*(\d+)\s+Act:\s*(\d+)\s+Avg:\s*(\d+)\s+Max:\s*(\d+)")
 

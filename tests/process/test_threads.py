@@ -7,14 +7,10 @@ cpu mode adds the CPU the program itself uses, as its own CPU clock says."""
 import os
 import time
 
-from harness import PYTHON, TCS_RUN, check, finish, main, prog, start, tcs
+from harness import AHEAD, PYTHON, TCS_RUN, check, finish, main, prog, start, tcs
 
 MS = 1000000
 SRC = os.environ["TCS_PROGRAMS_SRC"]
-# A clock read estimated from the TSC or the vDSO clock may run ahead of the
-# kernel's CPU by 20 us (its anchor is read again after 20 us:
-# libtcs_preload/cpu_estimate.c).
-AHEAD = 20000
 
 
 def run(mode, *argv):

@@ -4,16 +4,9 @@ overrun counts and non-blocking reads; and signal timers (setitimer,
 alarm, timer_create with SIGEV_SIGNAL and SIGEV_THREAD_ID) pacing legacy
 loops that wait with sigsuspend or pause, and interrupting sleeps."""
 
-from harness import check, main, prog, tcs
+from harness import AHEAD, READ, check, main, prog, tcs
 
 MS = 1000000
-# A CPU-clock read estimated from the TSC or the vDSO clock may run ahead of
-# the kernel's by 20 us (its anchor is read again after 20 us:
-# libtcs_preload/cpu_estimate.c); one clock read costs under 25 us (0.2 to
-# 1.7 us a CPU-clock system call on the machines seen, 3 us in the slowclock
-# setup).
-AHEAD = 20000
-READ = 25000
 # notify_timer.c's LOOK_SLACK_NS: its helper looks at the clock (deciding a
 # call's overrun) up to a clock read's cost before the call reads its own,
 # and an estimated read may run ahead.

@@ -13,7 +13,7 @@ import subprocess
 import tempfile
 import xml.etree.ElementTree as ET
 
-from harness import check, main, periodic_reports, prog, run, scenario_file, tcs
+from harness import AHEAD, READ, check, main, periodic_reports, prog, run, scenario_file, tcs
 
 TCS_TRACE = os.environ.get("TCS_TRACE", "tcs-trace")
 CHECK = os.environ.get("TCS_MCAP_CHECK", "tests/mcap/check.mjs")
@@ -99,7 +99,7 @@ def test_summary_of_a_loop_that_keeps_its_deadlines():
     end = waits[0]["deadline_ns"] - 1000000 + elapsed + c["charged_cpu_ns"] - int(own["cpu_ns"])
     print("  run ends at %d ns: %+d ns from the end of its loop and its CPU after it; %d steps" %
           (s["virtual_ns"], s["virtual_ns"] - end, s["steps"]))
-    check(elapsed >= 2e9 and end - 20000 <= s["virtual_ns"] <= end + 3 * 25000 + 20000 and s["wall_ns"] > 0,
+    check(elapsed >= 2e9 and end - AHEAD <= s["virtual_ns"] <= end + 3 * READ + AHEAD and s["wall_ns"] > 0,
           "virtual time of the run %d ns: its 2 s loop (%d ns) and its CPU outside it" % (s["virtual_ns"], elapsed))
     # The world steps to each boundary before a wake (no one can run before
     # it: DESIGN.md §2), never past its controller: 1 ms steps from the last
@@ -205,7 +205,7 @@ def test_summary_of_an_overloaded_loop():
     # no more than the kernel did around it (loop_kernel_cpu_ns), less at
     # most what a read runs ahead (20 us).
     loops, loop_cpu = int(own["loops"]), int(own["loop_cpu_ns"])
-    check(loops * 1.5e6 - 20000 <= loop_cpu <= int(own["loop_kernel_cpu_ns"]) + 20000,
+    check(loops * 1.5e6 - AHEAD <= loop_cpu <= int(own["loop_kernel_cpu_ns"]) + AHEAD,
           "%d loops of 1500 us: %d ns charged, the kernel's %s ns" % (loops, loop_cpu, own["loop_kernel_cpu_ns"]))
     wakes_on_schedule(path, c, 1000000)
     # Every wait returns at once (missed), so its time is the CPU charged,
@@ -214,7 +214,7 @@ def test_summary_of_an_overloaded_loop():
     check(c["charged_cpu_ns"] == c["span_ns"], "busy all the time: %d ns charged in %d ns" %
           (c["charged_cpu_ns"], c["span_ns"]))
     # A period, one loop's CPU, holds its work (a wake's mark may run ahead).
-    check(c["period"]["min_ns"] >= 1.5e6 - 20000, "each period 1.5 ms of work or more: %s" % c["period"])
+    check(c["period"]["min_ns"] >= 1.5e6 - AHEAD, "each period 1.5 ms of work or more: %s" % c["period"])
 
     path, r = traced_run("lockstep", "-m", "lockstep", "--", prog("periodic"), 1000, 1, "1500us")
     own = r.values()
@@ -230,7 +230,7 @@ def test_summary_of_an_overloaded_loop():
     check(c["rate_hz"] == 1000, "lockstep: the full rate")
     # The CPU is still charged, as in cpu mode (above).
     loops, loop_cpu = int(own["loops"]), int(own["loop_cpu_ns"])
-    check(loops * 1.5e6 - 20000 <= loop_cpu <= int(own["loop_kernel_cpu_ns"]) + 20000,
+    check(loops * 1.5e6 - AHEAD <= loop_cpu <= int(own["loop_kernel_cpu_ns"]) + AHEAD,
           "lockstep: %d loops of 1500 us: %d ns charged, the kernel's %s ns" %
           (loops, loop_cpu, own["loop_kernel_cpu_ns"]))
     charged_as_the_program_saw(path, c, own)

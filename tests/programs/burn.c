@@ -1,7 +1,9 @@
 /* burn ROUNDS: does ROUNDS of work() once and prints, as key=value lines,
  * the elapsed time of its monotonic clock and of its process and thread
- * CPU-time clocks (ns), and the CPU the kernel charged it meanwhile, read
- * around all three and inside them. */
+ * CPU-time clocks (ns), the CPU the kernel charged it meanwhile, read
+ * around all three and inside them, and the core it ended on. */
+#define _GNU_SOURCE
+#include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
@@ -33,7 +35,7 @@ int main(int argc, char **argv)
 	long long t1 = clock_ns(CLOCK_THREAD_CPUTIME_ID);
 	long long m1 = clock_ns(CLOCK_MONOTONIC), c1 = clock_ns(CLOCK_PROCESS_CPUTIME_ID);
 	long long k1 = kernel_cpu_ns();
-	printf("monotonic_ns=%lld\ncpu_ns=%lld\nthread_cpu_ns=%lld\nkernel_cpu_ns=%lld\nkernel_inner_cpu_ns=%lld\n", m1 - m0,
-	       c1 - c0, t1 - t0, k1 - k0, i1 - i0);
+	printf("monotonic_ns=%lld\ncpu_ns=%lld\nthread_cpu_ns=%lld\nkernel_cpu_ns=%lld\nkernel_inner_cpu_ns=%lld\ncore=%d\n",
+	       m1 - m0, c1 - c0, t1 - t0, k1 - k0, i1 - i0, sched_getcpu());
 	return 0;
 }
