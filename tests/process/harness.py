@@ -208,15 +208,20 @@ def periodic_on_time(v, hz, seconds, what, result=None):
     """tests/programs/periodic HZ SECONDS with work that fits its period:
     misses only where the kernel's CPU explains them (pause_misses), and
     unless it explains lateness (pause_misses, crossed_waits), exactly
-    HZ * SECONDS loops ending at the last one's release plus the wait's
-    return and periodic's CPU-clock and clock reads after it (two system
-    calls, under READ each) and what the last read runs ahead (AHEAD)."""
+    HZ * SECONDS loops ending at the last one's release plus what followed
+    it: the CPU from the last wait's return on, by the kernel's clock
+    (tail_kernel_cpu_ns), with the return itself before that read (READ),
+    or where a loop without work does not read it, the wait's return and
+    periodic's two reads after it (two calls, READ each); and what the last
+    read runs ahead (AHEAD)."""
     loops, elapsed = int(v.get("loops", 0)), float(v.get("elapsed_s", 0))
     misses, pauses = int(v.get("misses", 1 << 30)), int(v.get("pause_misses", -1))
     check(misses <= pauses, "%s: misses only where the kernel's CPU explains them (%d, %d)" % (what, misses, pauses),
           result)
     if pauses == 0 and v.get("crossed_waits") == "0":
-        check(loops == round(hz * seconds) and seconds <= elapsed <= seconds + (2 * READ + AHEAD) / 1e9,
+        tail = int(v.get("tail_kernel_cpu_ns", -1))
+        after = READ + tail if tail >= 0 else 2 * READ
+        check(loops == round(hz * seconds) and seconds <= elapsed <= seconds + (after + AHEAD) / 1e9,
               "%s: %d loops in %.9f s" % (what, loops, elapsed), result)
     else:
         check(loops <= round(hz * seconds) and seconds <= elapsed, "%s: %d loops in %.9f s" % (what, loops, elapsed),
@@ -236,9 +241,27 @@ def charged_as_the_kernel_says(v, scale, result=None):
           (virtual, inner, outer, scale, ahead), result)
 
 
+def paired_runs(n, under_tcs, natively, core_of):
+    """n tcs runs and n native runs of the same work, interleaved, the
+    order of each pair alternating (so that neither side always follows
+    the other), each native run on the core its tcs run used (core_of of
+    the tcs run's values; the first pair goes tcs first to learn it).
+    under_tcs() and natively(core) return the runs' values."""
+    tcs_runs, native_runs, core = [], [], None
+    for i in range(n):
+        if i % 2:
+            native_runs.append(natively(core))
+            tcs_runs.append(under_tcs())
+        else:
+            tcs_runs.append(under_tcs())
+            native_runs.append(natively(core_of(tcs_runs[-1])))
+        core = core_of(tcs_runs[-1])
+    return tcs_runs, native_runs
+
+
 def costs_as_natively(under_tcs, natively, what):
-    """The same work's CPU under tcs and natively, n runs each, each pair on
-    the same core, interleaved. If tcs adds nothing to what the work costs
+    """The same work's CPU under tcs and natively, n runs each (paired_runs).
+    If tcs adds nothing to what the work costs
     (and takes nothing from it), both are draws from one distribution, and
     their ranges overlap: all n under tcs above every native one, or all
     below, has probability 2 n!n!/(2n)! (1 in 24310 for 9). No tolerance of

@@ -7,7 +7,8 @@ import io
 import os
 import tempfile
 
-from harness import PYTHON, TCS_RUN, check, main, periodic_reports, prog, run, scenario_file, skip, tcs
+from harness import (PYTHON, TCS_RUN, check, main, periodic_on_time, periodic_reports, prog, run, scenario_file, skip,
+                     tcs)
 
 TCS_TRACE = os.environ.get("TCS_TRACE", "tcs-trace")
 
@@ -168,12 +169,13 @@ def test_a_controller_on_a_core_of_its_own_hands_off_through_shared_memory():
         channel = tcs("-m", mode, *argv, env={"TCS_NO_MAILBOX": "1"}, timeout=60).values()
         print("  %-8s 3000 waits: %s context switches through the mailbox, %s through the channel" %
               (mode, shared["switches"], channel["switches"]))
-        check(shared["loops"] == channel["loops"] == "3000", "%s: 3000 loops either way" % mode)
         if mode == "lockstep":
+            check(shared["loops"] == channel["loops"] == "3000", "lockstep: 3000 loops either way")
             for key in ("elapsed_s", "rate_hz", "misses", "sleep_failures"):
                 check(shared[key] == channel[key], "lockstep: %s the same: %s, %s" % (key, shared[key], channel[key]))
         else:
-            check(shared["misses"] == channel["misses"] == "0", "cpu: no misses either way")
+            for how, v in (("the mailbox", shared), ("the channel", channel)):
+                periodic_on_time(v, 1000, 3, "cpu: through %s" % how)
         check(int(channel["switches"]) >= 3000, "%s: through the channel every wait leaves the core" % mode)
         # A wait leaves the core only when its answer takes longer than the
         # spin (TCS_MBOX_SPIN_NS, 30 us: above a ping-pong on the machines
@@ -190,9 +192,7 @@ def test_cpu_mode_charges_each_controller_its_own_cpu_in_parallel():
     check(r.returncode == 0, "the run succeeds", r)
     for i, v in enumerate(loops(r)):
         per_loop = int(v["loop_cpu_ns"]) / int(v["loops"])
-        check(int(v["loops"]) == 300 and int(v["misses"]) <= int(v["pause_misses"]),
-              "controller %d: 300 loops at 1 kHz, %s misses, those the kernel's CPU explains: %s" %
-              (i, v["misses"], v["pause_misses"]), r)
+        periodic_on_time(v, 1000, 0.3, "controller %d: 300 loops at 1 kHz" % i, r)
         check((100 + 50 * i) * 1000 <= per_loop, "controller %d computed its %d us a cycle: %.1f us" %
               (i, 100 + 50 * i, per_loop / 1e3), r)
 

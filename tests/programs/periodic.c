@@ -11,7 +11,8 @@
  * (TIMER_ABSTIME, CLOCK_MONOTONIC) until its next release; a release already
  * past counts as a deadline miss (the loop then runs late, as on hardware);
  * crossed_waits are the waits on time at the check that the CPU of their
- * call (by the kernel's clock) may have made late by the request.
+ * call (by the kernel's clock) may have made late by the request, and
+ * tail_kernel_cpu_ns the CPU from the last wait's return to the end.
  * Stops after SECONDS of its own monotonic clock and prints what it saw,
  * with its CPU-time clock at the end (cpu_ns: all it computed, start
  * included), the CPU its loop used (loop_cpu_ns; and by the kernel's clock,
@@ -58,7 +59,7 @@ int main(int argc, char **argv)
 	/* (A loop with no work makes no system call of its own, which
 	 * test_lockstep counts.) */
 	const int account = cpu_work > 0 || rounds > 0;
-	long long round_start = account ? kernel_cpu_ns() : 0, debt = 0, crossed_waits = 0;
+	long long round_start = account ? kernel_cpu_ns() : 0, debt = 0, crossed_waits = 0, woke_kernel = 0;
 	while (clock_ns(CLOCK_MONOTONIC) - start < duration) {
 		if (cpu_work >= 0)
 			compute_ns(CLOCK_PROCESS_CPUTIME_ID, cpu_work);
@@ -90,13 +91,15 @@ int main(int argc, char **argv)
 		}
 		struct timespec ts = { next / 1000000000LL, next % 1000000000LL };
 		int r = clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL);
+		if (account)
+			woke_kernel = kernel_cpu_ns();
 		if (r != 0)
 			failures++;
 		/* The wait itself may be asked for after its deadline though the
 		 * check before it was on time (tcs counts a miss where the
 		 * request is late): only if the CPU of the call, by the
 		 * kernel's clock, can span what was left of the period. */
-		if (account && !late && checked + (long long)((kernel_cpu_ns() - round_start) * scale) > next)
+		if (account && !late && checked + (long long)((woke_kernel - round_start) * scale) > next)
 			crossed_waits++;
 		int core = sched_getcpu();
 		if (core >= 0 && core < 64)
@@ -104,11 +107,17 @@ int main(int argc, char **argv)
 	}
 	double elapsed = (clock_ns(CLOCK_MONOTONIC) - start) / 1e9;
 	loop_cpu = clock_ns(CLOCK_PROCESS_CPUTIME_ID) - loop_cpu;
-	loop_kernel_cpu = kernel_cpu_ns() - loop_kernel_cpu;
+	long long end_kernel = kernel_cpu_ns();
+	loop_kernel_cpu = end_kernel - loop_kernel_cpu;
+	/* The CPU from the last wait's return to here (times SCALE), which is
+	 * all that may follow the last release in elapsed_s (-1: a loop with
+	 * no work does not read it). */
+	long long tail_kernel_cpu = account ? (long long)((end_kernel - woke_kernel) * scale) : -1;
 	switches = context_switches() - switches;
 	printf("asked_hz=%s\nloops=%lld\nelapsed_s=%.9f\nrate_hz=%.3f\nmisses=%lld\nsleep_failures=%lld\nloop_cpu_ns=%lld\ncpu_ns=%lld\n"
-	       "loop_kernel_cpu_ns=%lld\ncores_seen=%llu\nswitches=%ld\npaused_rounds=%lld\npause_misses=%lld\ncrossed_waits=%lld\n",
+	       "loop_kernel_cpu_ns=%lld\ncores_seen=%llu\nswitches=%ld\npaused_rounds=%lld\npause_misses=%lld\ncrossed_waits=%lld\n"
+	       "tail_kernel_cpu_ns=%lld\n",
 	       argv[1], loops, elapsed, loops / elapsed, misses, failures, loop_cpu, clock_ns(CLOCK_PROCESS_CPUTIME_ID), loop_kernel_cpu, cores_seen,
-	       switches, paused_rounds, pause_misses, crossed_waits);
+	       switches, paused_rounds, pause_misses, crossed_waits, tail_kernel_cpu);
 	return 0;
 }
