@@ -189,6 +189,7 @@ public:
 	bool wait_absolute = false;
 	int64_t cpu_at_block = -1; // its CPU clock when its running slice ended in a wait (-1: none)
 	int64_t resumed_wall = 0;  // wall ns when it was last resumed
+	int64_t slice_wall = 0;    // wall ns when its accounting slice began
 	int64_t checked_used = -1;  // slice CPU at the last budget check (-1: none yet)
 	int64_t lag_ns = 0;         // learnt wall-versus-CPU lag of a slice
 	int64_t check_interval = 0; // wall time until the next check

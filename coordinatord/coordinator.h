@@ -197,7 +197,10 @@ private:
 	void on_idle();
 	void resume(Controller &c, int64_t target, int lane);
 	void on_budget(Lane &lane);
-	void preempt(Controller &c);
+	// SIGSTOP, and wait till it has stopped: false if it died first.
+	bool hold(Controller &c);
+	// Ends c's slice, stopping it unless held already (by hold()).
+	void preempt(Controller &c, bool held = false);
 	void on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid);
 	void on_early(Controller &c, const ::tcs_msg &m, int fd);
 	// Threads (threads.cc).
@@ -290,6 +293,9 @@ private:
 	// The CPU a request charges up to; a claim may exceed the wall time
 	// since the slice began by this much (the hook's part before we ran).
 	int64_t charge_point(Controller &c, int64_t claimed);
+	// c's virtual time at a request's charge point (c.v unless running in
+	// cpu mode).
+	int64_t running_v(Controller &c, int64_t claimed);
 	static constexpr int64_t kClaimSlack = 1 * TCS_NS_PER_MS;
 	Status step_world();
 	int64_t alive() const;

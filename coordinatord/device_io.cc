@@ -67,6 +67,7 @@ void Coordinator::restart_slice(Controller &c, int64_t request_cpu)
 	int64_t used = c.slice_cpu(at);
 	c.account(at, cfg_.mode);
 	c.publish_slice(at);
+	c.slice_wall = wall_now();
 	c.budget = std::max<int64_t>(c.budget - used, 1);
 	c.checked_used = 0;
 }

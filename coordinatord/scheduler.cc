@@ -370,7 +370,21 @@ int64_t Coordinator::charge_point(Controller &c, int64_t claimed)
 	if (one_thread && cfg_.mode == TCS_MODE_LOCKSTEP)
 		return std::clamp(claimed, base, most);
 	const int64_t now = std::max(base, c.cpu_now());
-	return one_thread ? std::clamp(claimed, base, now) : now;
+	if (one_thread)
+		return std::clamp(claimed, base, now);
+	// Read from here, the CPU of a thread on its core is behind by what it
+	// computed since that core's last tick (1 to 10 ms) or its own last
+	// system call; the claim, read in the process, is not (its threads
+	// share one core, so no other ran meanwhile).
+	return std::max(now, std::clamp(claimed, base, most));
+}
+
+int64_t Coordinator::running_v(Controller &c, int64_t claimed)
+{
+	if (c.state != CtlState::Running || cfg_.mode != TCS_MODE_CPU)
+		return c.v;
+	int64_t at = charge_point(c, claimed);
+	return std::max(c.v, tcs_ns_add(c.slice().v_base, tcs_scale_cpu(c.slice_cpu(at), c.scale)));
 }
 
 void Coordinator::resume(Controller &c, int64_t target, int lane)
@@ -383,7 +397,7 @@ void Coordinator::resume(Controller &c, int64_t target, int lane)
 	int64_t cpu = c.cpu_at_block >= 0 ? c.cpu_at_block : c.cpu_now();
 	c.cpu_at_block = -1;
 	c.publish_slice(cpu);
-	c.resumed_wall = wall_now();
+	c.resumed_wall = c.slice_wall = wall_now();
 	if (trace_.is_open()) {
 		c.trace_cpu_start = cpu;
 		c.trace_wall_start = c.resumed_wall;
@@ -424,28 +438,48 @@ void Coordinator::on_budget(Lane &lane)
 		return; // (budgets are cpu mode's, where a lane runs one at most)
 	Controller &c = *lane.running.front();
 	int64_t used = c.slice_cpu(c.cpu_now());
+	bool held = false;
+	if (used < c.budget && !proc_all_threads_asleep(c.pid)) {
+		// A thread of it is on its core, and read from here its CPU clock
+		// is behind by what it computed since that core's last tick (1 to
+		// 10 ms apart) or its own last system call: the kernel brings a
+		// running thread's count up to date only then. Computing without
+		// system calls, it read 0 after 1.8 ms and overran its budget by
+		// 3.4 ms. Held still, its clock is exact.
+		if (!hold(c)) {
+			leave_lane(c);
+			on_pidfd(c); // it died before it could stop
+			return;
+		}
+		held = true;
+		used = c.slice_cpu(c.cpu_now());
+	}
 	if (c.checked_used < 0) {
 		// First check of the slice: learn the lag (an integrating
 		// controller on what was missing or too much; bounded).
 		c.lag_ns = std::clamp<int64_t>(c.lag_ns + (c.budget - used) / 4, 0, kMaxLag);
 	}
-	if (used < c.budget) {
-		// Short of its budget: it was asleep in the kernel, or the core
-		// was busy with something else. If it made no progress at all and
-		// sleeps still, others may have the core meanwhile (asleep.cc).
-		if (used == c.checked_used && (block_if_all_waiting(c) || step_aside_if_asleep(c)))
-			return;
-		// Else give it the rest.
-		int64_t rest = std::max(c.budget - used, kMinSlice);
-		c.check_interval = used > std::max<int64_t>(c.checked_used, 0)
-					   ? rest
-					   : std::min(2 * c.check_interval, std::max(rest, kMaxRecheck));
-		c.checked_used = used;
-		lane.budget.arm(c.check_interval);
+	if (used >= c.budget) {
+		preempt(c, held);
+		schedule();
 		return;
 	}
-	preempt(c);
-	schedule();
+	if (held) {
+		kill(c.pid, SIGCONT);
+		c.stopped = false;
+	}
+	// Short of its budget: it was asleep in the kernel, or the core was
+	// busy with something else. If it made no progress at all and sleeps
+	// still, others may have the core meanwhile (asleep.cc).
+	if (used == c.checked_used && (block_if_all_waiting(c) || step_aside_if_asleep(c)))
+		return;
+	// Else give it the rest.
+	int64_t rest = std::max(c.budget - used, kMinSlice);
+	c.check_interval = used > std::max<int64_t>(c.checked_used, 0)
+				   ? rest
+				   : std::min(2 * c.check_interval, std::max(rest, kMaxRecheck));
+	c.checked_used = used;
+	lane.budget.arm(c.check_interval);
 }
 
 // After its SIGSTOP: true once c has stopped, false if it died first. It
@@ -479,16 +513,21 @@ bool Coordinator::wait_until_stopped(Controller &c)
 	return true; // (asleep uninterruptibly for a second: it stops on waking)
 }
 
-void Coordinator::preempt(Controller &c)
+bool Coordinator::hold(Controller &c)
 {
-	leave_lane(c);
 	if (cfg_.realtime.stop_delay_ns > 0) {
 		// (At most 100 ms: TCS_STOP_DELAY_US.)
 		struct timespec late = { 0, (long)cfg_.realtime.stop_delay_ns };
 		nanosleep(&late, nullptr);
 	}
 	kill(c.pid, SIGSTOP);
-	if (!wait_until_stopped(c)) {
+	return wait_until_stopped(c);
+}
+
+void Coordinator::preempt(Controller &c, bool held)
+{
+	leave_lane(c);
+	if (!held && !hold(c)) {
 		on_pidfd(c); // it died before it could stop
 		return;
 	}
@@ -552,13 +591,13 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		c.stats.waits++;
 		if (m.flags & TCS_BLOCK_ABSOLUTE) {
 			c.stats.absolute_waits++;
-			if (m.deadline <= c.v)
+			if (m.deadline <= c.side.back().requested_at)
 				c.stats.reported_misses++;
 		}
 		if (missed_raised_signal(c, m)) {
 			// (At the time its process has reached, as on_early's.)
 			if (c.state == CtlState::Running && cfg_.mode == TCS_MODE_CPU)
-				c.account(c.cpu_now(), cfg_.mode);
+				c.account(charge_point(c, m.cpu), cfg_.mode);
 			SideWait w = c.side.back();
 			c.side.pop_back();
 			w.wake_reason = TCS_WAKE_RECHECK;
@@ -682,7 +721,7 @@ void Coordinator::on_early(Controller &c, const ::tcs_msg &m, int fd)
 			// cpu mode past the slice's start by what it has computed), so
 			// that what it did is never seen as done before it was.
 			if (cfg_.mode == TCS_MODE_CPU)
-				c.account(c.cpu_now(), cfg_.mode);
+				c.account(charge_point(c, m.cpu), cfg_.mode);
 			SideWait done = w;
 			c.side.erase(c.side.begin() + (long)i);
 			answer_side(c, done);

@@ -83,20 +83,23 @@ bool Coordinator::missed_raised_signal(const Controller &c, const ::tcs_msg &m) 
 }
 
 // A running controller's budget ends no later than its next timer (cpu mode:
-// in lockstep it reaches it only by waiting).
+// in lockstep it reaches it only by waiting). Budgets count from the
+// slice's start, and so does the check's timer: armed from now for the
+// whole budget, it came as late as the slice was old (a thread's 10 ms
+// sleep beside a computing thread ended at 14 ms).
 void Coordinator::budget_to_next_timer(Controller &c)
 {
 	int64_t at = std::min(c.next_timer(), side_next(c));
 	Lane *lane = lane_of(c);
 	if (cfg_.mode != TCS_MODE_CPU || at == TCS_NEVER || !lane)
 		return;
-	int64_t need = std::max<int64_t>((int64_t)std::ceil((double)(at - c.v) / c.scale), 1);
+	int64_t need = std::max<int64_t>((int64_t)std::ceil((double)(at - c.slice().v_base) / c.scale), 1);
 	if (c.budgeted && need >= c.budget)
 		return;
 	c.budget = need;
 	c.budgeted = true;
 	c.checked_used = -1;
-	c.check_interval = std::max(c.budget + c.lag_ns, kMinSlice);
+	c.check_interval = std::max(c.slice_wall + c.budget + c.lag_ns - wall_now(), kMinSlice);
 	lane->budget.arm(c.check_interval);
 }
 

@@ -10,11 +10,10 @@
  *                (slow_last_from_ns), and the CPU from there to the end
  *                (tail_cpu_ns)
  *   compute      main sleeps 10 ms while a worker computes 20 ms of CPU:
- *                how much the worker had computed when main woke, with
- *                main's own CPU till then (main_cpu_at_wake_ns), the
- *                worker's before it began counting (worker_start_cpu_ns)
- *                and the longest the worker went between two counts
- *                (worker_chunk_max_ns), by the kernel's thread clocks
+ *                when main woke, and the CPU of both threads by the
+ *                kernel's thread clocks read just before main's clock
+ *                read (*_before_wake_ns: the worker's as it last counted
+ *                it) and just after (*_after_wake_ns)
  *                (compute slow-main: main at nice 19, so the worker
  *                finishes before main's turn)
  *   cond         condition variables: signalled at 1 ms (timedwait, both
@@ -134,20 +133,17 @@ static int mode_loops(void)
 }
 
 /* ---- compute ---- */
-static volatile long long worker_done_ns; /* the worker's CPU so far */
-static volatile long long worker_start_cpu, worker_chunk_max;
+static volatile long long worker_done_ns; /* the worker's CPU so far, from c0 */
+static volatile long long worker_start_cpu; /* its CPU at c0 */
 
 static void *compute(void *arg)
 {
 	(void)arg;
-	long long c0 = kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID), last = 0;
+	long long c0 = kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID);
 	worker_start_cpu = c0; /* its CPU from its creation to here */
 	while (worker_done_ns < 20 * MS) {
 		work(1000);
-		long long done = kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID) - c0;
-		if (done - last > worker_chunk_max)
-			worker_chunk_max = done - last;
-		worker_done_ns = last = done;
+		worker_done_ns = kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID) - c0;
 	}
 	return NULL;
 }
@@ -163,13 +159,22 @@ static int mode_compute(int slow_main)
 		setpriority(PRIO_PROCESS, (id_t)syscall(SYS_gettid), 19);
 	pthread_create(&w, NULL, compute, NULL);
 	struct timespec ten = { 0, 10 * MS };
+	clockid_t worker_clock;
+	pthread_getcpuclockid(w, &worker_clock);
 	nanosleep(&ten, NULL);
+	/* The worker may run between any two of these reads (the kernel
+	 * shares the core between the two): what it counted before main's
+	 * clock read is no more than its CPU then, its clock read after no
+	 * less; so for main's own. */
+	long long worker_before = worker_start_cpu + worker_done_ns;
+	long long main_before = kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID) - t0_main_thread_cpu;
 	long long woke = now();
-	long long main_cpu = kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID) - t0_main_thread_cpu, seen = worker_done_ns;
+	long long worker_after = kernel_clock_ns(worker_clock);
+	long long main_after = kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID) - t0_main_thread_cpu;
 	pthread_join(w, NULL);
-	printf("main_woke_ns=%lld worker_cpu_at_wake_ns=%lld end_ns=%lld\n", woke, seen, now());
-	printf("main_cpu_at_wake_ns=%lld worker_start_cpu_ns=%lld worker_chunk_max_ns=%lld\n", main_cpu, worker_start_cpu,
-	       worker_chunk_max);
+	printf("main_woke_ns=%lld end_ns=%lld\n", woke, now());
+	printf("worker_cpu_before_wake_ns=%lld worker_cpu_after_wake_ns=%lld\n", worker_before, worker_after);
+	printf("main_cpu_before_wake_ns=%lld main_cpu_after_wake_ns=%lld\n", main_before, main_after);
 	return 0;
 }
 
@@ -390,10 +395,11 @@ static int mode_poll(void)
 int main(int argc, char **argv)
 {
 	/* The CPU figures from the start are read before it: all of the time
-	 * from t0 on is in them. */
-	t0_main_thread_cpu = kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID);
+	 * from t0 on is in them (main's thread clock last: it is not ahead of
+	 * t0 by more than one read). */
 	t0_kernel_cpu = kernel_cpu_ns();
 	t0_cpu = cpu();
+	t0_main_thread_cpu = kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID);
 	t0 = clock_ns(CLOCK_MONOTONIC);
 	const char *mode = argc > 1 ? argv[1] : "";
 	if (!strcmp(mode, "loops"))

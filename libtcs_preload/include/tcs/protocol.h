@@ -152,7 +152,8 @@ struct tcs_msg {
 	uint16_t flags;  /* BLOCK: tcs_block_flags */
 	int64_t deadline; /* BLOCK: virtual ns, or TCS_NEVER */
 	int64_t v;        /* BLOCK: virtual ns when the wait began; WAKE: when it ended */
-	int64_t cpu;      /* BLOCK: process CPU ns when the wait began */
+	int64_t cpu;      /* BLOCK: process CPU ns when the wait began; EARLY from
+			     another thread: when it ended the wait */
 	int64_t arg;      /* HELLO: pid */
 };
 
