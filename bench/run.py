@@ -201,14 +201,9 @@ def pendulum_speed(b):
 
 def preemption_overshoot(b):
     periodic = b.path("tests", "programs", "periodic")
-    world = os.path.join(b.tmp, "two.toml")
-    with open(world, "w") as f:
-        f.write('[sim]\nstep = "1ms"\nmodel = "pendulum"\n'
-                '[[controller]]\ncommand = "%s 1000 5 700us"\n'
-                '[[controller]]\ncommand = "%s 250 5 2000us"\n' % (periodic, periodic))
     trace = os.path.join(b.tmp, "two.mcap")
 
-    def overshoots():
+    def overshoots(world):
         """Every preemption's overshoot in one run, pooled over both
         controllers (one preempted a handful of times has a p99 that is its
         max): p50, p99 and the count."""
@@ -220,26 +215,41 @@ def preemption_overshoot(b):
         got = sorted(int(f[over]) for f in (l.split(",") for l in lines[1:]) if f[end] == "preempted")
         return got[len(got) // 2], got[min(len(got) - 1, (99 * len(got)) // 100)], len(got)
 
+    # Two kinds of computing: timed by the CPU clock, a system call every
+    # few microseconds, or rounds of arithmetic with none (as a controller's
+    # own maths), whose CPU the kernel counts, seen from another core, only
+    # at that core's ticks: each budget check must hold it to read it.
+    worlds = {}
+    for kind, (fast, slow) in {"clock-timed": ("700us", "2000us"), "syscall-free": ("245000", "700000")}.items():
+        worlds[kind] = os.path.join(b.tmp, "two-%s.toml" % kind)
+        with open(worlds[kind], "w") as f:
+            f.write('[sim]\nstep = "1ms"\nmodel = "pendulum"\n'
+                    '[[controller]]\ncommand = "%s 1000 5 %s"\n'
+                    '[[controller]]\ncommand = "%s 250 5 %s"\n' % (periodic, fast, periodic, slow))
     # The floor, in the same rounds: how late a SCHED_FIFO timer wakes its
     # process on this machine while a lower-priority one computes on the
     # same core.
-    runs = {"tcs": [], "floor": []}
+    runs = {"floor": [], **{k: [] for k in worlds}}
     for _ in range(min(b.rounds, 5)):
-        runs["tcs"].append(overshoots())
+        for kind, world in worlds.items():
+            runs[kind].append(overshoots(world))
         runs["floor"].append(b.values([b.path("bench", "timer_latency")]))
-    p50 = statistics.median(r[0] for r in runs["tcs"])
-    p99 = statistics.median(r[1] for r in runs["tcs"])
-    n = int(statistics.median(r[2] for r in runs["tcs"]))
     floor = {k: statistics.median(f[k] for f in runs["floor"]) for k in ("timer_late_p50_ns", "timer_late_p99_ns")}
     step = 1e6
-    note = ("medians of %d runs, each %d preemptions of two controllers sharing a core; p99 is %.1f %% of the step"
-            % (len(runs["tcs"]), n, 100 * p99 / step))
-    return [row("preemption overshoot p50", p50 / 1e3, "us", floor["timer_late_p50_ns"] / 1e3,
-                "timer wake-up latency p50 (us)", p50 / floor["timer_late_p50_ns"], "(p99 is the target)", None,
-                note),
-            row("preemption overshoot p99", p99 / 1e3, "us", floor["timer_late_p99_ns"] / 1e3,
-                "timer wake-up latency p99 (us)", p99 / floor["timer_late_p99_ns"], "<= 5 % of a 1 ms step",
-                p99 <= 0.05 * step, note)]
+    rows = []
+    for kind in worlds:
+        p50 = statistics.median(r[0] for r in runs[kind])
+        p99 = statistics.median(r[1] for r in runs[kind])
+        n = int(statistics.median(r[2] for r in runs[kind]))
+        note = ("%s work; medians of %d runs, each %d preemptions of two controllers sharing a core; p99 is %.1f %% "
+                "of the step" % (kind, len(runs[kind]), n, 100 * p99 / step))
+        rows += [row("preemption overshoot p50, %s" % kind, p50 / 1e3, "us", floor["timer_late_p50_ns"] / 1e3,
+                     "timer wake-up latency p50 (us)", p50 / floor["timer_late_p50_ns"], "(p99 is the target)", None,
+                     note),
+                 row("preemption overshoot p99, %s" % kind, p99 / 1e3, "us", floor["timer_late_p99_ns"] / 1e3,
+                     "timer wake-up latency p99 (us)", p99 / floor["timer_late_p99_ns"], "<= 5 % of a 1 ms step",
+                     p99 <= 0.05 * step, note)]
+    return rows
 
 
 def compute_cost(b):
