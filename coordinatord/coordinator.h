@@ -293,9 +293,11 @@ private:
 	// The CPU a request charges up to; a claim may exceed the wall time
 	// since the slice began by this much (the hook's part before we ran).
 	int64_t charge_point(Controller &c, int64_t claimed);
-	// c's virtual time at a request's charge point (c.v unless running in
-	// cpu mode).
-	int64_t running_v(Controller &c, int64_t claimed);
+	// When a request of a running controller's thread was made: its own
+	// claim, no earlier than c.v nor later than its process's time as the
+	// request is heard (other threads may have run since). c.v unless
+	// running in cpu mode.
+	int64_t request_v(Controller &c, const ::tcs_msg &m);
 	static constexpr int64_t kClaimSlack = 1 * TCS_NS_PER_MS;
 	Status step_world();
 	int64_t alive() const;

@@ -379,12 +379,12 @@ int64_t Coordinator::charge_point(Controller &c, int64_t claimed)
 	return std::max(now, std::clamp(claimed, base, most));
 }
 
-int64_t Coordinator::running_v(Controller &c, int64_t claimed)
+int64_t Coordinator::request_v(Controller &c, const ::tcs_msg &m)
 {
 	if (c.state != CtlState::Running || cfg_.mode != TCS_MODE_CPU)
 		return c.v;
-	int64_t at = charge_point(c, claimed);
-	return std::max(c.v, tcs_ns_add(c.slice().v_base, tcs_scale_cpu(c.slice_cpu(at), c.scale)));
+	int64_t heard = tcs_ns_add(c.slice().v_base, tcs_scale_cpu(c.slice_cpu(charge_point(c, m.cpu)), c.scale));
+	return std::clamp(m.v, c.v, std::max(c.v, heard));
 }
 
 void Coordinator::resume(Controller &c, int64_t target, int lane)

@@ -89,9 +89,9 @@ bool Coordinator::side_wait(Controller &c, const ::tcs_msg &m, int fd, pid_t tid
 	// check finds them all waiting (block_if_all_waiting).
 	if (c.state == CtlState::Running && runnable_threads(c, tid) == 0)
 		return false;
-	// (Its time is its process's now, which may be past c.v: a running
-	// controller's is settled only as its slice ends.)
-	c.side.push_back(side_wait_of(m, fd, tid, running_v(c, m.cpu), sim_ns_));
+	// (Its time may be past c.v: a running controller's is settled only as
+	// its slice ends.)
+	c.side.push_back(side_wait_of(m, fd, tid, request_v(c, m), sim_ns_));
 	if (c.state == CtlState::Running) {
 		budget_to_next_timer(c); // (and to the earliest side wait)
 		if (!c.budgeted)

@@ -11,10 +11,9 @@ import subprocess
 import tempfile
 import time
 
-from harness import TCS_RUN, assert_nothing_left, check, demote, run, start
+from harness import TCS_RUN, TCS_TRACE, assert_nothing_left, check, demote, run, start
 
 COORDINATORD = os.environ.get("TCS_COORDINATORD", "coordinatord")
-TCS_TRACE = os.environ.get("TCS_TRACE", "tcs-trace")
 EXAMPLES = os.environ.get("TCS_EXAMPLES", "examples")
 CHECK = os.environ.get("TCS_MCAP_CHECK", "tests/mcap/check.mjs")
 PERIODIC = os.path.join(EXAMPLES, "periodic_controller")

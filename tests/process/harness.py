@@ -4,7 +4,9 @@ in a session of their own, and fails a test that leaves any process behind
 them and ends with the line 'N passed, N failed'."""
 
 import contextlib
+import csv
 import ctypes
+import io
 import itertools
 import os
 import re
@@ -16,6 +18,7 @@ import time
 import traceback
 
 TCS_RUN = os.environ.get("TCS_RUN", "tcs-run")
+TCS_TRACE = os.environ.get("TCS_TRACE", "tcs-trace")
 PROGRAMS = os.environ.get("TCS_PROGRAMS", ".")
 PYTHON = os.environ.get("TCS_PYTHON", sys.executable)
 
@@ -169,6 +172,14 @@ def first_core(cores_seen):
 def tcs(*args, timeout=60, env=None):
     """tcs-run ARGS...; quiet unless the test asks for the summary."""
     return run([TCS_RUN] + list(args), timeout=timeout, env=env)
+
+
+def trace_rows(path, topic):
+    """One topic of a trace (tcs-trace export --format csv) as dicts of its
+    columns."""
+    e = run([TCS_TRACE, "export", path, "--format", "csv", "--topic", topic])
+    check(e.returncode == 0, "tcs-trace export %s" % topic, e)
+    return list(csv.DictReader(io.StringIO(e.stdout)))
 
 
 def check(cond, what, result=None):

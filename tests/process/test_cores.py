@@ -2,15 +2,12 @@
 controller on each core at a time, and results that do not depend on how
 many cores there are."""
 
-import csv
-import io
 import os
 import tempfile
 
 from harness import (PYTHON, TCS_RUN, check, main, periodic_on_time, periodic_reports, prog, run, scenario_file, skip,
-                     tcs)
+                     tcs, trace_rows)
 
-TCS_TRACE = os.environ.get("TCS_TRACE", "tcs-trace")
 
 CORES = sorted(os.sched_getaffinity(0))
 ONE = str(CORES[-1])
@@ -42,10 +39,8 @@ def trace_content(path):
               "/tcs/slice": ("controller", "v_start_ns", "v_end_ns", "sim_ns", "end")}
     content = {}
     for topic, fields in topics.items():
-        e = run([TCS_TRACE, "export", path, "--format", "csv", "--topic", topic])
-        check(e.returncode == 0, "tcs-trace export %s" % topic, e)
-        rows = list(csv.DictReader(io.StringIO(e.stdout)))
-        check(rows and all(f in rows[0] for f in fields), "%s has %s" % (topic, ", ".join(fields)), e)
+        rows = trace_rows(path, topic)
+        check(rows and all(f in rows[0] for f in fields), "%s has %s" % (topic, ", ".join(fields)))
         content[topic] = sorted(tuple(row[f] for f in fields) for row in rows)
     return content
 

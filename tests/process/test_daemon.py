@@ -14,9 +14,10 @@ import struct
 import tempfile
 import time
 
-from daemon import (CLOCK_LISTEN, COORDINATORD, DDS_ENV, EXAMPLES, PERIODIC, TCS_TRACE, Daemon, cycles_line,
+from daemon import (CLOCK_LISTEN, COORDINATORD, DDS_ENV, EXAMPLES, PERIODIC, Daemon, cycles_line,
                     mcap_counts, trace_summary)
-from harness import TCS_RUN, calibrate, charged_as_the_kernel_says, check, finish, main, prog, run, start
+from harness import (TCS_RUN, TCS_TRACE, calibrate, charged_as_the_kernel_says, check, finish, main, prog, run, start,
+                     trace_rows)
 
 STEP_NS = 10**6  # the scenarios' step below
 
@@ -123,10 +124,9 @@ def test_a_controller_joins_a_running_world_at_its_time():
     # is caught up at the next step), and loses at most its length beyond
     # the step, when its lateness, alone or with the next ones before the
     # world caught up, went over 50 ms (the world goes on from then).
-    r = run([TCS_TRACE, "export", d.trace, "--format", "csv", "--topic", "/tcs/step"])
-    rows = [line.split(",") for line in r.stdout.splitlines()[1:]]
-    steps = [(int(row[1]), int(row[2])) for row in rows if int(row[1]) <= start]
-    check(len(steps) > 1, "the world stepped before it joined", r)
+    rows = trace_rows(d.trace, "/tcs/step")
+    steps = [(int(row["v_ns"]), int(row["wall_ns"])) for row in rows if int(row["v_ns"]) <= start]
+    check(len(steps) > 1, "the world stepped before it joined")
     (v0, w0), (vl, wl) = steps[0], steps[-1]
     check(vl <= start <= vl + STEP_NS, "it joins at the world's time: %d ns, the world at %d ns" % (start, vl), r)
     lost = sum(b[1] - a[1] - STEP_NS for a, b in zip(steps, steps[1:]) if b[1] - a[1] > 2 * STEP_NS)

@@ -3,16 +3,13 @@
 and saturated commands, a shadowed existing path with termios, and
 scenario errors reported as FILE:LINE before anything starts."""
 
-import csv
-import io
 import math
 import os
 import re
 import tempfile
 
-from harness import AHEAD, READ, check, main, prog, run, scenario_file, tcs
+from harness import AHEAD, READ, check, main, prog, scenario_file, tcs, trace_rows
 
-TCS_TRACE = os.environ.get("TCS_TRACE", "tcs-trace")
 
 
 SCENARIO = """\
@@ -257,10 +254,8 @@ def test_commands_keep_the_time_they_were_written():
         check((v["two"], v["bin_two"], v["bin_piece1"], v["bin_piece2"]) == ("6", "16", "7", "1"),
               "two records at once, binary whole and in pieces", r)
         check(v["flooded"] == "30000", "30,000 writes without a wait all go through (no hang)", r)
-        e = run([TCS_TRACE, "export", trace, "--format", "csv", "--topic", "/tcs/device"])
-        check(e.returncode == 0, "the trace exports", e)
         rows = [(int(x["v_ns"]), x["path"].rsplit("/", 1)[1], x["values[0]"], x["malformed"])
-                for x in csv.DictReader(io.StringIO(e.stdout))]
+                for x in trace_rows(trace, "/tcs/device")]
         ms = 1000000
         ok = lambda at, dev, value: (at, dev, value, "false")
         expected = ([ok(0, "torque", "1.5"), ok(0, "torque", "2.5"), ok(0, "torque", "2"),
@@ -270,9 +265,9 @@ def test_commands_keep_the_time_they_were_written():
                      ok(3 * ms, "torque_f64", "6")] +
                     [ok(5 * ms, "torque", "0.25")] * 30000 + [ok(5 * ms, "torque", "4.5")])
         print("  %d commands traced; first %s, last %s" % (len(rows), rows[:4], rows[-1:]))
-        check(len(rows) == len(expected), "every command traced (%d, expected %d)" % (len(rows), len(expected)), e)
+        check(len(rows) == len(expected), "every command traced (%d, expected %d)" % (len(rows), len(expected)))
         for i, (got, want) in enumerate(zip(rows, expected)):
-            check(got == want, "command %d is %s, traced as %s" % (i, want, got), e)
+            check(got == want, "command %d is %s, traced as %s" % (i, want, got))
 
 
 def test_a_serial_port_path_takes_termios():

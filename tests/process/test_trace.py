@@ -10,11 +10,10 @@ import struct
 import subprocess
 import time
 
-from harness import TCS_RUN, assert_nothing_left, check, main, run, session_processes, start, tcs
+from harness import TCS_RUN, TCS_TRACE, assert_nothing_left, check, main, run, session_processes, start, tcs
 
 PD = os.path.join(os.environ.get("TCS_EXAMPLES", "."), "pendulum_pd")
 CHECK = os.environ.get("TCS_MCAP_CHECK", "tests/mcap/check.mjs")
-TCS_TRACE = os.environ.get("TCS_TRACE", "tcs-trace")
 
 
 def read_trace(path, complete=True):

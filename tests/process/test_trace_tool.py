@@ -13,9 +13,8 @@ import subprocess
 import tempfile
 import xml.etree.ElementTree as ET
 
-from harness import AHEAD, READ, check, main, periodic_reports, prog, run, scenario_file, tcs
+from harness import AHEAD, READ, TCS_TRACE, check, main, periodic_reports, prog, run, scenario_file, tcs
 
-TCS_TRACE = os.environ.get("TCS_TRACE", "tcs-trace")
 CHECK = os.environ.get("TCS_MCAP_CHECK", "tests/mcap/check.mjs")
 TMP = tempfile.mkdtemp(prefix="tcs-test-trace-tool-")
 

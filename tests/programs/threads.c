@@ -16,6 +16,8 @@
  *                it) and just after (*_after_wake_ns)
  *                (compute slow-main: main at nice 19, so the worker
  *                finishes before main's turn)
+ *   late-sleep   main computes 100 ms beside a worker that computes till
+ *                told to stop, then sleeps 1 ms: when it asked and woke
  *   cond         condition variables: signalled at 1 ms (timedwait, both
  *                glibc versions, clockwait, a monotonic condattr), and
  *                timing out at 3 ms while another thread sleeps
@@ -175,6 +177,36 @@ static int mode_compute(int slow_main)
 	printf("main_woke_ns=%lld end_ns=%lld\n", woke, now());
 	printf("worker_cpu_before_wake_ns=%lld worker_cpu_after_wake_ns=%lld\n", worker_before, worker_after);
 	printf("main_cpu_before_wake_ns=%lld main_cpu_after_wake_ns=%lld\n", main_before, main_after);
+	return 0;
+}
+
+/* ---- late-sleep ---- */
+static volatile int worker_stop;
+
+static void *compute_till_told(void *arg)
+{
+	(void)arg;
+	long long c0 = kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID);
+	while (!worker_stop && kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID) - c0 < 5000 * MS)
+		work(1000);
+	return NULL;
+}
+
+/* A sleep begun deep into a slice of the process (both threads computed
+ * 100 ms since it last waited): its end is checked from the slice's start,
+ * not from the sleep's. */
+static int mode_late_sleep(void)
+{
+	pthread_t w;
+	pthread_create(&w, NULL, compute_till_told, NULL);
+	burn_cpu(100 * MS);
+	struct timespec one = { 0, 1 * MS };
+	long long asked = now();
+	nanosleep(&one, NULL);
+	long long woke = now();
+	worker_stop = 1;
+	pthread_join(w, NULL);
+	printf("asked_ns=%lld woke_ns=%lld\n", asked, woke);
 	return 0;
 }
 
@@ -406,6 +438,8 @@ int main(int argc, char **argv)
 		return mode_loops();
 	if (!strcmp(mode, "compute"))
 		return mode_compute(argc > 2 && !strcmp(argv[2], "slow-main"));
+	if (!strcmp(mode, "late-sleep"))
+		return mode_late_sleep();
 	if (!strcmp(mode, "cond"))
 		return mode_cond();
 	if (!strcmp(mode, "mutex"))
@@ -416,6 +450,6 @@ int main(int argc, char **argv)
 		return mode_asleep();
 	if (!strcmp(mode, "poll"))
 		return mode_poll();
-	fprintf(stderr, "usage: threads loops|compute|cond|mutex|sem|asleep|poll\n");
+	fprintf(stderr, "usage: threads loops|compute|late-sleep|cond|mutex|sem|asleep|poll\n");
 	return 2;
 }
