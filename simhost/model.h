@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "params.h"
-#include "result.h"
+#include "error.h"
 
 namespace tcs::sim {
 

@@ -1,7 +1,7 @@
 // ODE's process-wide and per-thread initialisation, done on first use.
 #pragma once
 
-#include "result.h"
+#include "error.h"
 
 namespace tcs::sim {
 

@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-#include "result.h"
+#include "error.h"
 #include "tcs/simhost.h"
 
 namespace tcs::sim {

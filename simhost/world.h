@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "model.h"
-#include "result.h"
+#include "error.h"
 #include "tcs/simhost.h"
 
 namespace tcs::sim {

@@ -1,4 +1,4 @@
-// Unit tests for coordinatord/duration_stats: exact extremes, a median
+// Unit tests for common/duration_stats: exact extremes, a median
 // within the histogram's resolution, constant memory whatever the count.
 #include <cstdint>
 #include <algorithm>

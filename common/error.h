@@ -1,6 +1,7 @@
-// Errors as values: every fallible function in the coordinator returns a
+// Errors as values: every fallible function of tcs's C++ returns a
 // Result<T> carrying either its value or an Error whose message names the
-// cause. Only tools/ turns an Error into output and an exit status.
+// cause. Only the front ends turn an Error into output and an exit status
+// (and simhost's ode_plugin.cc into the C ABI's err buffer).
 #pragma once
 
 #include <cerrno>
