@@ -18,8 +18,8 @@ LAYERS = [
     ["common", "libtcs_preload"],
     ["simhost"],
     ["coordinatord"],
-    ["coordinatord/dds", "tools"],
-    ["coordinatord/daemon"],
+    ["cli", "coordinatord/dds"],
+    ["tools", "coordinatord/daemon"],
 ]
 TOP = ["tests", "bench", "examples"]
 SOURCES = (".c", ".cc", ".h", ".cpp", ".idl")  # (an .idl's header is generated)

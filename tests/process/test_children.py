@@ -8,7 +8,7 @@ import re
 from harness import AHEAD, PYTHON, check, main, prog, tcs
 
 MS = 1000000
-# The summary's figures have three decimals (tools/cli_time.cc), rounded:
+# The summary's figures have three decimals (cli/cli_time.cc), rounded:
 # half of the last either way, 0.5 ms of its seconds, 0.5 us (ROUNDED) of
 # its milliseconds.
 UNIT = {"s": 1e9, "ms": 1e6, "us": 1e3, "ns": 1}

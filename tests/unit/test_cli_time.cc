@@ -1,4 +1,4 @@
-// Unit tests for tools/cli_time: the durations, epochs and numbers users type
+// Unit tests for cli/cli_time: the durations, epochs and numbers users type
 // on the command line, and how durations are printed back.
 #include <climits>
 #include <csetjmp>
