@@ -1,4 +1,4 @@
-// Unit tests for coordinatord/scenario and scenario_units: the built-in
+// Unit tests for scenario/scenario and scenario_units: the built-in
 // world, the files in scenarios/, every rule a scenario must follow (with
 // the exact FILE:LINE of each complaint), units, and command splitting.
 #include <dirent.h>
