@@ -16,7 +16,7 @@ import sys
 LAYERS = [
     ["libtcs_preload/include", "simhost/include"],  # what both sides of a line share
     ["common", "libtcs_preload"],
-    ["simhost", "scenario"],
+    ["simhost", "scenario", "trace"],
     ["coordinatord"],
     ["cli", "coordinatord/dds"],
     ["tools", "coordinatord/daemon"],

@@ -1,4 +1,4 @@
-// Unit tests for tools/trace/json: valid documents (nesting, escapes,
+// Unit tests for trace/json: valid documents (nesting, escapes,
 // surrogate pairs, exact 64-bit integers), each kind of invalid one with
 // the byte it names, the typed getters, and json_append_string read back
 // by json_parse.

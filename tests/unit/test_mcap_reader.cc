@@ -1,4 +1,4 @@
-// Unit tests for tools/trace/mcap_reader: files written by McapWriter read
+// Unit tests for trace/mcap_reader: files written by McapWriter read
 // back message for message (zstd and uncompressed chunks), files cut at
 // every length (the complete chunks, and truncated()), damaged files (an
 // error naming the byte, never a crash), hand-built files for what the

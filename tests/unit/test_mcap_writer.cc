@@ -1,4 +1,4 @@
-// Unit tests for coordinatord/mcap_writer: its CRC-32, and the bytes of the
+// Unit tests for trace/mcap_writer: its CRC-32, and the bytes of the
 // files it writes, read back by an independent parser that follows the MCAP
 // specification (records, chunks decompressed and CRC-checked, message
 // indexes, Data End, summary groups, summary offsets, footer) — complete

@@ -1,5 +1,5 @@
 // A tcs trace loaded into memory as typed records, one vector per topic of
-// coordinatord/trace.h, for the summary, the plots and the Chrome export.
+// trace/trace.h, for the summary, the plots and the Chrome export.
 // Every field is checked: a message that is not what tcs writes is an error
 // naming the topic and the message, never a silent zero.
 #pragma once

@@ -1,5 +1,5 @@
 // The facts of the MCAP format (https://mcap.dev/spec) that its writer
-// (mcap_writer.cc) and the trace reader (tools/trace/mcap_reader.cc) share.
+// (mcap_writer.cc) and the trace reader (mcap_reader.cc) share.
 #pragma once
 
 #include <cstddef>
