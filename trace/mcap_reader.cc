@@ -370,6 +370,21 @@ Result<bool> McapReader::next_in_chunk(McapMessage *out)
 	}
 }
 
+// A definition's first appearance is kept; one again must be the same bytes
+// (known: the fields this version reads, since a later one may append
+// fields, which are not compared). "" or what is wrong.
+template <class T>
+static std::string define(std::map<uint16_t, std::string> &records, std::map<uint16_t, T> &defined, uint16_t id,
+			  std::string_view known, T value, const char *what)
+{
+	auto [it, fresh] = records.emplace(id, known);
+	if (!fresh && it->second != known)
+		return what + (" " + std::to_string(id)) + " redefined differently";
+	if (fresh)
+		defined[id] = std::move(value);
+	return "";
+}
+
 // A Schema or Channel record: "" when it is fine (a new definition, or the
 // same one again), or what is wrong with it.
 std::string McapReader::definition(uint8_t op, std::string_view body)
@@ -386,14 +401,7 @@ std::string McapReader::definition(uint8_t op, std::string_view body)
 			return "the Schema's fields run past its " + std::to_string(body.size()) + " bytes";
 		if (id == 0)
 			return "a Schema with id 0, which means \"no schema\"";
-		// Fields a later version adds at the end are not compared.
-		std::string_view known = body.substr(0, f.used());
-		auto [it, fresh] = schema_records_.emplace(id, known);
-		if (!fresh && it->second != known)
-			return "Schema " + std::to_string(id) + " redefined differently";
-		if (fresh)
-			schemas_[id] = std::move(s);
-		return "";
+		return define(schema_records_, schemas_, id, body.substr(0, f.used()), std::move(s), "Schema");
 	}
 	McapChannel c;
 	c.id = id;
@@ -412,13 +420,7 @@ std::string McapReader::definition(uint8_t op, std::string_view body)
 	if (c.schema_id != 0 && !schemas_.count(c.schema_id))
 		return "Channel " + std::to_string(id) + " refers to Schema " + std::to_string(c.schema_id) +
 		       ", which no Schema record defined before it";
-	std::string_view known = body.substr(0, f.used());
-	auto [it, fresh] = channel_records_.emplace(id, known);
-	if (!fresh && it->second != known)
-		return "Channel " + std::to_string(id) + " redefined differently";
-	if (fresh)
-		channels_[id] = std::move(c);
-	return "";
+	return define(channel_records_, channels_, id, body.substr(0, f.used()), std::move(c), "Channel");
 }
 
 // A Message record into *out: "" or what is wrong with it.
