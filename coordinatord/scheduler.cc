@@ -47,6 +47,11 @@ constexpr int64_t kRegistrationGrace = 200 * TCS_NS_PER_MS;
 constexpr int kStopLooks = 50000;
 // Bound on the learnt wall-versus-CPU lag of a slice.
 constexpr int64_t kMaxLag = 200 * TCS_NS_PER_US;
+// How far a running controller's CPU reading may fall short of the wall
+// time its slice has had (less the learnt lag) and still be taken as
+// current: interrupts and the like on its core. Further short, it may be
+// stale (or it slept in the kernel), and the check holds it to read it.
+constexpr int64_t kStaleSlack = 50 * TCS_NS_PER_US;
 // How far behind real time an idle world may fall and catch up.
 constexpr int64_t kIdleCatchUp = 50 * TCS_NS_PER_MS;
 } // namespace
@@ -439,13 +444,16 @@ void Coordinator::on_budget(Lane &lane)
 	Controller &c = *lane.running.front();
 	int64_t used = c.slice_cpu(c.cpu_now());
 	bool held = false;
-	if (used < c.budget && !proc_all_threads_asleep(c.pid)) {
-		// A thread of it is on its core, and read from here its CPU clock
-		// is behind by what it computed since that core's last tick (1 to
-		// 10 ms apart) or its own last system call: the kernel brings a
-		// running thread's count up to date only then. Computing without
-		// system calls, it read 0 after 1.8 ms and overran its budget by
-		// 3.4 ms. Held still, its clock is exact.
+	if (used < c.budget && wall_now() - c.slice_wall - c.lag_ns - used > kStaleSlack &&
+	    !proc_all_threads_asleep(c.pid)) {
+		// Short of the wall time the slice has had, and a thread of it is
+		// on its core: read from here, its CPU clock is behind by what it
+		// computed since that core's last tick (1 to 10 ms apart) or its
+		// own last system call, as the kernel brings a running thread's
+		// count up to date only then. Computing without system calls, it
+		// read 0 after 1.8 ms and overran its budget by 3.4 ms. Held
+		// still, its clock is exact. (Not on every check: the stop's own
+		// work in the kernel is charged to the thread it stops.)
 		if (!hold(c)) {
 			leave_lane(c);
 			on_pidfd(c); // it died before it could stop

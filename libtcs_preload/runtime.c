@@ -212,7 +212,11 @@ static int tcs_raise_timer_signals(uint64_t bits, const sigset_t *mask)
 }
 
 /* Awake after the coordinator stepped us aside (TCS_PAGE_ASLEEP): a wait
- * of 1 ns, which the coordinator ends at the world's time. */
+ * already due, which the coordinator answers at the world's time
+ * (TCS_BLOCK_ASK). It was a wait of 1 ns: when the coordinator had seen us
+ * wake just before (a new slice, the flag not yet cleared), it ended 1 ns
+ * after the world's time, and a lockstep run was 1 ns long (1 in 40 runs
+ * under load). */
 static __thread int tcs_catching_up;
 
 static void tcs_catch_up_in_wait(void)
@@ -220,8 +224,8 @@ static void tcs_catch_up_in_wait(void)
 	if (tcs_catching_up)
 		return;
 	tcs_catching_up = 1;
-	struct tcs_wait_time t = { 1, 1, 0, 0, 0 };
-	(void)tcs_wait(&t, TCS_BLOCK_SLEEP, 0, NULL, 0, NULL);
+	struct tcs_wait_time t = { 0, 1, 0, 0, 0 };
+	(void)tcs_wait(&t, TCS_BLOCK_SLEEP, TCS_BLOCK_ASK, NULL, 0, NULL);
 	tcs_catching_up = 0;
 }
 
@@ -249,7 +253,7 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 	t->relative = 0;
 	t->start = v;
 	int report = (flags & TCS_BLOCK_ABSOLUTE) && (p->flags & TCS_PAGE_REPORT_MISSES);
-	if (deadline <= v && !report) {
+	if (deadline <= v && !report && !(flags & TCS_BLOCK_ASK)) {
 		__atomic_add_fetch(&p->quick_returns, 1, __ATOMIC_RELAXED);
 		if (flags & TCS_BLOCK_ABSOLUTE)
 			__atomic_add_fetch(&p->past_deadlines, 1, __ATOMIC_RELAXED);

@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 #define TCS_PROTO_MAGIC 0x31736374u /* "tcs1" */
-#define TCS_PROTO_VERSION 5u
+#define TCS_PROTO_VERSION 6u
 
 /* Environment through which tcs-run hands the channel to the preload. */
 #define TCS_ENV_CHANNEL_FD "TCS_CHANNEL_FD"
@@ -119,8 +119,12 @@ enum tcs_block_flags {
 	 * since (the look and the BLOCK straddled a preemption), the kernel
 	 * would have ended the wait at once: it is answered RECHECK at once. */
 	TCS_BLOCK_SIGMASK = 1u << 4,
+	/* Sent though already due, to be answered at the coordinator's time
+	 * for it: a controller the coordinator stepped aside (asleep outside
+	 * the hooks) asks before it reads its clock. */
+	TCS_BLOCK_ASK = 1u << 5,
 	TCS_BLOCK_FLAGS_ALL = TCS_BLOCK_ABSOLUTE | TCS_BLOCK_RECHECK | TCS_BLOCK_DEVICES | TCS_BLOCK_CHILD |
-			      TCS_BLOCK_SIGMASK,
+			      TCS_BLOCK_SIGMASK | TCS_BLOCK_ASK,
 };
 
 enum tcs_early_reason {
