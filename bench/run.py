@@ -148,7 +148,7 @@ def pendulum_through_agent(b):
     coordinatord hosts (both on loopback, lockstep): one DDS barrier per
     step, against the same controller in-process, in the same rounds."""
     seconds = 5 if b.quick else 20
-    daemon = b.path("coordinatord", "daemon", "coordinatord")
+    daemon = b.path("coordinatord", "coordinatord")
     pd = b.path("examples", "pendulum_pd")
     here = os.path.dirname(os.path.abspath(__file__))
     with open(os.path.join(here, "..", "scenarios", "pendulum.toml")) as f:
@@ -417,7 +417,7 @@ def machine(b):
     """The facts that decide tcs's speed: the CPU and what it says of its
     TSC, the kernel's clocksource, the cost of a CPU-clock system call
     against a vDSO clock read, the same-core ping-pong, and which clock
-    tcs-run chose for cpu-mode estimates (coordinatord/realtime.cc)."""
+    tcs-run chose for cpu-mode estimates (coordinator/realtime.cc)."""
     cpuinfo = open("/proc/cpuinfo").read() if os.path.exists("/proc/cpuinfo") else ""
     model = next((l.split(":", 1)[1].strip() for l in cpuinfo.splitlines() if l.startswith("model name")), "")
     flags = next((l.split(":", 1)[1].split() for l in cpuinfo.splitlines() if l.startswith("flags")), [])

@@ -25,8 +25,7 @@ Result<std::string> find_preload()
 	std::string dir(exe);
 	dir.resize(dir.rfind('/'));
 	std::string candidates[] = {
-		dir + "/../libtcs_preload/libtcs_preload.so", // build tree: tools/
-		dir + "/../../libtcs_preload/libtcs_preload.so", // build tree: coordinatord/daemon/
+		dir + "/../libtcs_preload/libtcs_preload.so", // build tree: tools/ or coordinatord/
 		std::string(TCS_BIN_TO_PRELOAD).front() == '/' ? std::string(TCS_BIN_TO_PRELOAD)
 							       : dir + "/" + TCS_BIN_TO_PRELOAD,
 	};
@@ -35,8 +34,8 @@ Result<std::string> find_preload()
 		if (realpath(c.c_str(), real) && access(real, R_OK) == 0)
 			return std::string(real);
 	}
-	return Error{ "cannot find libtcs_preload.so (looked at " + candidates[0] + ", " + candidates[1] + " and " +
-		      candidates[2] + "); set TCS_PRELOAD to its path" };
+	return Error{ "cannot find libtcs_preload.so (looked at " + candidates[0] + " and " + candidates[1] +
+		      "); set TCS_PRELOAD to its path" };
 }
 
 } // namespace tcs

@@ -9,7 +9,7 @@
  * process sleeps in the kernel outside tcs's hooks. So each thread keeps an
  * anchor — a real reading and the ticks of a cheap wall clock at that moment
  * (the TSC where the CPU says it is invariant, else the vDSO's
- * CLOCK_MONOTONIC_RAW: coordinatord/realtime.cc chooses) — and extrapolates
+ * CLOCK_MONOTONIC_RAW: coordinator/realtime.cc chooses) — and extrapolates
  * from it, taking a real reading again when gen changed or the anchor is
  * older than tick_resync ticks (20 us). An estimate may be above the truth
  * (the process slept in the kernel, or was throttled) or below it (an

@@ -17,9 +17,9 @@ LAYERS = [
     ["libtcs_preload/include", "simhost/include"],  # what both sides of a line share
     ["common", "libtcs_preload"],
     ["simhost", "scenario", "trace"],
-    ["coordinatord"],
+    ["coordinator"],
     ["cli", "coordinatord/dds"],
-    ["tools", "coordinatord/daemon"],
+    ["tools", "coordinatord"],
 ]
 TOP = ["tests", "bench", "examples"]
 SOURCES = (".c", ".cc", ".h", ".cpp", ".idl")  # (an .idl's header is generated)

@@ -1,4 +1,4 @@
-// The fuzz target for the attach protocol (coordinatord/attach_protocol.h):
+// The fuzz target for the attach protocol (coordinator/attach_protocol.h):
 // an input is what a client wrote on coordinatord's socket. It is taken
 // apart by take_frame() whole and in pieces, as recv_some() delivers a
 // stream, and every payload goes through each decoder, as the daemon (RUN,

@@ -1,4 +1,4 @@
-// The fuzz target for the device record formats (coordinatord/device.h):
+// The fuzz target for the device record formats (coordinator/device.h):
 // what a controller writes to an actuator, taken apart by parse_records()
 // in text or binary and for 1 to 16 values a record, all at once and in
 // pieces as the socket delivers them; the preload's quick look

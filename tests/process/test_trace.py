@@ -78,7 +78,7 @@ def test_trace_survives_sigkill():
         os.kill(p.pid, signal.SIGKILL)
         p.communicate(timeout=10)
         # Reaped, tcs-run has sent its controller SIGKILL as it died
-        # (PR_SET_PDEATHSIG: coordinatord/spawn.cc); then they are gone as
+        # (PR_SET_PDEATHSIG: coordinator/spawn.cc); then they are gone as
         # soon as the kernel has torn them down.
         spared = [(pid, state, command) for pid, state, command in session_processes(p.pid) if not killed(pid, state)]
         assert_nothing_left(p.pid)

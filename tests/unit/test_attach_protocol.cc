@@ -1,5 +1,5 @@
 // Unit tests for coordinatord's attach protocol and socket
-// (coordinatord/attach_protocol.h, attach_socket.h): every frame encoded
+// (coordinator/attach_protocol.h, attach_socket.h): every frame encoded
 // and decoded back, each thing a decoder refuses and why, frames taken off
 // a stream only when whole; and the socket as both ends open it, in a
 // temporary folder: its mode, a live daemon's socket kept, a stale one

@@ -1,4 +1,4 @@
-// Unit tests for the device record formats (coordinatord/device.h): text
+// Unit tests for the device record formats (coordinator/device.h): text
 // lines and little-endian f64s as a controller writes them to an actuator,
 // incomplete and malformed records, and sensor records formatted and read
 // back exactly. Inputs found by tests/fuzz/records_fuzz are kept here.

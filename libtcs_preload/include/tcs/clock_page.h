@@ -52,10 +52,10 @@ enum tcs_mode {
  * been written then, never earlier. */
 #define TCS_PAGE_ASLEEP 8u
 /* flags: the estimate's ticks are the vDSO's CLOCK_MONOTONIC_RAW in ns, on
- * a machine whose TSC cannot serve (coordinatord/realtime.cc). */
+ * a machine whose TSC cannot serve (coordinator/realtime.cc). */
 #define TCS_PAGE_TICKS_VDSO 16u
 /* flags: the controller runs on the coordinator's core now (controllers run
- * on every core tcs may use, one on each; coordinatord/lanes.cc). With
+ * on every core tcs may use, one on each; coordinator/lanes.cc). With
  * TCS_PAGE_FIFO: a request's answer the coordinator could give at once is
  * there as soon as it is sent. */
 #define TCS_PAGE_SHARES_CORE 32u

@@ -1,6 +1,6 @@
 /* A quick look at actuator records on the controller's side: whether bytes
  * about to be written are whole records that the coordinator's parser
- * (coordinatord/device.cc, parse_records) will surely take. In lockstep the
+ * (coordinator/device.cc, parse_records) will surely take. In lockstep the
  * preload sends such a write on without a round trip, and the coordinator
  * takes it at the controller's next request; a write this cannot vouch for
  * goes to the coordinator at once, which decides (EINVAL or not), as ever.

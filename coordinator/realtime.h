@@ -28,7 +28,7 @@ struct RealtimePlan {
 	int cpu = -1;           // the coordinator's core, or -1 (not pinned)
 	// The cores controllers may run on (tcs's affinity mask when it
 	// started), the coordinator's first; one controller runs on each at a
-	// time (coordinatord/lanes.cc). Empty: not pinned, one at a time.
+	// time (coordinator/lanes.cc). Empty: not pinned, one at a time.
 	std::vector<int> cores;
 	// Controllers on the other cores hand requests over the clock page's
 	// mailbox while the coordinator polls (tcs/mailbox.h): FIFO and two
