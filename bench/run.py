@@ -366,7 +366,7 @@ def scaling(b):
     """1, 2, 4, 8 and 16 lockstep 1 kHz pendulum controllers in one world:
     the wall cost of a controller-cycle against one controller alone, and
     sixteen on every allowed core against the same run held to one core
-    with taskset (DESIGN.md §2: controllers within a step of each other run
+    with taskset (docs/DESIGN.md §2: controllers within a step of each other run
     in parallel)."""
     seconds = 2 if b.quick else 5
     counts = (1, 2, 4, 8, 16)

@@ -1,5 +1,5 @@
 // What tcs-run tells the user about a run: the progress line, the summary
-// at the end, and the exit status (DESIGN.md §5).
+// at the end, and the exit status (docs/DESIGN.md §5).
 #pragma once
 
 #include <cstdint>

@@ -18,7 +18,7 @@ void Coordinator::arm_watchdog(Controller &c)
 {
 	// Only worth it when someone else may be waiting for the core, or
 	// when its threads may all be waiting.
-	Lane *lane = lane_of(c);
+	Lane *lane = lanes_.of(c);
 	if (!lane || (alive_controllers() < 2 && c.side.empty()))
 		return;
 	// A lane's watchdog ticks while it has controllers to look at, rather
@@ -45,7 +45,7 @@ void Coordinator::on_watchdog(Lane &lane)
 			return; // (it scheduled the others)
 	// A turn long enough to be worth another core: those waiting for this
 	// one may take a free one now (lanes.cc).
-	if (&lane == lanes_.front().get() && lanes_.size() > 1)
+	if (lanes_.is_home(lane) && lanes_.size() > 1)
 		schedule();
 }
 
@@ -87,7 +87,7 @@ bool Coordinator::step_aside_if_asleep(Controller &c)
 	take_lazy_commands(c, -1); // written before it fell asleep, at its time then
 	int64_t cpu = c.cpu_now();
 	c.asleep_looks = 0;
-	leave_lane(c);
+	lanes_.leave(c);
 	c.account(cpu, cfg_.mode);
 	c.publish_slice(cpu);
 	trace_slice_end(c, "blocked", cpu);

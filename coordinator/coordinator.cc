@@ -67,7 +67,12 @@ Status Coordinator::init()
 		warn_once(rt_.warning);
 	// DDS's threads share the coordinator's core: no polling over them.
 	mailboxes_ = rt_.mailbox && !cfg_.step_host && !cfg_.step_agent;
-	if (auto s = init_lanes(); !s)
+	Lanes::Setup lanes;
+	lanes.cores = rt_.cores;
+	lanes.coordinator_cpu = rt_.cpu;
+	lanes.mailboxes = mailboxes_;
+	lanes.lockstep = cfg_.mode == TCS_MODE_LOCKSTEP;
+	if (auto s = lanes_.init(lanes, loop_, [this](Lane &l) { on_budget(l); }, [this](Lane &l) { on_watchdog(l); }); !s)
 		return s;
 
 	if (!cfg_.models.empty()) {
@@ -106,7 +111,7 @@ Status Coordinator::init()
 	// The coordinator shares the running controller's core: each time it
 	// wakes, that controller's CPU-time estimates (cpu_estimate.c) are off.
 	loop_.set_on_wake([this] {
-		for (Controller *c : lanes_.front()->running)
+		for (Controller *c : lanes_.home().running)
 			c->coordinator_ran();
 	});
 	Status st = Ok{};
@@ -182,8 +187,7 @@ Result<RunReport> Coordinator::run()
 		if (auto s = turn(); !s)
 			fatal_ = s;
 	}
-	for (auto &l : lanes_)
-		l->budget.disarm();
+	lanes_.disarm_budgets();
 	progress_timer_.disarm();
 	if (auto s = trace_.close(); !s && fatal_)
 		fatal_ = Error{ "the trace: " + s.error().message };
@@ -301,7 +305,7 @@ void Coordinator::on_child(Controller &parent, const ::tcs_msg &m, UniqueFd chan
 	if (parent.awaiting_child == pid)
 		child_settled(parent);
 	// Someone new waits for a core: is one that has it asleep?
-	each_running([this](Controller &r) { arm_watchdog(r); });
+	lanes_.each_running([this](Controller &r) { arm_watchdog(r); });
 }
 
 // The parent, right after its fork: it waits until its child has
@@ -599,7 +603,7 @@ void Coordinator::on_exit(Controller &c, int wait_status)
 	c.threads.clear();
 	c.side.clear();
 	loop_.remove(c.pidfd.get());
-	leave_lane(c);
+	lanes_.leave(c);
 	c.ended_by_tcs = ending_;
 	if (c.parent_id == 0 && cfg_.serve) {
 		// Served: its children go with it, as they do at the end of a run.
@@ -621,7 +625,7 @@ void Coordinator::drop(Controller &c, const std::string &why)
 	c.mailbox.attach(nullptr); // nothing more of it is looked at
 	kill(c.pid, SIGKILL);
 	// Its pidfd reports the death; until then it must not be scheduled.
-	leave_lane(c);
+	lanes_.leave(c);
 	loop_.remove(c.channel.get());
 	for (auto &t : c.threads)
 		loop_.remove(t->fd.get());
@@ -668,7 +672,7 @@ void Coordinator::on_progress()
 	if (cfg_.on_progress && !ending_)
 		cfg_.on_progress(sim_ns_, clock_ns(CLOCK_MONOTONIC) - wall_start_);
 	if (cfg_.mode == TCS_MODE_LOCKSTEP)
-		each_running([this](Controller &c) {
+		lanes_.each_running([this](Controller &c) {
 			if (c.slice_cpu(c.cpu_now()) > 10 * TCS_NS_PER_S)
 				warn_once("in lockstep mode virtual time advances only when controllers wait, and '" +
 					  c.name + "' has computed for 10 s without waiting");
@@ -698,13 +702,13 @@ void Coordinator::begin_end(EndReason reason, int signo)
 	ending_ = true;
 	if (cfg_.on_ending)
 		cfg_.on_ending();
-	each_running([this](Controller &c) {
+	lanes_.each_running([this](Controller &c) {
 		// Its slice ends with the run (what it does after is not traced).
 		int64_t cpu = c.cpu_now();
 		c.account(cpu, cfg_.mode);
 		c.publish_slice(cpu);
 		trace_slice_end(c, "ended", cpu);
-		leave_lane(c);
+		lanes_.leave(c);
 	});
 	// Let every controller act on SIGTERM: running, with its waits answered
 	// at once, then SIGKILL after the grace period.

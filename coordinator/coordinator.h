@@ -1,6 +1,6 @@
 // The coordinator: owns virtual time, spawns and schedules controllers with
 // SIGSTOP/SIGCONT and CPU budgets, serves their waits, and advances the
-// world in fixed steps under conservative synchronisation (DESIGN.md §2).
+// world in fixed steps under conservative synchronisation (docs/DESIGN.md §2).
 // tcs-run uses it in-process; it never prints: it reports.
 #pragma once
 
@@ -24,7 +24,9 @@
 #include "trace.h"
 #include "error.h"
 #include "event_loop.h"
+#include "lanes.h"
 #include "realtime.h"
+#include "scheduler.h"
 #include "tcs/clock_page.h"
 #include "tcs/protocol.h"
 
@@ -160,41 +162,15 @@ private:
 	bool descends_from(const Controller &o, int root) const;
 	void warn_once(const std::string &what);
 
-	// Lanes (lanes.cc): one controller runs on each core tcs may use; in
-	// lockstep, beside a polling coordinator, several may be queued on one.
-	struct Lane {
-		int cpu = -1; // its core (-1: not pinned)
-		std::vector<Controller *> running; // in the order they were resumed
-		Timer budget;   // the running controller's budget (cpu mode)
-		Timer watchdog; // looks at them if they may be asleep (asleep.cc)
-		bool watching = false; // the watchdog ticks
-	};
-	Status init_lanes();
-	int free_lane(const Controller &c) const;
-	int free_other_lane(const Controller &c) const;
-	int shortest_other_lane(const Controller &c) const;
-	// A turn on a core shorter than this is not worth another core's
-	// hand-off (lanes.cc): a few inter-processor interrupts on a VM.
-	static constexpr int64_t kWorthAnotherCore = 50 * TCS_NS_PER_US;
-	void take_lane(Controller &c, int lane);
-	void leave_lane(Controller &c);
-	void set_queued(Lane &lane);
-	Lane *lane_of(const Controller &c);
-	bool any_running() const;
-	template <class F> void each_running(F f)
-	{
-		for (auto &l : lanes_)
-			for (Controller *c : l->running)
-				f(*c);
-	}
-
-	// Scheduling (scheduler.cc).
+	// The world's steps (world_steps.cc), as decided (scheduler.h).
 	void schedule();
+	bool run_best(Controller &best, int64_t at, int64_t until);
+	Contender contender_of(const Controller &c) const;
+	std::vector<Contender> contenders_; // (kept: schedule() runs on every request)
 	bool advance_to(int64_t next);
 	int64_t next_run_at(const Controller &c) const;
-	int64_t run_until(const Controller &c, int64_t target) const;
-	int64_t world_horizon() const;
 	void on_idle();
+	// Slices (slices.cc).
 	void resume(Controller &c, int64_t target, int lane);
 	void on_budget(Lane &lane);
 	// SIGSTOP, and wait till it has stopped: false if it died first.
@@ -308,7 +284,7 @@ private:
 	EventLoop loop_;
 	// The coordinator's core's first (its controller's estimates go stale
 	// whenever the coordinator runs).
-	std::vector<std::unique_ptr<Lane>> lanes_;
+	Lanes lanes_;
 	Timer progress_timer_;
 	Timer kill_timer_;
 	Timer idle_timer_;

@@ -1,4 +1,4 @@
-// Virtual device I/O (DESIGN.md §2, §4): causality and zero-order hold.
+// Virtual device I/O (docs/DESIGN.md §2, §4): causality and zero-order hold.
 // A sensor record due at T carries the world at the last step boundary
 // <= T; it is made when the world reaches that boundary and put into the
 // controller's fd when the controller's virtual time reaches T. A command
@@ -313,7 +313,7 @@ void Coordinator::on_dev_sync(Controller &c, const ::tcs_msg &m)
 	if (!ending_ && c.v >= sim_ns_ + cfg_.step_ns) {
 		// It is ahead of the world: it waits until the world catches up.
 		if (c.lane >= 0) {
-			leave_lane(c);
+			lanes_.leave(c);
 			trace_slice_end(c, "blocked", c.cpu_now());
 		}
 		c.state = CtlState::Ready;
@@ -328,7 +328,7 @@ void Coordinator::on_dev_sync(Controller &c, const ::tcs_msg &m)
 	}
 	// A blocking read with nothing due: it waits for the next record.
 	if (was_running && c.lane >= 0) {
-		leave_lane(c);
+		lanes_.leave(c);
 		trace_slice_end(c, "blocked", c.cpu_now());
 	}
 	schedule();

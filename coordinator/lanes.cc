@@ -1,5 +1,5 @@
 // Lanes: controllers run in parallel, one on each core tcs may use (its
-// affinity mask when it started; DESIGN.md §2). Conservative
+// affinity mask when it started; docs/DESIGN.md §2). Conservative
 // synchronisation already lets every controller behind the world's next
 // step run in any order: each has its own virtual CPU, and nothing it sees
 // of the world or of another controller changes before the step. So each
@@ -20,15 +20,19 @@
 // (45 against 28 us a controller-cycle, sixteen pendulums on one VM). A
 // queued controller parks its requests at once (TCS_PAGE_QUEUED): the one
 // behind it has the core meanwhile.
-#include "coordinator.h"
+#include "lanes.h"
 
 #include <algorithm>
 
+#include "realtime.h"
+
 namespace tcs {
 
-Status Coordinator::init_lanes()
+Status Lanes::init(const Setup &setup, EventLoop &loop, std::function<void(Lane &)> on_budget,
+		   std::function<void(Lane &)> on_watchdog)
 {
-	std::vector<int> cores = rt_.cores;
+	setup_ = setup;
+	std::vector<int> cores = setup.cores;
 	if (cores.empty())
 		cores.push_back(-1); // not pinned: one lane, wherever the kernel puts it
 	for (int cpu : cores) {
@@ -38,9 +42,9 @@ Status Coordinator::init_lanes()
 			if (auto s = t->init(); !s)
 				return s;
 		Lane *raw = lane.get();
-		if (auto s = loop_.add(raw->budget.fd(), [this, raw](uint32_t) { on_budget(*raw); }); !s)
+		if (auto s = loop.add(raw->budget.fd(), [on_budget, raw](uint32_t) { on_budget(*raw); }); !s)
 			return s;
-		if (auto s = loop_.add(raw->watchdog.fd(), [this, raw](uint32_t) { on_watchdog(*raw); }); !s)
+		if (auto s = loop.add(raw->watchdog.fd(), [on_watchdog, raw](uint32_t) { on_watchdog(*raw); }); !s)
 			return s;
 		lanes_.push_back(std::move(lane));
 	}
@@ -49,7 +53,7 @@ Status Coordinator::init_lanes()
 
 // The lane other than the coordinator's with the fewest queued, the one of
 // the core c was on if it is among them (no move); -1 if there is none.
-int Coordinator::shortest_other_lane(const Controller &c) const
+int Lanes::shortest_other(const Controller &c) const
 {
 	int best = -1;
 	for (size_t i = 1; i < lanes_.size(); i++) {
@@ -63,14 +67,12 @@ int Coordinator::shortest_other_lane(const Controller &c) const
 
 // A free lane other than the coordinator's, the one of the core c was on
 // first (no move); -1 if none.
-int Coordinator::free_other_lane(const Controller &c) const
+int Lanes::free_other(const Controller &c) const
 {
-	const int best = shortest_other_lane(c);
+	const int best = shortest_other(c);
 	return best >= 0 && lanes_[(size_t)best]->running.empty() ? best : -1;
 }
 
-// The lane c would run in now; -1 if it had better wait.
-//
 // With mailboxes, another core is where a controller's hand-offs are
 // cheapest (the coordinator polls for them from its own), and a controller
 // on the coordinator's core stops that polling. So: another free core; the
@@ -85,35 +87,35 @@ int Coordinator::free_other_lane(const Controller &c) const
 // more than such a turn of the coordinator's core takes. (One there that
 // turns out long is seen by its lane's watchdog, which schedules again:
 // asleep.cc.)
-int Coordinator::free_lane(const Controller &c) const
+int Lanes::free_for(const Controller &c, int64_t now) const
 {
 	const Lane &home = *lanes_.front();
-	if (mailboxes_) {
-		int other = free_other_lane(c);
+	if (setup_.mailboxes) {
+		int other = free_other(c);
 		if (other >= 0)
 			return other;
 		if (home.running.empty() && c.turn_cpu >= kWorthAnotherCore)
 			return 0;
-		return cfg_.mode == TCS_MODE_LOCKSTEP ? shortest_other_lane(c) : -1;
+		return setup_.lockstep ? shortest_other(c) : -1;
 	}
 	if (home.running.empty())
 		return 0;
 	const Controller &there = *home.running.front();
 	if (c.turn_cpu < kWorthAnotherCore && there.turn_cpu < kWorthAnotherCore &&
-	    wall_now() - there.resumed_wall < kWorthAnotherCore)
+	    now - there.resumed_wall < kWorthAnotherCore)
 		return -1;
-	return free_other_lane(c);
+	return free_other(c);
 }
 
-void Coordinator::take_lane(Controller &c, int index)
+void Lanes::take(Controller &c, int index)
 {
 	Lane &lane = *lanes_[(size_t)index];
 	if (lane.cpu >= 0 && c.core != lane.cpu) {
 		// Its threads, stopped or waiting: none is running meanwhile.
 		pin_threads(c.multithreaded() ? threads_of(c.pid) : std::vector<pid_t>{ c.pid }, lane.cpu);
 		c.core = lane.cpu;
-		c.set_page_flag(TCS_PAGE_SHARES_CORE, lane.cpu == rt_.cpu);
-		c.set_page_flag(TCS_PAGE_MAILBOX, mailboxes_ && lane.cpu != rt_.cpu);
+		c.set_page_flag(TCS_PAGE_SHARES_CORE, lane.cpu == setup_.coordinator_cpu);
+		c.set_page_flag(TCS_PAGE_MAILBOX, setup_.mailboxes && lane.cpu != setup_.coordinator_cpu);
 	}
 	lane.running.push_back(&c);
 	set_queued(lane);
@@ -129,16 +131,14 @@ void Coordinator::take_lane(Controller &c, int index)
 	c.slices++;
 }
 
-Coordinator::Lane *Coordinator::lane_of(const Controller &c)
+Lane *Lanes::of(const Controller &c)
 {
 	return c.lane >= 0 && (size_t)c.lane < lanes_.size() ? lanes_[(size_t)c.lane].get() : nullptr;
 }
 
-// c no longer runs in its lane (it waits, was stopped, ended): the lane's
-// timers are off and another may take it.
-void Coordinator::leave_lane(Controller &c)
+void Lanes::leave(Controller &c)
 {
-	Lane *lane = lane_of(c);
+	Lane *lane = of(c);
 	if (!lane)
 		return;
 	lane->budget.disarm(); // (its watchdog ticks on: asleep.cc)
@@ -149,14 +149,14 @@ void Coordinator::leave_lane(Controller &c)
 }
 
 // Tells those in the lane whether others are queued with them.
-void Coordinator::set_queued(Lane &lane)
+void Lanes::set_queued(Lane &lane)
 {
 	const bool queued = lane.running.size() > 1;
 	for (Controller *c : lane.running)
 		c->set_page_flag(TCS_PAGE_QUEUED, queued);
 }
 
-bool Coordinator::any_running() const
+bool Lanes::any_running() const
 {
 	return std::any_of(lanes_.begin(), lanes_.end(), [](auto &l) { return !l->running.empty(); });
 }

@@ -43,10 +43,10 @@ bool Coordinator::take_mailboxes()
 
 bool Coordinator::worth_polling() const
 {
-	if (!mailboxes_ || !lanes_.front()->running.empty())
+	if (!mailboxes_ || !lanes_.home().running.empty())
 		return false;
 	for (size_t i = 1; i < lanes_.size(); i++)
-		if (!lanes_[i]->running.empty())
+		if (!lanes_[i].running.empty())
 			return true;
 	return false;
 }

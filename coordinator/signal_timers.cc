@@ -90,7 +90,7 @@ bool Coordinator::missed_raised_signal(const Controller &c, const ::tcs_msg &m) 
 void Coordinator::budget_to_next_timer(Controller &c)
 {
 	int64_t at = std::min(c.next_timer(), side_next(c));
-	Lane *lane = lane_of(c);
+	Lane *lane = lanes_.of(c);
 	if (cfg_.mode != TCS_MODE_CPU || at == TCS_NEVER || !lane)
 		return;
 	int64_t need = std::max<int64_t>((int64_t)std::ceil((double)(at - c.slice().v_base) / c.scale), 1);

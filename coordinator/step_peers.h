@@ -1,4 +1,4 @@
-// The conservative step protocol with peers on other hosts (DESIGN.md §7),
+// The conservative step protocol with peers on other hosts (docs/DESIGN.md §7),
 // as the coordinator sees it, whatever carries it (DDS: dds/step_link.h).
 // One barrier per world step: the host of the world grants a step (the
 // world's time and signals after it); each agent runs its controllers up to

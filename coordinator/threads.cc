@@ -309,7 +309,7 @@ bool Coordinator::block_if_all_waiting(Controller &c)
 	if (c.side.empty() || c.awaiting_child != 0 || runnable_threads(c, 0) > 0)
 		return false;
 	int64_t cpu = c.cpu_now();
-	leave_lane(c);
+	lanes_.leave(c);
 	c.account(cpu, cfg_.mode);
 	c.publish_slice(cpu);
 	trace_slice_end(c, "blocked", cpu);

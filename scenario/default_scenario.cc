@@ -1,4 +1,4 @@
-// The built-in world, used when tcs-run has no --world: DESIGN.md §4's
+// The built-in world, used when tcs-run has no --world: docs/DESIGN.md §4's
 // pendulum with its state sensor and torque actuator. It is TOML read by
 // the same parser as any file, so it cannot drift from what files mean;
 // scenarios/pendulum.toml is the same world, commented.

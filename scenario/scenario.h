@@ -79,7 +79,7 @@ Result<Scenario> parse_scenario_file(const std::string &path);
 // model paths stay as written: there is no folder to resolve them against.
 Result<Scenario> parse_scenario_text(const std::string &text, const std::string &name_for_errors);
 
-// The world tcs-run uses without --world: the pendulum of DESIGN.md §4.
+// The world tcs-run uses without --world: the pendulum of docs/DESIGN.md §4.
 Result<Scenario> default_scenario();
 // Its text, parsed by default_scenario(); scenarios/pendulum.toml documents it.
 std::string_view default_scenario_text();

@@ -1,6 +1,6 @@
 // The trace file writer: an MCAP file (https://mcap.dev/spec) of JSON
 // messages with JSON schemas, in zstd-compressed chunks, indexed for random
-// access (DESIGN.md §6).
+// access (docs/DESIGN.md §6).
 //
 // Every chunk is written with write(2) as soon as it is full, followed by its
 // Message Index records, and is self-contained: the Schema and Channel

@@ -1,4 +1,4 @@
-// The run's trace (DESIGN.md §6): an MCAP file of JSON messages with JSON
+// The run's trace (docs/DESIGN.md §6): an MCAP file of JSON messages with JSON
 // Schemas, which Foxglove and PlotJuggler decode, logged at virtual time.
 // Topics: /tcs/controller (each controller: name, pid, CPU scale, mode),
 // /tcs/slice (each stretch a controller ran: virtual and wall start and end,

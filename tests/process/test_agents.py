@@ -1,4 +1,4 @@
-"""Controllers on another host (DESIGN.md §7): coordinatord --agent, in a
+"""Controllers on another host (docs/DESIGN.md §7): coordinatord --agent, in a
 network namespace of its own joined to the host's by a veth pair (the test
 makes both; where namespaces are not permitted, each test runs on loopback and
 is then reported as skipped, naming why), runs a

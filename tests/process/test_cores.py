@@ -1,4 +1,4 @@
-"""Controllers in parallel on every core tcs may use (DESIGN.md §2): one
+"""Controllers in parallel on every core tcs may use (docs/DESIGN.md §2): one
 controller on each core at a time, and results that do not depend on how
 many cores there are."""
 

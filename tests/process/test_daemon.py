@@ -1,4 +1,4 @@
-"""coordinatord and tcs-run --connect (DESIGN.md §5): controllers attached
+"""coordinatord and tcs-run --connect (docs/DESIGN.md §5): controllers attached
 to one shared world keep their rates and get their exit statuses back, the
 world waits for the controllers its scenario expects, a client's signals
 reach its controller, another user is refused, bad requests are answered,

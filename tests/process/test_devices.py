@@ -1,4 +1,4 @@
-"""Virtual devices (DESIGN.md §4) as a driver sees them: stream rate,
+"""Virtual devices (docs/DESIGN.md §4) as a driver sees them: stream rate,
 'latest', non-blocking reads, poll readiness, binary records, malformed
 and saturated commands, a shadowed existing path with termios, and
 scenario errors reported as FILE:LINE before anything starts."""
@@ -162,7 +162,7 @@ def test_nonblocking_reads_and_poll_readiness():
 
 def test_a_stalled_reader_keeps_the_newest_records():
     """A stream keeps at most 4096 unread records, the oldest dropped
-    (DESIGN.md §4): of a 1 kHz stream, a reader that reads nothing for 6 s
+    (docs/DESIGN.md §4): of a 1 kHz stream, a reader that reads nothing for 6 s
     then finds the one record its descriptor held when it stopped and the
     newest 4096, in order, all as another reader of the stream saw them;
     then it reads on, the next record when it is due. The drop is reported."""

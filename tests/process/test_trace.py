@@ -1,4 +1,4 @@
-"""Traces (DESIGN.md §6): tcs-run --trace writes an MCAP file that the
+"""Traces (docs/DESIGN.md §6): tcs-run --trace writes an MCAP file that the
 official reader (@mcap/core, with Node.js) reads message by message, every
 channel with a schema; after a SIGKILL midway everything but the last chunk
 is still there."""

@@ -1,4 +1,4 @@
-"""tcs-trace (DESIGN.md §6): its summary checked against runs whose figures
+"""tcs-trace (docs/DESIGN.md §6): its summary checked against runs whose figures
 are known in advance (a loop whose work is a fixed amount of its own,
 virtualised, CPU time), exports that parse, plots that are images, and a
 clear error for every file that is not a readable tcs trace."""
@@ -101,7 +101,7 @@ def test_summary_of_a_loop_that_keeps_its_deadlines():
     check(elapsed >= 2e9 and end - AHEAD <= s["virtual_ns"] <= end + 3 * READ + AHEAD and s["wall_ns"] > 0,
           "virtual time of the run %d ns: its 2 s loop (%d ns) and its CPU outside it" % (s["virtual_ns"], elapsed))
     # The world steps to each boundary before a wake (no one can run before
-    # it: DESIGN.md §2), never past its controller: 1 ms steps from the last
+    # it: docs/DESIGN.md §2), never past its controller: 1 ms steps from the last
     # wake's to the end's.
     check(waits[-1]["v_end_ns"] // 1000000 <= s["steps"] <= s["virtual_ns"] // 1000000 and
           s["step_wall_cost"]["min_ns"] > 0, "the world's %d steps and their wall cost" % s["steps"])

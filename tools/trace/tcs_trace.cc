@@ -1,4 +1,4 @@
-// tcs-trace: inspect a trace written by tcs-run --trace (DESIGN.md §6).
+// tcs-trace: inspect a trace written by tcs-run --trace (docs/DESIGN.md §6).
 // The one place where errors become messages and exit statuses.
 #include <getopt.h>
 #include <unistd.h>

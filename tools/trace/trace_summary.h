@@ -1,5 +1,5 @@
 // The figures a user needs to decide whether a controller keeps its
-// deadlines (DESIGN.md §6), computed from a loaded trace, and their two
+// deadlines (docs/DESIGN.md §6), computed from a loaded trace, and their two
 // renderings: text for people, JSON for scripts.
 #pragma once
 

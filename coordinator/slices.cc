@@ -1,0 +1,269 @@
+// A controller's slices: resumed with a CPU budget that ends at the world's
+// next step (or further: scheduler.h), checked, preempted, accounted. Since
+// each one's virtual time is its own CPU, each has a virtual CPU of its own
+// whatever the host has.
+//
+// Accounting is exact: a budget is armed as a wall-clock timer (wall time is
+// never less than the CPU a pinned process gets), and when it fires the
+// controller's CPU-time clock says how far it really got. Short of its
+// budget (it was blocked in the kernel, or another task ran), the timer is
+// re-armed for the rest; past it, SIGSTOP, and the overshoot simply stays in
+// its virtual time, so the next budget is that much shorter and no error
+// accumulates (the TCS paper's §3.8 correction, with exact accounting).
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "clock_ns.h"
+#include "coordinator.h"
+#include "proc_info.h"
+#include "tcs/protocol.h"
+
+namespace tcs {
+
+namespace {
+// A controller that made no progress since the last check is asleep in the
+// kernel on something real; check back ever less often, up to this.
+constexpr int64_t kMaxRecheck = 10 * TCS_NS_PER_MS;
+// How many times (20 us apart) a preempted child of a controller is looked
+// at until it has stopped.
+constexpr int kStopLooks = 50000;
+// Bound on the learnt wall-versus-CPU lag of a slice.
+constexpr int64_t kMaxLag = 200 * TCS_NS_PER_US;
+// How far a running controller's CPU reading may fall short of the wall
+// time its slice has had (less the learnt lag) and still be taken as
+// current: interrupts and the like on its core. Further short, it may be
+// stale (or it slept in the kernel), and the check holds it to read it.
+constexpr int64_t kStaleSlack = 50 * TCS_NS_PER_US;
+} // namespace
+
+int64_t Coordinator::wall_now()
+{
+	return clock_ns(CLOCK_MONOTONIC);
+}
+
+void Coordinator::trace_slice_end(Controller &c, const char *why, int64_t cpu, int64_t budget, int64_t overshoot)
+{
+	if (!trace_.is_open())
+		return;
+	Trace::Slice s;
+	s.v_start = c.trace_v_start;
+	s.v_end = c.v;
+	s.charged_ns = c.charged - c.trace_charged_start;
+	s.cpu_ns = std::max<int64_t>(cpu - c.trace_cpu_start, 0);
+	s.wall_start = c.trace_wall_start - wall_start_;
+	s.wall_end = wall_now() - wall_start_;
+	s.budget_ns = budget;
+	s.overshoot_ns = overshoot;
+	s.sim_ns = sim_ns_;
+	s.why = why;
+	trace_.slice(c.id, s);
+}
+
+// The CPU a request from c charges it up to. With one thread, its hook's
+// claim: its CPU at the hook's entry, read there or extrapolated by the TSC
+// from a reading at most 20 us old (cpu_estimate.c), which spares a system
+// call on every request (a sleep's round trip keeps one reading of its CPU
+// clock: the hook's exit mark). Taken if plausible (not before its slice
+// began, nor more than the wall time since it was resumed, give or take the
+// hooks' own); else, or with threads, its CPU clock says: another thread
+// may have computed since this one's hook began, and that is charged too (a
+// worker that held the core for 20 ms before main's BLOCK went out, seen:
+// all of it went uncharged). An estimate too high (it slept in the kernel
+// just after a hook) is made good by the next slice, which starts from it:
+// never charged twice. In lockstep, where the charge is only a figure and
+// the preload's exit marks are learnt (cpu_estimate.c), an implausible
+// claim is held to those bounds instead: short of the slice's start it
+// charges nothing, and the slices after make it good; beyond the wall time
+// it charges that. No system call either way.
+int64_t Coordinator::charge_point(Controller &c, int64_t claimed)
+{
+	const int64_t base = c.slice().cpu_base;
+	const bool one_thread = !c.multithreaded();
+	const int64_t most = tcs_ns_add(base, wall_now() - c.resumed_wall + kClaimSlack);
+	if (one_thread && claimed >= base && claimed <= most)
+		return claimed;
+	if (one_thread && cfg_.mode == TCS_MODE_LOCKSTEP)
+		return std::clamp(claimed, base, most);
+	const int64_t now = std::max(base, c.cpu_now());
+	if (one_thread)
+		return std::clamp(claimed, base, now);
+	// Read from here, the CPU of a thread on its core is behind by what it
+	// computed since that core's last tick (1 to 10 ms) or its own last
+	// system call; the claim, read in the process, is not (its threads
+	// share one core, so no other ran meanwhile).
+	return std::max(now, std::clamp(claimed, base, most));
+}
+
+int64_t Coordinator::request_v(Controller &c, const ::tcs_msg &m)
+{
+	if (c.state != CtlState::Running || cfg_.mode != TCS_MODE_CPU)
+		return c.v;
+	int64_t heard = tcs_ns_add(c.slice().v_base, tcs_scale_cpu(c.slice_cpu(charge_point(c, m.cpu)), c.scale));
+	return std::clamp(m.v, c.v, std::max(c.v, heard));
+}
+
+void Coordinator::resume(Controller &c, int64_t target, int lane)
+{
+	lanes_.take(c, lane);
+	idle_timer_.disarm();
+	// c is held by SIGSTOP or waiting for its WAKE: its CPU clock is still.
+	// Waking from a wait: its CPU clock has stood still since the BLOCK
+	// (but for the hook's own tail, which the hook's mark excludes anyway).
+	int64_t cpu = c.cpu_at_block >= 0 ? c.cpu_at_block : c.cpu_now();
+	c.cpu_at_block = -1;
+	c.publish_slice(cpu);
+	c.resumed_wall = c.slice_wall = wall_now();
+	if (trace_.is_open()) {
+		c.trace_cpu_start = cpu;
+		c.trace_wall_start = c.resumed_wall;
+		c.trace_v_start = c.v;
+		c.trace_charged_start = c.charged;
+	}
+	deliver(c); // what its sensors have due by now is in their fds
+	if (c.wake_pending)
+		send_wake(c);
+	end_side_waits(c); // other threads' waits due by now
+	if (c.stopped) {
+		kill(c.pid, SIGCONT);
+		c.stopped = false;
+	}
+	c.state = CtlState::Running;
+	c.budgeted = false;
+	if (cfg_.mode == TCS_MODE_CPU && target != TCS_NEVER) {
+		double need = std::ceil((double)(target - c.v) / c.scale);
+		c.budget = std::max<int64_t>((int64_t)need, 1);
+		c.budgeted = true;
+		c.checked_used = -1;
+		// Wall time runs ahead of the CPU the controller gets (our own
+		// work on its core); arm that much later, as learnt so far, so one
+		// timer usually ends the slice (the TCS paper's ε correction).
+		c.check_interval = std::max(c.budget + c.lag_ns, kMinSlice);
+		lanes_[(size_t)lane].budget.arm(c.check_interval);
+	}
+	budget_to_next_timer(c); // and no further than its own next signal
+	if (!c.budgeted)
+		arm_watchdog(c); // (a budget's own checks look for sleep)
+	// Lockstep: computation is free, so no budget; it runs until it waits.
+	// Nor is there one when nothing else will ever need the core.
+}
+
+void Coordinator::on_budget(Lane &lane)
+{
+	if (!lane.budget.consume() || lane.running.size() != 1)
+		return; // (budgets are cpu mode's, where a lane runs one at most)
+	Controller &c = *lane.running.front();
+	int64_t used = c.slice_cpu(c.cpu_now());
+	bool held = false;
+	if (used < c.budget && wall_now() - c.slice_wall - c.lag_ns - used > kStaleSlack &&
+	    !proc_all_threads_asleep(c.pid)) {
+		// Short of the wall time the slice has had, and a thread of it is
+		// on its core: read from here, its CPU clock is behind by what it
+		// computed since that core's last tick (1 to 10 ms apart) or its
+		// own last system call, as the kernel brings a running thread's
+		// count up to date only then. Computing without system calls, it
+		// read 0 after 1.8 ms and overran its budget by 3.4 ms. Held
+		// still, its clock is exact. (Not on every check: the stop's own
+		// work in the kernel is charged to the thread it stops.)
+		if (!hold(c)) {
+			lanes_.leave(c);
+			on_pidfd(c); // it died before it could stop
+			return;
+		}
+		held = true;
+		used = c.slice_cpu(c.cpu_now());
+	}
+	if (c.checked_used < 0) {
+		// First check of the slice: learn the lag (an integrating
+		// controller on what was missing or too much; bounded).
+		c.lag_ns = std::clamp<int64_t>(c.lag_ns + (c.budget - used) / 4, 0, kMaxLag);
+	}
+	if (used >= c.budget) {
+		preempt(c, held);
+		schedule();
+		return;
+	}
+	if (held) {
+		kill(c.pid, SIGCONT);
+		c.stopped = false;
+	}
+	// Short of its budget: it was asleep in the kernel, or the core was
+	// busy with something else. If it made no progress at all and sleeps
+	// still, others may have the core meanwhile (asleep.cc).
+	if (used == c.checked_used && (block_if_all_waiting(c) || step_aside_if_asleep(c)))
+		return;
+	// Else give it the rest.
+	int64_t rest = std::max(c.budget - used, kMinSlice);
+	c.check_interval = used > std::max<int64_t>(c.checked_used, 0)
+				   ? rest
+				   : std::min(2 * c.check_interval, std::max(rest, kMaxRecheck));
+	c.checked_used = used;
+	lane.budget.arm(c.check_interval);
+}
+
+// After its SIGSTOP: true once c has stopped, false if it died first. It
+// stops when it next runs, which is once we let go of its core.
+bool Coordinator::wait_until_stopped(Controller &c)
+{
+	if (c.parent_id == 0) {
+		siginfo_t si = {};
+		int r;
+		do
+			r = waitid(P_PID, (id_t)c.pid, &si, WSTOPPED | WEXITED | WNOWAIT);
+		while (r < 0 && errno == EINTR);
+		if (r < 0 || si.si_code != CLD_STOPPED)
+			return false;
+		si = {};
+		waitid(P_PID, (id_t)c.pid, &si, WSTOPPED);
+		return true;
+	}
+	// A child of a controller is its parent's to wait for: waitid cannot
+	// see it stop (it fails with ECHILD, and the controller was taken for
+	// dead and left stopped). So look, letting go of the core meanwhile.
+	for (int i = 0; i < kStopLooks; i++) {
+		struct pollfd ended = { c.pidfd.get(), POLLIN, 0 };
+		if (poll(&ended, 1, 0) > 0)
+			return false;
+		if (proc_all_threads_stopped(c.pid))
+			return true;
+		struct timespec pause = { 0, 20 * TCS_NS_PER_US };
+		nanosleep(&pause, nullptr);
+	}
+	return true; // (asleep uninterruptibly for a second: it stops on waking)
+}
+
+bool Coordinator::hold(Controller &c)
+{
+	if (cfg_.realtime.stop_delay_ns > 0) {
+		// (At most 100 ms: TCS_STOP_DELAY_US.)
+		struct timespec late = { 0, (long)cfg_.realtime.stop_delay_ns };
+		nanosleep(&late, nullptr);
+	}
+	kill(c.pid, SIGSTOP);
+	return wait_until_stopped(c);
+}
+
+void Coordinator::preempt(Controller &c, bool held)
+{
+	lanes_.leave(c);
+	if (!held && !hold(c)) {
+		on_pidfd(c); // it died before it could stop
+		return;
+	}
+	c.stopped = true;
+	c.state = CtlState::Ready;
+	c.stats.preemptions++;
+	int64_t cpu = c.cpu_now();
+	int64_t budget = c.budget;
+	int64_t overshoot = c.slice_cpu(cpu) - budget; // before account() closes the slice
+	c.account(cpu, cfg_.mode);
+	trace_slice_end(c, "preempted", cpu, budget, overshoot);
+	deliver_due_timers(c); // pending until it continues
+}
+
+} // namespace tcs

@@ -1,0 +1,273 @@
+// A controller's waits: a BLOCK taken (on_block), ended before it began
+// (on_early), and the WAKE that ends it (wake, send_wake, send_answer); a
+// wait for a child (child_wait_begins).
+#include <signal.h>
+#include <sys/socket.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstring>
+
+#include "clock_ns.h"
+#include "coordinator.h"
+#include "proc_info.h"
+#include "tcs/msg_io.h"
+#include "tcs/protocol.h"
+
+namespace tcs {
+
+namespace {
+// How long a child may run unregistered before it is said to run in real
+// time (a program still loading has not registered yet).
+constexpr int64_t kRegistrationGrace = 200 * TCS_NS_PER_MS;
+} // namespace
+
+void Coordinator::wake(Controller &c, int64_t v, uint16_t reason)
+{
+	c.v = std::max(c.v, v);
+	c.state = CtlState::Ready;
+	c.recheck = false;
+	c.kicked_at = TCS_NEVER;
+	c.wants_devices = false;
+	c.wake_pending = true;
+	c.wake_reason = reason;
+}
+
+// Every WAKE goes out here: through c's mailbox if the request came that
+// way and c still spins for it, else on channel fd (with pass_fd, if not
+// -1). A full or closed channel means the controller is gone or hostile;
+// its pidfd or its next message will tell.
+void Coordinator::send_answer(Controller &c, int fd, const ::tcs_msg &m, int pass_fd)
+{
+	if (fd == c.channel.get()) {
+		if (pass_fd >= 0)
+			c.mailbox.park(); // (an fd only the channel can carry)
+		if (c.mailbox.answer(m))
+			return;
+	}
+	struct tcs_msg_io io;
+	tcs_msg_io_send(&io, &m, sizeof m, pass_fd);
+	(void)sendmsg(fd, &io.mh, MSG_DONTWAIT | MSG_NOSIGNAL);
+}
+
+void Coordinator::send_wake(Controller &c)
+{
+	int fd = c.wait_fd >= 0 ? c.wait_fd : c.channel.get();
+	channel_state(c, fd).unanswered = 0;
+	struct tcs_msg m = tcs_msg_make(TCS_MSG_WAKE, c.wait_seq);
+	m.kind = c.wake_reason;
+	m.flags = TCS_WAKE_STARTS_SLICE;
+	m.v = c.v;
+	m.arg = c.wake_arg;
+	send_answer(c, fd, m, c.wake_fd);
+	if (c.wake_fd >= 0) {
+		close(c.wake_fd);
+		c.wake_fd = -1;
+	}
+	if (c.in_block && trace_.is_open())
+		trace_.wait(c.id, c.wait_kind, c.wait_requested_at, c.deadline, c.v, c.wait_absolute);
+	c.in_block = false;
+	c.wake_arg = 0;
+	c.wake_pending = false;
+}
+
+void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
+{
+	ChannelState &st = channel_state(c, fd);
+	if (!ending_ && st.early_ahead != 0 && st.early_ahead == m.seq) {
+		// Another thread ended this wait before it began.
+		st.early_ahead = 0;
+		c.stats.waits++;
+		SideWait w = side_wait_of(m, fd, tid, c.v, sim_ns_);
+		w.wake_reason = TCS_WAKE_EARLY;
+		answer_side(c, w);
+		if (c.state == CtlState::Blocked) {
+			// (It was asleep outside the hooks: it runs again.)
+			demote_wait(c);
+			c.state = CtlState::Ready;
+			c.wake_pending = false;
+			schedule();
+		}
+		return;
+	}
+	if (ending_) {
+		// The run is over: every wait ends at once so SIGTERM can act.
+		c.wait_fd = fd;
+		c.wait_seq = m.seq;
+		if (m.deadline != TCS_NEVER)
+			c.v = std::max(c.v, m.deadline);
+		c.wake_reason = TCS_WAKE_DEADLINE;
+		send_wake(c);
+		return;
+	}
+	if (c.state == CtlState::Blocked) {
+		if (c.in_block && fd == (c.wait_fd >= 0 ? c.wait_fd : c.channel.get())) {
+			drop(c, "it asked to wait while already waiting");
+			return;
+		}
+		// A thread that was asleep outside the hooks woke and waits now.
+		c.side.push_back(side_wait_of(m, fd, tid, c.v, sim_ns_));
+		if (missed_raised_signal(c, m))
+			c.side.back().wake_reason = TCS_WAKE_RECHECK;
+		child_wait_begins(c, m, &c.side.back());
+		c.stats.waits++;
+		hear_threads(c);
+		schedule();
+		return;
+	}
+	if (c.multithreaded() && side_wait(c, m, fd, tid)) {
+		child_wait_begins(c, m, &c.side.back());
+		c.stats.waits++;
+		if (m.flags & TCS_BLOCK_ABSOLUTE) {
+			c.stats.absolute_waits++;
+			if (m.deadline <= c.side.back().requested_at)
+				c.stats.reported_misses++;
+		}
+		if (missed_raised_signal(c, m)) {
+			// (At the time its process has reached, as on_early's.)
+			if (c.state == CtlState::Running && cfg_.mode == TCS_MODE_CPU)
+				c.account(charge_point(c, m.cpu), cfg_.mode);
+			SideWait w = c.side.back();
+			c.side.pop_back();
+			w.wake_reason = TCS_WAKE_RECHECK;
+			answer_side(c, w);
+		}
+		return;
+	}
+	if (c.state == CtlState::Running) {
+		lanes_.leave(c);
+		// Charged up to the hook's entry (see charge_point).
+		int64_t cpu = charge_point(c, m.cpu);
+		c.account(cpu, cfg_.mode);
+		trace_slice_end(c, "blocked", cpu);
+		c.cpu_at_block = cpu;
+	}
+	// (Ready: the budget ran out just as it began to wait; SIGSTOP has
+	// already closed its slice.)
+	c.stats.waits++;
+	if (m.flags & TCS_BLOCK_ABSOLUTE) {
+		c.stats.absolute_waits++;
+		if (m.deadline <= c.v)
+			c.stats.reported_misses++; // TCS_PAGE_REPORT_MISSES
+	}
+	c.wait_seq = m.seq;
+	c.wait_fd = fd;
+	c.wait_tid = tid;
+	c.wait_flags = m.flags;
+	c.deadline = m.deadline;
+	c.in_block = true;
+	c.wait_kind = block_kind_name(m.kind);
+	c.wait_requested_at = c.v;
+	c.wait_absolute = (m.flags & TCS_BLOCK_ABSOLUTE) != 0;
+	c.recheck = (m.flags & TCS_BLOCK_RECHECK) != 0;
+	c.waits_for_child = (m.flags & TCS_BLOCK_CHILD) != 0;
+	c.wants_devices = (m.flags & TCS_BLOCK_DEVICES) != 0;
+	c.rechecked_at = sim_ns_;
+	c.wake_pending = false;
+	c.state = CtlState::Blocked;
+	// Threads asleep outside the hooks: looked at each step (threads.cc).
+	c.others_asleep = c.multithreaded() && proc_thread_count(c.pid) > 1 + (int)c.side.size();
+	child_wait_begins(c, m, nullptr);
+	if (missed_raised_signal(c, m))
+		wake(c, c.v, TCS_WAKE_RECHECK);
+	hear_threads(c);
+	schedule();
+}
+
+// Whether c has a child that runs in real time, outside tcs: a static
+// program, or one whose environment lost LD_PRELOAD, started with vfork or
+// posix_spawn (it would register when its program loads). A wait for a
+// child then passes in real time, as that child's time does: each step is
+// a re-check. Said once per child, once it has gone unregistered for long
+// enough not to be one still loading.
+bool Coordinator::has_real_time_child(Controller &c)
+{
+	bool any = false;
+	int64_t now = wall_now();
+	for (const auto &o : ctls_)
+		if (o->parent_id == c.id && o->outside && o->state != CtlState::Exited)
+			any = true;
+	for (pid_t child : proc_children(c.pid)) {
+		if (std::any_of(ctls_.begin(), ctls_.end(), [child](const auto &o) { return o->pid == child; }))
+			continue;
+		any = true;
+		auto [it, fresh] = c.unregistered_children.try_emplace(child, now);
+		if (!fresh && it->second >= 0 && now - it->second > kRegistrationGrace) {
+			it->second = -1; // said
+			warn_once("process " + std::to_string(child) + " (" + proc_name(child, "?") + "), started by " + c.name +
+				  ", runs in real time: it did not load tcs's preload (a static program, or LD_PRELOAD removed "
+				  "from its environment)");
+		}
+	}
+	return any;
+}
+
+// A wait for a child's end begins (side: a thread's, else the
+// controller's own). With a child in real time, the wait's own time-out
+// does not count: the child's end does, in real time, looked for at each
+// step (if nothing else has a next event, virtual time passes at the speed
+// of real time meanwhile). After a child ended unseen (the program looked
+// for it just before, and the exit came between its look and its wait), it
+// re-checks at once.
+void Coordinator::child_wait_begins(Controller &c, const ::tcs_msg &m, SideWait *side)
+{
+	if (!(m.flags & TCS_BLOCK_CHILD))
+		return;
+	if (has_real_time_child(c)) {
+		if (side) {
+			side->flags |= TCS_BLOCK_RECHECK;
+		} else {
+			c.recheck = true;
+			c.deadline = TCS_NEVER;
+		}
+	}
+	if (!c.child_ended)
+		return;
+	c.child_ended = false;
+	if (side)
+		side->wake_reason = TCS_WAKE_RECHECK;
+	else
+		wake(c, c.v, TCS_WAKE_RECHECK);
+}
+
+void Coordinator::on_early(Controller &c, const ::tcs_msg &m, int fd)
+{
+	if (ending_)
+		return;
+	if (c.state == CtlState::Blocked && c.in_block && m.seq == c.wait_seq &&
+	    fd == (c.wait_fd >= 0 ? c.wait_fd : c.channel.get())) {
+		wake(c, std::max(c.v, sim_ns_), TCS_WAKE_EARLY);
+		schedule();
+		return;
+	}
+	for (size_t i = 0; i < c.side.size(); i++) {
+		SideWait &w = c.side[i];
+		if (w.fd != fd || w.seq != m.seq)
+			continue;
+		w.wake_reason = TCS_WAKE_EARLY;
+		if (c.state == CtlState::Running) {
+			// Ended by a thread that runs: at that thread's time now (in
+			// cpu mode past the slice's start by what it has computed), so
+			// that what it did is never seen as done before it was.
+			if (cfg_.mode == TCS_MODE_CPU)
+				c.account(charge_point(c, m.cpu), cfg_.mode);
+			SideWait done = w;
+			c.side.erase(c.side.begin() + (long)i);
+			answer_side(c, done);
+		} else if (c.state == CtlState::Blocked && wake_threads(c, std::max(c.v, sim_ns_))) {
+			schedule();
+		}
+		return; // (Ready: answered as it resumes)
+	}
+	// Not waiting (yet): another thread ended the wait this seq will be,
+	// or the answer crossed it. Either way it is owed nothing.
+	// (One such is not counted against a flood: a thread may be woken
+	// just as its wait returns without asking.)
+	ChannelState &st = channel_state(c, fd);
+	if (st.early_ahead == 0)
+		st.unanswered = std::max(0, st.unanswered - 1);
+	st.early_ahead = m.seq;
+}
+
+} // namespace tcs
