@@ -94,12 +94,12 @@ bool Coordinator::step_aside_if_asleep(Controller &c)
 	c.asleep = true;
 	c.set_page_flag(TCS_PAGE_ASLEEP, true);
 	c.state = CtlState::Blocked;
-	c.deadline = TCS_NEVER;
-	c.recheck = true;
-	c.rechecked_at = sim_ns_;
-	c.wants_devices = false;
-	c.waits_for_child = false; // its last wait's: it is in none of ours now
-	c.in_block = false;
+	c.wait.deadline = TCS_NEVER;
+	c.wait.recheck = true;
+	c.wait.rechecked_at = sim_ns_;
+	c.wait.devices = false;
+	c.wait.for_child = false; // its last wait's: it is in none of ours now
+	c.wait.active = false;
 	schedule();
 	return true;
 }
@@ -138,7 +138,7 @@ void Coordinator::wake_from_asleep(Controller &c)
 	c.asleep = false;
 	c.set_page_flag(TCS_PAGE_ASLEEP, false);
 	c.state = CtlState::Ready;
-	c.recheck = false;
+	c.wait.recheck = false;
 	c.wake_pending = false;
 }
 

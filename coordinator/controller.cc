@@ -152,27 +152,27 @@ int64_t Controller::cpu_now() const
 SideWait Controller::own_wait() const
 {
 	SideWait w;
-	w.fd = wait_fd >= 0 ? wait_fd : channel.get();
-	w.tid = wait_tid;
-	w.seq = wait_seq;
-	w.deadline = deadline;
-	w.flags = wait_flags;
-	w.kind = wait_kind;
-	w.requested_at = wait_requested_at;
-	w.rechecked_at = rechecked_at;
+	w.fd = wait.fd >= 0 ? wait.fd : channel.get();
+	w.tid = wait.tid;
+	w.seq = wait.seq;
+	w.deadline = wait.deadline;
+	w.flags = wait.flags;
+	w.kind = wait.kind;
+	w.requested_at = wait.requested_at;
+	w.rechecked_at = wait.rechecked_at;
 	return w;
 }
 
 void Controller::take_wait(const SideWait &w)
 {
-	wait_fd = w.fd;
-	wait_tid = w.tid;
-	wait_seq = w.seq;
-	deadline = w.deadline;
-	wait_flags = w.flags;
-	wait_kind = w.kind;
-	wait_requested_at = w.requested_at;
-	in_block = true;
+	wait.fd = w.fd;
+	wait.tid = w.tid;
+	wait.seq = w.seq;
+	wait.deadline = w.deadline;
+	wait.flags = w.flags;
+	wait.kind = w.kind;
+	wait.requested_at = w.requested_at;
+	wait.active = true;
 }
 
 // After release() (an ended controller) there is no page: what follows

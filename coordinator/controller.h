@@ -46,7 +46,7 @@ struct ClockOrigins {
 enum class CtlState {
 	Ready,   // may run (stopped by SIGSTOP, or woken and not yet resumed)
 	Running, // resumed; the coordinator waits for it to block or use its budget
-	Blocked, // in a hooked wait until `deadline`
+	Blocked, // in a hooked wait until `wait.deadline`
 	Exited,
 };
 
@@ -112,6 +112,26 @@ inline SideWait side_wait_of(const ::tcs_msg &m, int fd, pid_t tid, int64_t v, i
 	return w;
 }
 
+// The controller's own request being served (a BLOCK, or a device request
+// answered later) and, while it is Blocked, what ends its wait. A thread's
+// wait beside it is a SideWait (own_wait() and take_wait() convert).
+struct OwnWait {
+	bool active = false;      // a BLOCK is being served (for the trace)
+	uint32_t seq = 0;         // the request being served
+	int fd = -1;              // the channel it came on (-1: the main one)
+	pid_t tid = 0;            // the thread that sent it
+	uint16_t flags = 0;       // its TCS_BLOCK_* flags
+	const char *kind = "";    // the trace's name for it
+	int64_t requested_at = 0; // the virtual time it was asked at
+	bool absolute = false;    // an absolute deadline (a periodic loop's)
+	int64_t deadline = 0;     // when Blocked
+	bool recheck = false;     // Blocked with per-step re-checks
+	bool for_child = false;   // Blocked in wait/waitpid: a child's end wakes it
+	bool devices = false;     // Blocked, and a record due on a sensor ends it
+	int64_t rechecked_at = -1;     // the world's time at its last re-check
+	int64_t kicked_at = TCS_NEVER; // signalled by another controller then
+};
+
 struct LoopStats {
 	uint64_t waits = 0;          // BLOCK messages
 	uint64_t absolute_waits = 0; // of which absolute deadlines (periodic loops)
@@ -152,7 +172,7 @@ public:
 	// Signals raised in it by the coordinator (the page's signals_raised).
 	void count_raised_signal();
 	uint64_t raised_signals() const { return signals_raised_; }
-	// Its own wait (in_block) as a side wait, and a side wait made its own.
+	// Its own wait (wait.active) as a side wait, and a side wait made its own.
 	SideWait own_wait() const;
 	void take_wait(const SideWait &w);
 	const tcs_slice &slice() const { return slice_; }
@@ -174,6 +194,7 @@ public:
 
 	// Scheduling state.
 	CtlState state = CtlState::Ready;
+	OwnWait wait; // the request being served, and what ends it when Blocked
 	bool stopped = true;    // held by SIGSTOP
 	bool attached = false;  // the preload said HELLO
 	int64_t hello_nonce = 0; // the current image's HELLO
@@ -183,20 +204,12 @@ public:
 	// Where the current scheduling slice began, for the trace (a device
 	// request answered at once restarts the accounting slice, not this).
 	int64_t trace_wall_start = 0, trace_v_start = 0, trace_charged_start = 0, trace_cpu_start = 0;
-	bool in_block = false;        // a BLOCK is being served (for the trace)
-	const char *wait_kind = "";
-	int64_t wait_requested_at = 0;
-	bool wait_absolute = false;
 	int64_t cpu_at_block = -1; // its CPU clock when its running slice ended in a wait (-1: none)
 	int64_t resumed_wall = 0;  // wall ns when it was last resumed
 	int64_t slice_wall = 0;    // wall ns when its accounting slice began
 	int64_t checked_used = -1;  // slice CPU at the last budget check (-1: none yet)
 	int64_t lag_ns = 0;         // learnt wall-versus-CPU lag of a slice
 	int64_t check_interval = 0; // wall time until the next check
-	uint32_t wait_seq = 0;  // the BLOCK being served
-	int wait_fd = -1;       // the channel it came on (-1: the main one)
-	pid_t wait_tid = 0;     // the thread that sent it
-	uint16_t wait_flags = 0; // its TCS_BLOCK_* flags
 	// Threads: their channels, the waits of threads beside the controller's
 	// own, and whether it is blocked with threads asleep outside the hooks.
 	ChannelState main_state;
@@ -209,21 +222,15 @@ public:
 	// It has started threads (or has thread channels): each wait looks at
 	// them all.
 	bool multithreaded() const;
-	int64_t deadline = 0;   // when Blocked
-	bool recheck = false;   // Blocked with per-step re-checks
-	bool waits_for_child = false; // Blocked in wait/waitpid: a child's end wakes it
 	bool child_ended = false;     // a child ended while it was not waiting for one
 	bool outside = false;         // its program runs without the preload: real time
 	// Children seen running outside tcs: when first seen (wall ns; -1: said).
 	std::map<pid_t, int64_t> unregistered_children;
-	int64_t rechecked_at = -1;
-	int64_t kicked_at = TCS_NEVER; // Blocked, and signalled by another controller then
 	bool wake_pending = false; // Ready after a wait: WAKE still to send
 	uint16_t wake_reason = 0;
 	// Devices: what this controller has open (handle = index), and a
 	// device request it is waiting on (for the world, or for a record).
 	std::vector<std::unique_ptr<OpenDevice>> devices;
-	bool wants_devices = false; // Blocked, and a record due on a sensor ends it
 	bool sync_pending = false;
 	uint16_t sync_kind = 0;
 	int64_t sync_handle = 0;

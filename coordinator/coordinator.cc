@@ -287,9 +287,9 @@ void Coordinator::on_child(Controller &parent, const ::tcs_msg &m, UniqueFd chan
 		parent_v = std::max(parent_v, parent.slice().v_base +
 						       tcs_scale_cpu(parent.slice_cpu(parent.cpu_now()), parent.scale));
 	c.v = std::max((m.flags & TCS_CHILD_V_KNOWN) ? m.v : parent_v, sim_ns_);
-	c.wait_seq = m.seq;
+	c.wait.seq = m.seq;
 	c.state = CtlState::Blocked;
-	c.deadline = c.v;
+	c.wait.deadline = c.v;
 	c.wake_fd = c.page_fd_for_child.release();
 	c.wake_arg = 0;
 	ctls_.push_back(std::move(*made));
@@ -313,7 +313,7 @@ void Coordinator::on_child(Controller &parent, const ::tcs_msg &m, UniqueFd chan
 void Coordinator::on_forked(Controller &c, const ::tcs_msg &m)
 {
 	restart_slice(c, m.cpu);
-	c.wait_seq = m.seq;
+	c.wait.seq = m.seq;
 	pid_t pid = (pid_t)m.arg;
 	for (auto &o : ctls_)
 		if (o->pid == pid && o->parent_id == c.id) {
@@ -321,8 +321,8 @@ void Coordinator::on_forked(Controller &c, const ::tcs_msg &m)
 			// its own): at the time of its CPU clock then, which counted
 			// the parent's hooks too. Not yet run, it starts here instead,
 			// where the spawn's request put its parent.
-			if (o->slices == 0 && o->state == CtlState::Blocked && o->deadline == o->v && o->v > c.v)
-				o->v = o->deadline = std::max(c.v, sim_ns_);
+			if (o->slices == 0 && o->state == CtlState::Blocked && o->wait.deadline == o->v && o->v > c.v)
+				o->v = o->wait.deadline = std::max(c.v, sim_ns_);
 			reply_now(c, 0);
 			return;
 		}
@@ -465,7 +465,7 @@ void Coordinator::on_message(Controller &c, const ::tcs_msg &m, int fd, pid_t ti
 	if (c.asleep)
 		wake_from_asleep(c); // it woke by itself and asks something
 	if (m.type != TCS_MSG_BLOCK && m.type != TCS_MSG_EARLY)
-		c.wait_fd = fd; // a request answered at once, on its thread's channel
+		c.wait.fd = fd; // a request answered at once, on its thread's channel
 	switch (m.type) {
 	case TCS_MSG_HELLO:
 		if (fd != c.channel.get()) {
@@ -588,7 +588,7 @@ void Coordinator::on_exit(Controller &c, int wait_status)
 				w.wake_reason = TCS_WAKE_RECHECK;
 				seen = true;
 			}
-		if (p->state == CtlState::Blocked && p->waits_for_child && !p->sync_pending) {
+		if (p->state == CtlState::Blocked && p->wait.for_child && !p->sync_pending) {
 			wake(*p, std::max(p->v, c.v), TCS_WAKE_RECHECK);
 			seen = true;
 		} else if (p->state == CtlState::Blocked) {
@@ -632,9 +632,9 @@ void Coordinator::drop(Controller &c, const std::string &why)
 	c.threads.clear();
 	c.side.clear();
 	c.state = CtlState::Blocked;
-	c.deadline = TCS_NEVER;
-	c.recheck = false;
-	c.wants_devices = false;
+	c.wait.deadline = TCS_NEVER;
+	c.wait.recheck = false;
+	c.wait.devices = false;
 	c.sync_pending = false;
 	c.wake_pending = false;
 	schedule();
@@ -718,7 +718,7 @@ void Coordinator::begin_end(EndReason reason, int signo)
 		kill(c->pid, SIGTERM);
 		if (c->state == CtlState::Blocked) {
 			// It waited through to the end: that is where it stands now.
-			c->v = std::max(c->v, std::min(c->deadline, sim_ns_));
+			c->v = std::max(c->v, std::min(c->wait.deadline, sim_ns_));
 			c->wake_pending = true;
 			c->wake_reason = TCS_WAKE_DEADLINE;
 		}

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "agents.h"
 #include "controller.h"
 #include "duration_stats.h"
 #include "device.h"
@@ -137,7 +138,7 @@ private:
 	Coordinator() = default;
 	Status init();
 
-	// Events (coordinator.cc).
+	// Set-up, a controller's messages and end, the run's end (coordinator.cc).
 	// A message on the main channel (t == nullptr) or a thread's.
 	void on_channel(Controller &c, ThreadChannel *t);
 	// A request, from a channel or c's mailbox (t == nullptr).
@@ -150,38 +151,56 @@ private:
 	void on_progress();
 	void drop(Controller &c, const std::string &why);
 	ControllerReport report_of(const Controller &c) const;
-	Controller *top_level(int id);
-	// Remote peers (remote.cc).
-	void on_step_host();
-	void on_step_agent();
-	bool agents_answered() const;
-	void grant_now();
-	void answer_grant();
-	void word_of_controllers();
-	void lose(const std::string &why);
-	bool descends_from(const Controller &o, int root) const;
 	void warn_once(const std::string &what);
+	void on_child(Controller &parent, const ::tcs_msg &m, UniqueFd channel);
+	void on_forked(Controller &c, const ::tcs_msg &m);
+	void on_exec_look();
+	int64_t alive_controllers() const;
+	void child_settled(Controller &parent);
+	void begin_end(EndReason reason, int signo = 0);
+	int64_t alive() const;
 
-	// The world's steps (world_steps.cc), as decided (scheduler.h).
+	// The world's steps, as scheduler.h decides (world_steps.cc).
 	void schedule();
 	bool run_best(Controller &best, int64_t at, int64_t until);
 	Contender contender_of(const Controller &c) const;
-	std::vector<Contender> contenders_; // (kept: schedule() runs on every request)
 	bool advance_to(int64_t next);
 	int64_t next_run_at(const Controller &c) const;
 	void on_idle();
-	// Slices (slices.cc).
+	void arm_idle_step();
+
+	// Slices: budgets, checks, preemption, accounting (slices.cc).
 	void resume(Controller &c, int64_t target, int lane);
 	void on_budget(Lane &lane);
 	// SIGSTOP, and wait till it has stopped: false if it died first.
 	bool hold(Controller &c);
 	// Ends c's slice, stopping it unless held already (by hold()).
 	void preempt(Controller &c, bool held = false);
+	bool wait_until_stopped(Controller &c);
+	// cpu: the process's CPU clock at the end; budget and overshoot: of a
+	// preempted slice (real CPU).
+	void trace_slice_end(Controller &c, const char *why, int64_t cpu, int64_t budget = -1, int64_t overshoot = 0);
+	static int64_t wall_now();
+	// The CPU a request charges up to; a claim may exceed the wall time
+	// since the slice began by this much (the hook's part before we ran).
+	int64_t charge_point(Controller &c, int64_t claimed);
+	// When a request of a running controller's thread was made: its own
+	// claim, no earlier than c.v nor later than its process's time as the
+	// request is heard (other threads may have run since). c.v unless
+	// running in cpu mode.
+	int64_t request_v(Controller &c, const ::tcs_msg &m);
+
+	// Waits: BLOCK, EARLY, WAKE (waits.cc).
 	void on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid);
 	void on_early(Controller &c, const ::tcs_msg &m, int fd);
-	// Threads (threads.cc).
+	bool has_real_time_child(Controller &c);
+	void child_wait_begins(Controller &c, const ::tcs_msg &m, SideWait *side);
+	void wake(Controller &c, int64_t v, uint16_t reason);
+	void send_wake(Controller &c);
+	void send_answer(Controller &c, int fd, const ::tcs_msg &m, int pass_fd);
+
+	// Threads: their channels and waits beside the controller's (threads.cc).
 	void hear_threads(Controller &c);
-	bool hearing_ = false; // hear_threads: schedule() waits for the last
 	void on_thread(Controller &c, const ::tcs_msg &m, UniqueFd channel);
 	void thread_gone(Controller &c, ThreadChannel *t);
 	ChannelState &channel_state(Controller &c, int fd);
@@ -194,60 +213,34 @@ private:
 	void answer_side(Controller &c, const SideWait &w);
 	bool block_if_all_waiting(Controller &c);
 	void end_all_side_waits(Controller &c);
-	// The shortest slice worth a timer. A timer cycle (interrupt, wake-up,
-	// CPU-clock read, re-arm) costs a few microseconds of the same core, so a
-	// shorter slice would leave the controller almost nothing of it: with
-	// SCHED_FIFO it would never get to run at all. The overshoot this allows
-	// is carried into the next budget like any other.
-	static constexpr int64_t kMinSlice = 20 * TCS_NS_PER_US;
-	// How long controllers get to act on SIGTERM at the end before SIGKILL.
-	static constexpr int64_t kEndGrace = 2 * TCS_NS_PER_S;
+	int runnable_threads(Controller &c, pid_t also);
+
 	// Signal timers (signal_timers.cc).
 	void on_timer(Controller &c, const ::tcs_msg &m);
+	void deliver_due_timers(Controller &c);
+	uint64_t due_timer_signals(Controller &c);
+	bool missed_raised_signal(const Controller &c, const ::tcs_msg &m) const;
+	void budget_to_next_timer(Controller &c);
+
+	// Signals between controllers (signals.cc).
 	void on_kill(Controller &c, const ::tcs_msg &m);
 	void kick(Controller &c, int64_t at);
-	int runnable_threads(Controller &c, pid_t also);
-	bool wait_until_stopped(Controller &c);
-	bool has_real_time_child(Controller &c);
-	void child_wait_begins(Controller &c, const ::tcs_msg &m, SideWait *side);
-	void on_child(Controller &parent, const ::tcs_msg &m, UniqueFd channel);
-	void on_forked(Controller &c, const ::tcs_msg &m);
-	void on_exec_look();
-	void arm_idle_step();
+
 	// Asleep in the kernel outside the hooks (asleep.cc).
-	static constexpr int64_t kWatchdog = 2 * TCS_NS_PER_MS;
 	void arm_watchdog(Controller &c);
 	void on_watchdog(Lane &lane);
 	bool look_at(Controller &c);
 	bool step_aside_if_asleep(Controller &c);
 	bool still_asleep(Controller &c, int64_t at);
 	void wake_from_asleep(Controller &c);
-	int64_t alive_controllers() const;
-	void child_settled(Controller &parent);
-	void deliver_due_timers(Controller &c);
-	uint64_t due_timer_signals(Controller &c);
-	bool missed_raised_signal(const Controller &c, const ::tcs_msg &m) const;
-	void budget_to_next_timer(Controller &c);
-	void wake(Controller &c, int64_t v, uint16_t reason);
-	void send_wake(Controller &c);
-	void send_answer(Controller &c, int fd, const ::tcs_msg &m, int pass_fd);
 
-	// Mailboxes (polling.cc): one turn of the run's loop, polling them or
+	// Mailboxes: one turn of the run's loop, polling them or sleeping in epoll (polling.cc).
 	// sleeping in epoll; c's posted request served (false: none).
 	Status turn();
 	bool take_mailbox(Controller &c);
 	bool take_mailboxes();
 	bool worth_polling() const;
 	void set_polling(bool on);
-	static constexpr int64_t kPollFor = 30 * TCS_NS_PER_US;
-	bool mailboxes_ = false; // rt_.mailbox, and no remote peers
-	bool polling_ = false;
-	int64_t polled_at_ = 0; // wall ns of the last request or event while polling
-	void begin_end(EndReason reason, int signo = 0);
-	// cpu: the process's CPU clock at the end; budget and overshoot: of a
-	// preempted slice (real CPU).
-	void trace_slice_end(Controller &c, const char *why, int64_t cpu, int64_t budget = -1, int64_t overshoot = 0);
-	static int64_t wall_now();
 
 	// Devices (device_io.cc).
 	Status bind_devices();
@@ -266,17 +259,42 @@ private:
 	int64_t next_record_due(const Controller &c) const;
 	void reply_now(Controller &c, int64_t arg);
 	void restart_slice(Controller &c, int64_t request_cpu);
-	// The CPU a request charges up to; a claim may exceed the wall time
-	// since the slice began by this much (the hook's part before we ran).
-	int64_t charge_point(Controller &c, int64_t claimed);
-	// When a request of a running controller's thread was made: its own
-	// claim, no earlier than c.v nor later than its process's time as the
-	// request is heard (other threads may have run since). c.v unless
-	// running in cpu mode.
-	int64_t request_v(Controller &c, const ::tcs_msg &m);
-	static constexpr int64_t kClaimSlack = 1 * TCS_NS_PER_MS;
 	Status step_world();
-	int64_t alive() const;
+
+	// Peers on other hosts, both ends (remote.cc; agents.h: the host's agents).
+	void on_step_host();
+	void on_step_agent();
+	bool agents_answered() const;
+	void grant_now();
+	void answer_grant();
+	void word_of_controllers();
+	void lose(const std::string &why);
+
+	// Serving (coordinatord) (serve.cc).
+	Controller *top_level(int id);
+	bool descends_from(const Controller &o, int root) const;
+
+	// Constants, and state the parts above share.
+	std::vector<Contender> contenders_; // (kept: schedule() runs on every request)
+	bool hearing_ = false; // hear_threads: schedule() waits for the last
+	// The shortest slice worth a timer. A timer cycle (interrupt, wake-up,
+	// CPU-clock read, re-arm) costs a few microseconds of the same core, so a
+	// shorter slice would leave the controller almost nothing of it: with
+	// SCHED_FIFO it would never get to run at all. The overshoot this allows
+	// is carried into the next budget like any other.
+	static constexpr int64_t kMinSlice = 20 * TCS_NS_PER_US;
+	// How long controllers get to act on SIGTERM at the end before SIGKILL.
+	static constexpr int64_t kEndGrace = 2 * TCS_NS_PER_S;
+	// How often a lane's watchdog looks at those running (asleep.cc).
+	static constexpr int64_t kWatchdog = 2 * TCS_NS_PER_MS;
+	// How long the run's loop polls mailboxes after the last request (polling.cc).
+	static constexpr int64_t kPollFor = 30 * TCS_NS_PER_US;
+	bool mailboxes_ = false; // rt_.mailbox, and no remote peers
+	bool polling_ = false;
+	int64_t polled_at_ = 0; // wall ns of the last request or event while polling
+	// How far a request's CPU claim may exceed the wall time since its slice
+	// began: the hook's part before the coordinator ran (charge_point).
+	static constexpr int64_t kClaimSlack = 1 * TCS_NS_PER_MS;
 
 	CoordinatorConfig cfg_;
 	RealtimePlan rt_;
@@ -320,14 +338,7 @@ private:
 	int64_t steps_ = 0;
 	bool ending_ = false;
 	bool held_ = false;
-	// Host: the agents taking part, and the step each last answered.
-	struct AgentState {
-		uint64_t answered = Done::kNoStep;
-		std::vector<std::string> programs;
-	};
-	std::map<std::string, AgentState> agents_;
-	std::deque<RemoteCommand> remote_commands_; // theirs, not yet in force
-	Grant grant_;                               // the last one made (its buffer reused)
+	Agents agents_; // host: the agents taking part
 	// Agent: answered, and the next grant not here yet (at first: none yet).
 	bool awaiting_grant_ = false;
 	bool granted_ = false;

@@ -75,7 +75,7 @@ void Coordinator::restart_slice(Controller &c, int64_t request_cpu)
 void Coordinator::on_dev_open(Controller &c, const ::tcs_msg &m)
 {
 	restart_slice(c, m.cpu);
-	c.wait_seq = m.seq;
+	c.wait.seq = m.seq;
 	if ((size_t)m.arg >= devices_.size()) {
 		reply_now(c, -ENOENT);
 		return;
@@ -254,11 +254,8 @@ void Coordinator::apply_commands(int64_t boundary)
 		}
 		commands_.pop_front();
 	}
-	// Agents' commands (remote.cc checked them), in the order written.
-	while (!remote_commands_.empty() && remote_commands_.front().v <= boundary) {
-		world_->write(remote_commands_.front().signal, &remote_commands_.front().value);
-		remote_commands_.pop_front();
-	}
+	// Agents' commands (agents.cc checked them), in the order written.
+	agents_.apply(*world_, boundary);
 }
 
 Status Coordinator::step_world()
@@ -293,7 +290,7 @@ void Coordinator::on_dev_sync(Controller &c, const ::tcs_msg &m)
 		return;
 	}
 	restart_slice(c, m.cpu);
-	c.wait_seq = m.seq;
+	c.wait.seq = m.seq;
 	c.wake_arg = 0;
 	if (m.kind != TCS_SYNC_POLL && (m.arg < 0 || (size_t)m.arg >= c.devices.size())) {
 		reply_now(c, -EBADF);
@@ -368,9 +365,9 @@ bool Coordinator::complete_sync(Controller &c)
 	}
 	c.sync_pending = true;
 	c.state = CtlState::Blocked;
-	c.deadline = d.queue.empty() ? d.next_due : d.queue.front().first;
-	c.recheck = false;
-	c.wants_devices = false;
+	c.wait.deadline = d.queue.empty() ? d.next_due : d.queue.front().first;
+	c.wait.recheck = false;
+	c.wait.devices = false;
 	c.wake_pending = false;
 	return false;
 }

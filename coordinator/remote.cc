@@ -1,13 +1,9 @@
 // The step protocol with peers on other hosts (step_peers.h), from both
-// ends. The host counts each agent as one more participant in the barrier:
-// the world steps only when its own controllers and every agent have
-// reached the step's end, and after each step it grants the next, with
-// every signal's values. An agent's coordinator schedules its controllers
-// as usual against a mirror of the world; where it would step the world it
-// answers the grant (with what its controllers commanded) and waits for
-// the next.
+// ends. The host's: what it hears from its agents (agents.h) acted on. An
+// agent's: its coordinator schedules its controllers as usual against a
+// mirror of the world; where it would step the world it answers the grant
+// (with what its controllers commanded) and waits for the next.
 #include <algorithm>
-#include <cmath>
 #include <utility>
 
 #include "coordinator.h"
@@ -18,66 +14,34 @@ namespace tcs {
 
 void Coordinator::on_step_host()
 {
-	std::vector<Done> answers;
-	std::vector<std::string> lost;
-	cfg_.step_host->take(answers, lost);
-	for (Done &d : answers) {
-		auto it = agents_.find(d.agent);
-		if (d.step == Done::kLeaving) {
-			if (it != agents_.end() && cfg_.on_info)
-				cfg_.on_info("agent " + d.agent + " has left");
-			if (it != agents_.end())
-				agents_.erase(it);
-			continue;
-		}
-		if (it == agents_.end()) {
-			it = agents_.emplace(d.agent, AgentState{}).first;
+	for (const Agents::Event &e : agents_.hear(*cfg_.step_host, world_.get(), (uint64_t)steps_, sim_ns_, cfg_.step_ns)) {
+		switch (e.kind) {
+		case Agents::Event::Joined:
 			if (cfg_.on_info)
-				cfg_.on_info("agent " + d.agent + " has joined");
+				cfg_.on_info("agent " + e.agent + " has joined");
 			grant_now(); // where the world is now, which it may have missed
-		}
-		AgentState &a = it->second;
-		if (d.controllers != a.programs) {
-			a.programs = d.controllers;
+			break;
+		case Agents::Event::Left:
+			if (cfg_.on_info)
+				cfg_.on_info("agent " + e.agent + " has left");
+			break;
+		case Agents::Event::Programs:
 			if (cfg_.on_agent_controllers)
-				cfg_.on_agent_controllers(d.agent, a.programs);
-		}
-		// An answer to this step: its commands take effect in order. One
-		// to another step is a late joiner's to a grant it read before
-		// joining: it answers the next.
-		if (d.step != (uint64_t)steps_ || a.answered == d.step || !world_)
-			continue;
-		a.answered = d.step;
-		for (const RemoteCommand &c : d.commands) {
-			// From another host: only actuator signals, only scalar ones,
-			// only finite values, at times no earlier than this step.
-			bool ok = c.signal < world_->signal_count() && world_->signal(c.signal).width == 1 &&
-				  (world_->signal(c.signal).flags & TCS_SIM_SIGNAL_WRITABLE) && std::isfinite(c.value) &&
-				  c.v >= sim_ns_ && c.v <= sim_ns_ + cfg_.step_ns;
-			// Several agents' answers interleave: kept in time order, as
-			// apply_commands takes them from the front.
-			if (ok)
-				remote_commands_.insert(std::upper_bound(remote_commands_.begin(), remote_commands_.end(), c,
-									 [](const RemoteCommand &x, const RemoteCommand &y) {
-										 return x.v < y.v;
-									 }),
-							c);
-			else
-				warn_once("agent " + d.agent + " sent a command the world cannot take (signal " +
-					  std::to_string(c.signal) + "): ignored");
+				cfg_.on_agent_controllers(e.agent, e.programs);
+			break;
+		case Agents::Event::Refused:
+			warn_once(e.what);
+			break;
+		case Agents::Event::Lost:
+			return lose(e.what);
 		}
 	}
-	for (const std::string &name : lost)
-		if (agents_.count(name))
-			return lose("agent " + name + " is gone (no sign of life for " +
-				    std::to_string(kStepLeaseNs / 1000000) + " ms): the world stops");
 	schedule();
 }
 
 bool Coordinator::agents_answered() const
 {
-	return std::all_of(agents_.begin(), agents_.end(),
-			   [this](const auto &a) { return a.second.answered == (uint64_t)steps_; });
+	return agents_.answered((uint64_t)steps_);
 }
 
 // The world as it is now, to every agent: after each step, when the world
@@ -87,10 +51,7 @@ void Coordinator::grant_now()
 {
 	if (!cfg_.step_host || !world_ || held_ || agents_.empty())
 		return;
-	grant_.step = (uint64_t)steps_;
-	grant_.sim_ns = sim_ns_;
-	world_->read_all(grant_.signals);
-	cfg_.step_host->grant(grant_);
+	agents_.grant(*cfg_.step_host, *world_, (uint64_t)steps_, sim_ns_);
 }
 
 void Coordinator::lose(const std::string &why)

@@ -19,7 +19,7 @@ namespace tcs {
 void Coordinator::on_timer(Controller &c, const ::tcs_msg &m)
 {
 	restart_slice(c, m.cpu);
-	c.wait_seq = m.seq;
+	c.wait.seq = m.seq;
 	SignalTimer &t = c.timers[m.flags];
 	t.signo = m.kind;
 	t.tid = (int)m.v;

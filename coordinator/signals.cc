@@ -32,7 +32,7 @@ bool reaches(pid_t pid, int64_t target, pid_t sender_pgid)
 void Coordinator::on_kill(Controller &c, const ::tcs_msg &m)
 {
 	restart_slice(c, m.cpu);
-	c.wait_seq = m.seq;
+	c.wait.seq = m.seq;
 	pid_t sender_pgid = getpgid(c.pid);
 	int64_t at = std::max(c.v, m.v);
 	for (auto &o : ctls_)
@@ -45,7 +45,7 @@ void Coordinator::on_kill(Controller &c, const ::tcs_msg &m)
 // re-checked then (an asleep one is looked at then).
 void Coordinator::kick(Controller &c, int64_t at)
 {
-	c.kicked_at = std::min(c.kicked_at, at);
+	c.wait.kicked_at = std::min(c.wait.kicked_at, at);
 	for (SideWait &w : c.side)
 		if (w.wake_reason == 0)
 			w.wake_reason = TCS_WAKE_RECHECK;

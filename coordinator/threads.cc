@@ -63,9 +63,9 @@ void Coordinator::thread_gone(Controller &c, ThreadChannel *t)
 	loop_.remove(fd);
 	c.side.erase(std::remove_if(c.side.begin(), c.side.end(), [fd](const SideWait &w) { return w.fd == fd; }),
 		     c.side.end());
-	if (c.wait_fd == fd) {
-		c.wait_fd = -1;
-		c.in_block = false;
+	if (c.wait.fd == fd) {
+		c.wait.fd = -1;
+		c.wait.active = false;
 	}
 	c.threads.erase(std::remove_if(c.threads.begin(), c.threads.end(), [t](const auto &p) { return p.get() == t; }),
 			c.threads.end());
@@ -156,8 +156,8 @@ int Coordinator::runnable_threads(Controller &c, pid_t also)
 	std::vector<pid_t> waiting;
 	waiting.reserve(c.side.size() + 2);
 	waiting.push_back(also);
-	if (c.in_block)
-		waiting.push_back(c.wait_tid);
+	if (c.wait.active)
+		waiting.push_back(c.wait.tid);
 	for (const SideWait &w : c.side)
 		waiting.push_back(w.tid);
 	int64_t now = -1;
@@ -205,14 +205,14 @@ bool Coordinator::side_due(const Controller &c, const SideWait &w, int64_t v) co
 // other threads run.
 void Coordinator::demote_wait(Controller &c)
 {
-	if (c.in_block) {
+	if (c.wait.active) {
 		c.side.push_back(c.own_wait());
-		c.in_block = false;
+		c.wait.active = false;
 	}
-	c.deadline = TCS_NEVER;
-	c.recheck = false;
-	c.wants_devices = false;
-	c.waits_for_child = false;
+	c.wait.deadline = TCS_NEVER;
+	c.wait.recheck = false;
+	c.wait.devices = false;
+	c.wait.for_child = false;
 }
 
 // c is Blocked with several waiting threads (or threads asleep outside the
@@ -223,28 +223,28 @@ bool Coordinator::wake_threads(Controller &c, int64_t at)
 	int64_t v = std::max(c.v, at);
 	bool woke_alone = c.others_asleep && runnable_threads(c, 0) > 0;
 	bool timer = c.next_timer() <= v;
-	bool own = c.in_block && !c.sync_pending &&
-		   (c.deadline <= v || c.kicked_at <= v || (c.recheck && c.rechecked_at < sim_ns_) ||
-		    (c.wants_devices && next_record_due(c) <= v));
+	bool own = c.wait.active && !c.sync_pending &&
+		   (c.wait.deadline <= v || c.wait.kicked_at <= v || (c.wait.recheck && c.wait.rechecked_at < sim_ns_) ||
+		    (c.wait.devices && next_record_due(c) <= v));
 	bool side = std::any_of(c.side.begin(), c.side.end(), [&](const SideWait &w) { return side_due(c, w, v); });
 	if (!woke_alone && !timer && !own && !side) {
-		c.kicked_at = TCS_NEVER; // (the thread it reached was asleep: looked at each step)
+		c.wait.kicked_at = TCS_NEVER; // (the thread it reached was asleep: looked at each step)
 		return false;
 	}
 	c.others_asleep = false;
-	if (timer && !c.in_block && !c.sync_pending && !c.side.empty()) {
+	if (timer && !c.wait.active && !c.sync_pending && !c.side.empty()) {
 		// Someone must raise the timer's signals inside a wait: the first
 		// waiting thread.
 		c.take_wait(c.side.front());
 		c.side.erase(c.side.begin());
 	}
-	if (timer && c.in_block && !c.sync_pending) {
+	if (timer && c.wait.active && !c.sync_pending) {
 		c.v = v;
 		c.wake_arg = (int64_t)due_timer_signals(c);
 		wake(c, v, TCS_WAKE_SIGNAL);
 	} else if (own) {
-		bool due = c.deadline <= v;
-		wake(c, v, due || c.wants_devices ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK);
+		bool due = c.wait.deadline <= v;
+		wake(c, v, due || c.wait.devices ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK);
 	} else if (!c.sync_pending) {
 		demote_wait(c);
 		c.v = v;
@@ -254,8 +254,8 @@ bool Coordinator::wake_threads(Controller &c, int64_t at)
 		c.v = v;
 		c.state = CtlState::Ready; // a device read: complete_sync decides
 	}
-	c.rechecked_at = sim_ns_;
-	c.kicked_at = TCS_NEVER;
+	c.wait.rechecked_at = sim_ns_;
+	c.wait.kicked_at = TCS_NEVER;
 	return true;
 }
 
@@ -315,10 +315,10 @@ bool Coordinator::block_if_all_waiting(Controller &c)
 	trace_slice_end(c, "blocked", cpu);
 	c.cpu_at_block = cpu;
 	c.state = CtlState::Blocked;
-	c.in_block = false;
+	c.wait.active = false;
 	demote_wait(c);
 	c.others_asleep = proc_thread_count(c.pid) > (int)c.side.size();
-	c.rechecked_at = sim_ns_;
+	c.wait.rechecked_at = sim_ns_;
 	schedule();
 	return true;
 }

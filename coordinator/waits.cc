@@ -27,9 +27,9 @@ void Coordinator::wake(Controller &c, int64_t v, uint16_t reason)
 {
 	c.v = std::max(c.v, v);
 	c.state = CtlState::Ready;
-	c.recheck = false;
-	c.kicked_at = TCS_NEVER;
-	c.wants_devices = false;
+	c.wait.recheck = false;
+	c.wait.kicked_at = TCS_NEVER;
+	c.wait.devices = false;
 	c.wake_pending = true;
 	c.wake_reason = reason;
 }
@@ -53,9 +53,9 @@ void Coordinator::send_answer(Controller &c, int fd, const ::tcs_msg &m, int pas
 
 void Coordinator::send_wake(Controller &c)
 {
-	int fd = c.wait_fd >= 0 ? c.wait_fd : c.channel.get();
+	int fd = c.wait.fd >= 0 ? c.wait.fd : c.channel.get();
 	channel_state(c, fd).unanswered = 0;
-	struct tcs_msg m = tcs_msg_make(TCS_MSG_WAKE, c.wait_seq);
+	struct tcs_msg m = tcs_msg_make(TCS_MSG_WAKE, c.wait.seq);
 	m.kind = c.wake_reason;
 	m.flags = TCS_WAKE_STARTS_SLICE;
 	m.v = c.v;
@@ -65,9 +65,9 @@ void Coordinator::send_wake(Controller &c)
 		close(c.wake_fd);
 		c.wake_fd = -1;
 	}
-	if (c.in_block && trace_.is_open())
-		trace_.wait(c.id, c.wait_kind, c.wait_requested_at, c.deadline, c.v, c.wait_absolute);
-	c.in_block = false;
+	if (c.wait.active && trace_.is_open())
+		trace_.wait(c.id, c.wait.kind, c.wait.requested_at, c.wait.deadline, c.v, c.wait.absolute);
+	c.wait.active = false;
 	c.wake_arg = 0;
 	c.wake_pending = false;
 }
@@ -93,8 +93,8 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	}
 	if (ending_) {
 		// The run is over: every wait ends at once so SIGTERM can act.
-		c.wait_fd = fd;
-		c.wait_seq = m.seq;
+		c.wait.fd = fd;
+		c.wait.seq = m.seq;
 		if (m.deadline != TCS_NEVER)
 			c.v = std::max(c.v, m.deadline);
 		c.wake_reason = TCS_WAKE_DEADLINE;
@@ -102,7 +102,7 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		return;
 	}
 	if (c.state == CtlState::Blocked) {
-		if (c.in_block && fd == (c.wait_fd >= 0 ? c.wait_fd : c.channel.get())) {
+		if (c.wait.active && fd == (c.wait.fd >= 0 ? c.wait.fd : c.channel.get())) {
 			drop(c, "it asked to wait while already waiting");
 			return;
 		}
@@ -151,19 +151,19 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		if (m.deadline <= c.v)
 			c.stats.reported_misses++; // TCS_PAGE_REPORT_MISSES
 	}
-	c.wait_seq = m.seq;
-	c.wait_fd = fd;
-	c.wait_tid = tid;
-	c.wait_flags = m.flags;
-	c.deadline = m.deadline;
-	c.in_block = true;
-	c.wait_kind = block_kind_name(m.kind);
-	c.wait_requested_at = c.v;
-	c.wait_absolute = (m.flags & TCS_BLOCK_ABSOLUTE) != 0;
-	c.recheck = (m.flags & TCS_BLOCK_RECHECK) != 0;
-	c.waits_for_child = (m.flags & TCS_BLOCK_CHILD) != 0;
-	c.wants_devices = (m.flags & TCS_BLOCK_DEVICES) != 0;
-	c.rechecked_at = sim_ns_;
+	c.wait.seq = m.seq;
+	c.wait.fd = fd;
+	c.wait.tid = tid;
+	c.wait.flags = m.flags;
+	c.wait.deadline = m.deadline;
+	c.wait.active = true;
+	c.wait.kind = block_kind_name(m.kind);
+	c.wait.requested_at = c.v;
+	c.wait.absolute = (m.flags & TCS_BLOCK_ABSOLUTE) != 0;
+	c.wait.recheck = (m.flags & TCS_BLOCK_RECHECK) != 0;
+	c.wait.for_child = (m.flags & TCS_BLOCK_CHILD) != 0;
+	c.wait.devices = (m.flags & TCS_BLOCK_DEVICES) != 0;
+	c.wait.rechecked_at = sim_ns_;
 	c.wake_pending = false;
 	c.state = CtlState::Blocked;
 	// Threads asleep outside the hooks: looked at each step (threads.cc).
@@ -218,8 +218,8 @@ void Coordinator::child_wait_begins(Controller &c, const ::tcs_msg &m, SideWait 
 		if (side) {
 			side->flags |= TCS_BLOCK_RECHECK;
 		} else {
-			c.recheck = true;
-			c.deadline = TCS_NEVER;
+			c.wait.recheck = true;
+			c.wait.deadline = TCS_NEVER;
 		}
 	}
 	if (!c.child_ended)
@@ -235,8 +235,8 @@ void Coordinator::on_early(Controller &c, const ::tcs_msg &m, int fd)
 {
 	if (ending_)
 		return;
-	if (c.state == CtlState::Blocked && c.in_block && m.seq == c.wait_seq &&
-	    fd == (c.wait_fd >= 0 ? c.wait_fd : c.channel.get())) {
+	if (c.state == CtlState::Blocked && c.wait.active && m.seq == c.wait.seq &&
+	    fd == (c.wait.fd >= 0 ? c.wait.fd : c.channel.get())) {
 		wake(c, std::max(c.v, sim_ns_), TCS_WAKE_EARLY);
 		schedule();
 		return;

@@ -39,9 +39,7 @@ void Coordinator::schedule()
 			// on at real-time speed until someone attaches, here or at an
 			// agent; with controllers at an agent, at the step protocol's
 			// pace (an agent answers at once: its host sets the pace).
-			bool remote = std::any_of(agents_.begin(), agents_.end(),
-						  [](const auto &a) { return !a.second.programs.empty(); });
-			if (cfg_.step_agent || remote) {
+			if (cfg_.step_agent || agents_.any_programs()) {
 				if (!advance_to(target))
 					return;
 				continue;
@@ -81,31 +79,31 @@ bool Coordinator::run_best(Controller &best, int64_t at, int64_t until)
 		return false;
 	if (best.asleep && still_asleep(best, at)) {
 		// Looked at: still asleep, its turn passes for this step.
-		best.rechecked_at = sim_ns_;
-		best.kicked_at = TCS_NEVER;
+		best.wait.rechecked_at = sim_ns_;
+		best.wait.kicked_at = TCS_NEVER;
 		return true;
 	}
 	const int64_t target = sim_ns_ + cfg_.step_ns;
 	if (best.state == CtlState::Blocked && (!best.side.empty() || best.others_asleep)) {
 		// Several threads wait: end those due (threads.cc).
 		if (!wake_threads(best, at)) {
-			best.rechecked_at = sim_ns_;
+			best.wait.rechecked_at = sim_ns_;
 			for (SideWait &w : best.side)
 				w.rechecked_at = sim_ns_;
 			return true;
 		}
-	} else if (best.state == CtlState::Blocked && best.next_timer() <= at && best.next_timer() < best.deadline) {
+	} else if (best.state == CtlState::Blocked && best.next_timer() <= at && best.next_timer() < best.wait.deadline) {
 		// A signal timer is due in its wait: send it, and wake it to
 		// re-check (its wait ends with EINTR if a handler ran).
 		best.v = std::max(best.v, at);
 		best.wake_arg = (int64_t)due_timer_signals(best);
-		best.rechecked_at = sim_ns_;
+		best.wait.rechecked_at = sim_ns_;
 		wake(best, best.v, TCS_WAKE_SIGNAL);
 	} else if (best.state == CtlState::Blocked) {
-		bool due = best.deadline < target;
-		best.rechecked_at = sim_ns_;
-		wake(best, due ? std::max(best.v, best.deadline) : at,
-		     due || best.wants_devices ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK);
+		bool due = best.wait.deadline < target;
+		best.wait.rechecked_at = sim_ns_;
+		wake(best, due ? std::max(best.v, best.wait.deadline) : at,
+		     due || best.wait.devices ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK);
 	}
 	if (best.sync_pending && !complete_sync(best))
 		return true; // a read that must wait for its next record
@@ -123,7 +121,7 @@ Contender Coordinator::contender_of(const Controller &c) const
 	k.running = c.state == CtlState::Running;
 	k.at = next_run_at(c);
 	k.rechecks = c.state == CtlState::Blocked &&
-		     (c.recheck || c.others_asleep || std::any_of(c.side.begin(), c.side.end(), [](const SideWait &w) {
+		     (c.wait.recheck || c.others_asleep || std::any_of(c.side.begin(), c.side.end(), [](const SideWait &w) {
 			      return (w.flags & TCS_BLOCK_RECHECK) != 0;
 		      }));
 	return k;
@@ -140,10 +138,10 @@ int64_t Coordinator::next_run_at(const Controller &c) const
 		if (w.wake_reason)
 			return c.v;
 	}
-	if (((c.recheck || c.others_asleep) && c.rechecked_at < sim_ns_) || side_recheck)
+	if (((c.wait.recheck || c.others_asleep) && c.wait.rechecked_at < sim_ns_) || side_recheck)
 		return std::max(c.v, sim_ns_);
-	int64_t until = std::min({ c.deadline, c.next_timer(), side_next(c), c.kicked_at });
-	if (c.wants_devices || side_devices)
+	int64_t until = std::min({ c.wait.deadline, c.next_timer(), side_next(c), c.wait.kicked_at });
+	if (c.wait.devices || side_devices)
 		until = std::min(until, next_record_due(c));
 	return until == TCS_NEVER ? TCS_NEVER : std::max(c.v, until);
 }
