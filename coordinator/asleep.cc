@@ -84,7 +84,7 @@ bool Coordinator::step_aside_if_asleep(Controller &c)
 			  ") runs in real time: it started a program without tcs's preload (a static program, or "
 			  "LD_PRELOAD removed from its environment)");
 	}
-	take_lazy_commands(c, -1); // written before it fell asleep, at its time then
+	devices_.take_lazy_commands(c, -1, trace_); // written before it fell asleep, at its time then
 	int64_t cpu = c.cpu_now();
 	c.asleep_looks = 0;
 	lanes_.leave(c);

@@ -19,7 +19,7 @@
 #include "agents.h"
 #include "controller.h"
 #include "duration_stats.h"
-#include "device.h"
+#include "device_server.h"
 #include "sim_world.h"
 #include "step_peers.h"
 #include "trace.h"
@@ -138,27 +138,35 @@ private:
 	Coordinator() = default;
 	Status init();
 
-	// Set-up, a controller's messages and end, the run's end (coordinator.cc).
+	// Set-up, the run and its end, signals and progress, the report (coordinator.cc).
+	void on_signal();
+	void on_progress();
+	ControllerReport report_of(const Controller &c) const;
+	void warn_once(const std::string &what);
+	int64_t alive_controllers() const;
+	void begin_end(EndReason reason, int signo = 0);
+	int64_t alive() const;
+
+	// A controller's messages (messages.cc).
 	// A message on the main channel (t == nullptr) or a thread's.
 	void on_channel(Controller &c, ThreadChannel *t);
 	// A request, from a channel or c's mailbox (t == nullptr).
 	void on_request(Controller &c, ThreadChannel *t, const ::tcs_msg &m, UniqueFd passed);
 	void on_message(Controller &c, const ::tcs_msg &m, int fd, pid_t tid);
+
+	// A controller's end (exits.cc).
 	int64_t exited_cpu(const Controller &c);
 	void on_pidfd(Controller &c);
 	void on_exit(Controller &c, int wait_status);
-	void on_signal();
-	void on_progress();
 	void drop(Controller &c, const std::string &why);
-	ControllerReport report_of(const Controller &c) const;
-	void warn_once(const std::string &what);
+
+	// Children of controllers (children.cc).
 	void on_child(Controller &parent, const ::tcs_msg &m, UniqueFd channel);
 	void on_forked(Controller &c, const ::tcs_msg &m);
 	void on_exec_look();
-	int64_t alive_controllers() const;
 	void child_settled(Controller &parent);
-	void begin_end(EndReason reason, int signo = 0);
-	int64_t alive() const;
+	bool has_real_time_child(Controller &c);
+	void child_wait_begins(Controller &c, const ::tcs_msg &m, SideWait *side);
 
 	// The world's steps, as scheduler.h decides (world_steps.cc).
 	void schedule();
@@ -168,6 +176,8 @@ private:
 	int64_t next_run_at(const Controller &c) const;
 	void on_idle();
 	void arm_idle_step();
+	void apply_commands(int64_t boundary);
+	Status step_world();
 
 	// Slices: budgets, checks, preemption, accounting (slices.cc).
 	void resume(Controller &c, int64_t target, int lane);
@@ -193,8 +203,6 @@ private:
 	// Waits: BLOCK, EARLY, WAKE (waits.cc).
 	void on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid);
 	void on_early(Controller &c, const ::tcs_msg &m, int fd);
-	bool has_real_time_child(Controller &c);
-	void child_wait_begins(Controller &c, const ::tcs_msg &m, SideWait *side);
 	void wake(Controller &c, int64_t v, uint16_t reason);
 	void send_wake(Controller &c);
 	void send_answer(Controller &c, int fd, const ::tcs_msg &m, int pass_fd);
@@ -234,7 +242,7 @@ private:
 	bool still_asleep(Controller &c, int64_t at);
 	void wake_from_asleep(Controller &c);
 
-	// Mailboxes: one turn of the run's loop, polling them or sleeping in epoll (polling.cc).
+	// Mailboxes (polling.cc).
 	// sleeping in epoll; c's posted request served (false: none).
 	Status turn();
 	bool take_mailbox(Controller &c);
@@ -242,24 +250,12 @@ private:
 	bool worth_polling() const;
 	void set_polling(bool on);
 
-	// Devices (device_io.cc).
-	Status bind_devices();
+	// Devices: what a controller asks of them (device_requests.cc).
 	void on_dev_open(Controller &c, const ::tcs_msg &m);
 	void on_dev_sync(Controller &c, const ::tcs_msg &m);
 	bool complete_sync(Controller &c);
-	void deliver(Controller &c);
-	void fill_streams(int64_t until);
-	void make_records(OpenDevice &d, int64_t until);
-	// The records written to d, stamped c.v; false if one was malformed.
-	bool take_commands(Controller &c, OpenDevice &d, bool written_lazily);
-	// Those written without a round trip (lockstep), before c's time moves;
-	// but for handle `except`, whose request will take them.
-	void take_lazy_commands(Controller &c, int64_t except);
-	void apply_commands(int64_t boundary);
-	int64_t next_record_due(const Controller &c) const;
 	void reply_now(Controller &c, int64_t arg);
 	void restart_slice(Controller &c, int64_t request_cpu);
-	Status step_world();
 
 	// Peers on other hosts, both ends (remote.cc; agents.h: the host's agents).
 	void on_step_host();
@@ -270,7 +266,7 @@ private:
 	void word_of_controllers();
 	void lose(const std::string &why);
 
-	// Serving (coordinatord) (serve.cc).
+	// Serving, for coordinatord (serve.cc).
 	Controller *top_level(int id);
 	bool descends_from(const Controller &o, int root) const;
 
@@ -283,11 +279,13 @@ private:
 	// SCHED_FIFO it would never get to run at all. The overshoot this allows
 	// is carried into the next budget like any other.
 	static constexpr int64_t kMinSlice = 20 * TCS_NS_PER_US;
+	// The longest a parent waits for its new child to register (wall time).
+	static constexpr int64_t kRegistrationWait = 1 * TCS_NS_PER_S;
 	// How long controllers get to act on SIGTERM at the end before SIGKILL.
 	static constexpr int64_t kEndGrace = 2 * TCS_NS_PER_S;
-	// How often a lane's watchdog looks at those running (asleep.cc).
+	// How often a lane's watchdog looks at those running: asleep.cc.
 	static constexpr int64_t kWatchdog = 2 * TCS_NS_PER_MS;
-	// How long the run's loop polls mailboxes after the last request (polling.cc).
+	// How long the run's loop polls mailboxes after the last request.
 	static constexpr int64_t kPollFor = 30 * TCS_NS_PER_US;
 	bool mailboxes_ = false; // rt_.mailbox, and no remote peers
 	bool polling_ = false;
@@ -326,9 +324,7 @@ private:
 	UniqueFd signal_fd_;
 	std::vector<std::unique_ptr<Controller>> ctls_;
 	std::unique_ptr<SimWorld> world_;
-	std::vector<BoundDevice> devices_;
-	// Actuator commands not yet in force: (virtual time, device, values).
-	std::deque<std::tuple<int64_t, BoundDevice *, std::vector<double>>> commands_;
+	DeviceServer devices_;
 	DurationStats step_walls_; // wall cost of each world step
 	Trace trace_;
 	std::vector<size_t> joint_signals_;

@@ -21,7 +21,7 @@ bool Coordinator::take_mailbox(Controller &c)
 	if (!why && !tcs_mailbox_carries(m.type))
 		why = "a request the mailbox does not carry";
 	if (why) {
-		take_lazy_commands(c, -1);
+		devices_.take_lazy_commands(c, -1, trace_);
 		drop(c, std::string("bad request in its mailbox: ") + why);
 		return true;
 	}

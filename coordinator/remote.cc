@@ -92,7 +92,7 @@ void Coordinator::on_step_agent()
 			if (cfg_.on_info)
 				cfg_.on_info("joined the world at " + std::to_string(sim_ns_) + " ns");
 		}
-		fill_streams(sim_ns_ + cfg_.step_ns);
+		devices_.fill_streams(ctls_, sim_ns_ + cfg_.step_ns, world_.get());
 		awaiting_grant_ = false;
 	}
 	schedule();
@@ -109,18 +109,12 @@ void Coordinator::answer_grant()
 	d.step = (uint64_t)steps_;
 	d.controllers = programs_;
 	const int64_t end = sim_ns_ + cfg_.step_ns;
-	while (!commands_.empty() && std::get<0>(commands_.front()) <= end) {
-		auto &[at, dev, values] = commands_.front();
-		dev->command = values;
-		size_t off = 0;
-		for (size_t i : dev->signals) {
-			size_t width = world_->signal(i).width;
-			for (size_t k = 0; k < width; k++)
-				d.commands.push_back({ at, (uint32_t)i, values[off + k] });
-			off += width;
-		}
-		commands_.pop_front();
-	}
+	auto answer = [&d](int64_t at, size_t i, const double *values, size_t width) {
+		for (size_t k = 0; k < width; k++)
+			d.commands.push_back({ at, (uint32_t)i, values[k] });
+	};
+	if (world_)
+		devices_.take_due(end, *world_, answer);
 	cfg_.step_agent->answer(d);
 	awaiting_grant_ = true;
 }

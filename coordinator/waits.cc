@@ -1,6 +1,5 @@
 // A controller's waits: a BLOCK taken (on_block), ended before it began
-// (on_early), and the WAKE that ends it (wake, send_wake, send_answer); a
-// wait for a child (child_wait_begins).
+// (on_early), and the WAKE that ends it (wake, send_wake, send_answer).
 #include <signal.h>
 #include <sys/socket.h>
 
@@ -16,12 +15,6 @@
 #include "tcs/protocol.h"
 
 namespace tcs {
-
-namespace {
-// How long a child may run unregistered before it is said to run in real
-// time (a program still loading has not registered yet).
-constexpr int64_t kRegistrationGrace = 200 * TCS_NS_PER_MS;
-} // namespace
 
 void Coordinator::wake(Controller &c, int64_t v, uint16_t reason)
 {
@@ -173,62 +166,6 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		wake(c, c.v, TCS_WAKE_RECHECK);
 	hear_threads(c);
 	schedule();
-}
-
-// Whether c has a child that runs in real time, outside tcs: a static
-// program, or one whose environment lost LD_PRELOAD, started with vfork or
-// posix_spawn (it would register when its program loads). A wait for a
-// child then passes in real time, as that child's time does: each step is
-// a re-check. Said once per child, once it has gone unregistered for long
-// enough not to be one still loading.
-bool Coordinator::has_real_time_child(Controller &c)
-{
-	bool any = false;
-	int64_t now = wall_now();
-	for (const auto &o : ctls_)
-		if (o->parent_id == c.id && o->outside && o->state != CtlState::Exited)
-			any = true;
-	for (pid_t child : proc_children(c.pid)) {
-		if (std::any_of(ctls_.begin(), ctls_.end(), [child](const auto &o) { return o->pid == child; }))
-			continue;
-		any = true;
-		auto [it, fresh] = c.unregistered_children.try_emplace(child, now);
-		if (!fresh && it->second >= 0 && now - it->second > kRegistrationGrace) {
-			it->second = -1; // said
-			warn_once("process " + std::to_string(child) + " (" + proc_name(child, "?") + "), started by " + c.name +
-				  ", runs in real time: it did not load tcs's preload (a static program, or LD_PRELOAD removed "
-				  "from its environment)");
-		}
-	}
-	return any;
-}
-
-// A wait for a child's end begins (side: a thread's, else the
-// controller's own). With a child in real time, the wait's own time-out
-// does not count: the child's end does, in real time, looked for at each
-// step (if nothing else has a next event, virtual time passes at the speed
-// of real time meanwhile). After a child ended unseen (the program looked
-// for it just before, and the exit came between its look and its wait), it
-// re-checks at once.
-void Coordinator::child_wait_begins(Controller &c, const ::tcs_msg &m, SideWait *side)
-{
-	if (!(m.flags & TCS_BLOCK_CHILD))
-		return;
-	if (has_real_time_child(c)) {
-		if (side) {
-			side->flags |= TCS_BLOCK_RECHECK;
-		} else {
-			c.wait.recheck = true;
-			c.wait.deadline = TCS_NEVER;
-		}
-	}
-	if (!c.child_ended)
-		return;
-	c.child_ended = false;
-	if (side)
-		side->wake_reason = TCS_WAKE_RECHECK;
-	else
-		wake(c, c.v, TCS_WAKE_RECHECK);
 }
 
 void Coordinator::on_early(Controller &c, const ::tcs_msg &m, int fd)

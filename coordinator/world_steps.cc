@@ -219,4 +219,39 @@ void Coordinator::on_idle()
 		schedule();
 }
 
+void Coordinator::apply_commands(int64_t boundary)
+{
+	// Ours in the order written (the last one before the boundary wins),
+	// then the agents' (agents.cc checked them).
+	devices_.take_due(boundary, *world_, [this](int64_t, size_t i, const double *values, size_t) {
+		world_->write(i, values);
+	});
+	agents_.apply(*world_, boundary);
+}
+
+Status Coordinator::step_world()
+{
+	if (world_) {
+		apply_commands(sim_ns_);
+		if (auto s = world_->step(); !s)
+			return s;
+		step_walls_.add(world_->last_step_wall_ns());
+		if (trace_.is_open()) {
+			std::vector<double> joints;
+			joints.reserve(joint_signals_.size());
+			for (size_t i : joint_signals_)
+				world_->read(i, joints);
+			trace_.step(sim_ns_ + cfg_.step_ns, wall_now() - wall_start_, world_->last_step_wall_ns(),
+				    std::move(joints));
+		}
+		if (cfg_.on_step)
+			cfg_.on_step(sim_ns_ + cfg_.step_ns, *world_);
+	}
+	sim_ns_ += cfg_.step_ns;
+	steps_++;
+	devices_.fill_streams(ctls_, sim_ns_ + cfg_.step_ns, world_.get());
+	grant_now();
+	return Ok{};
+}
+
 } // namespace tcs

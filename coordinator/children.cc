@@ -1,0 +1,219 @@
+// Children of controllers (fork, vfork, posix_spawn, exec): each becomes a
+// controller of its own when it registers on its parent's channel; a
+// parent waits for its new child to register, and an exec under way is
+// looked at until the new image says HELLO (docs/DESIGN.md §3).
+#include <signal.h>
+#include <sys/signalfd.h>
+#include <sys/socket.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
+#include <time.h>
+
+#include <algorithm>
+#include <cstring>
+
+#include "clock_ns.h"
+#include "coordinator.h"
+#include "proc_info.h"
+#include "tcs/msg_io.h"
+#include "tcs/protocol.h"
+
+namespace tcs {
+
+namespace {
+// How long a child may run unregistered before it is said to run in real
+// time (a program still loading has not registered yet).
+constexpr int64_t kRegistrationGrace = 200 * TCS_NS_PER_MS;
+// How often a child's exec, still under way, is looked at (wall time).
+constexpr int64_t kExecLook = 200 * TCS_NS_PER_US;
+} // namespace
+
+void Coordinator::on_child(Controller &parent, const ::tcs_msg &m, UniqueFd channel)
+{
+	pid_t pid = (pid_t)m.arg;
+	auto refuse = [&](const std::string &why) {
+		warn_once("a child of " + parent.name + " runs in real time: " + why);
+		if (parent.awaiting_child == pid)
+			child_settled(parent);
+		if (channel) {
+			struct tcs_msg w = tcs_msg_make(TCS_MSG_WAKE, m.seq);
+			w.arg = -EPERM;
+			(void)send(channel.get(), &w, sizeof w, MSG_DONTWAIT | MSG_NOSIGNAL);
+		}
+	};
+	if (!channel)
+		return refuse("it sent no channel");
+	// Only a child of this controller may register through its channel.
+	if (pid_t pp = proc_parent(pid); pp != parent.pid)
+		return refuse("pid " + std::to_string(pid) + " is not its child (its parent is " + std::to_string(pp) +
+			      ", not " + std::to_string(parent.pid) + ")");
+	for (auto &o : ctls_)
+		if (o->pid == pid && o->state != CtlState::Exited)
+			return refuse("pid " + std::to_string(pid) + " is registered already");
+	ControllerSpec spec;
+	spec.cpu_scale = parent.scale;
+	spec.report_misses = trace_.is_open();
+	auto made = Controller::adopt((int)ctls_.size() + 1, parent, pid, std::move(channel), spec, cfg_.mode, origins_,
+				      rt_, devices_.bound());
+	if (!made)
+		return; // its channel is closed: the child sees it and runs in real time
+	Controller &c = **made;
+	// It starts where its parent was at the fork (or is now, if it does not
+	// know), never behind the world. A parent waiting for this very child
+	// (its request restarted its slice) is exactly at parent.v; one still
+	// running is settled by that request when it comes (on_forked).
+	int64_t parent_v = parent.v;
+	if (parent.state == CtlState::Running && cfg_.mode == TCS_MODE_CPU && parent.awaiting_child != pid)
+		parent_v = std::max(parent_v, parent.slice().v_base +
+						       tcs_scale_cpu(parent.slice_cpu(parent.cpu_now()), parent.scale));
+	c.v = std::max((m.flags & TCS_CHILD_V_KNOWN) ? m.v : parent_v, sim_ns_);
+	c.wait.seq = m.seq;
+	c.state = CtlState::Blocked;
+	c.wait.deadline = c.v;
+	c.wake_fd = c.page_fd_for_child.release();
+	c.wake_arg = 0;
+	ctls_.push_back(std::move(*made));
+	Controller *raw = ctls_.back().get();
+	if (trace_.is_open())
+		trace_.controller(raw->id, raw->name, raw->pid, raw->scale, cfg_.mode, cfg_.step_ns);
+	if (auto s = loop_.add(raw->channel.get(), [this, raw](uint32_t) { on_channel(*raw, nullptr); }); !s) {
+		fatal_ = s;
+		return;
+	}
+	if (auto s = loop_.add(raw->pidfd.get(), [this, raw](uint32_t) { on_pidfd(*raw); }); !s)
+		fatal_ = s;
+	if (parent.awaiting_child == pid)
+		child_settled(parent);
+	// Someone new waits for a core: is one that has it asleep?
+	lanes_.each_running([this](Controller &r) { arm_watchdog(r); });
+}
+
+// The parent, right after its fork: it waits until its child has
+// registered (or died first).
+void Coordinator::on_forked(Controller &c, const ::tcs_msg &m)
+{
+	restart_slice(c, m.cpu);
+	c.wait.seq = m.seq;
+	pid_t pid = (pid_t)m.arg;
+	for (auto &o : ctls_)
+		if (o->pid == pid && o->parent_id == c.id) {
+			// It registered first, while this parent ran on (on a core of
+			// its own): at the time of its CPU clock then, which counted
+			// the parent's hooks too. Not yet run, it starts here instead,
+			// where the spawn's request put its parent.
+			if (o->slices == 0 && o->state == CtlState::Blocked && o->wait.deadline == o->v && o->v > c.v)
+				o->v = o->wait.deadline = std::max(c.v, sim_ns_);
+			reply_now(c, 0);
+			return;
+		}
+	UniqueFd fd((int)syscall(SYS_pidfd_open, pid, 0));
+	if (!fd || proc_parent(pid) != c.pid) {
+		reply_now(c, -ESRCH);
+		return;
+	}
+	// Started by vfork or posix_spawn, it has exec'd already: a program
+	// that will not load the preload never registers (it runs in real
+	// time, said once when its parent waits for it).
+	WillLoad will = proc_will_load(pid, "libtcs_preload");
+	if (will == WillLoad::No) {
+		reply_now(c, 0);
+		return;
+	}
+	c.awaiting_child = pid;
+	c.awaiting_since = wall_now();
+	c.awaiting_exec = will == WillLoad::Unknown;
+	if (c.awaiting_exec)
+		exec_timer_.arm(kExecLook, kExecLook);
+	c.awaiting_child_fd = std::move(fd);
+	Controller *raw = &c;
+	if (auto s = loop_.add(c.awaiting_child_fd.get(), [this, raw](uint32_t) { child_settled(*raw); }); !s)
+		fatal_ = s;
+}
+
+// Children whose exec was still under way when their parent asked: looked
+// at until they can be seen to load the preload or not.
+void Coordinator::on_exec_look()
+{
+	exec_timer_.consume();
+	bool again = false;
+	for (auto &c : ctls_) {
+		if (c->awaiting_child == 0 || !c->awaiting_exec)
+			continue;
+		WillLoad will = proc_will_load(c->awaiting_child, "libtcs_preload");
+		c->awaiting_exec = will == WillLoad::Unknown;
+		if (will == WillLoad::No)
+			child_settled(*c);
+		again = again || c->awaiting_exec;
+	}
+	if (!again)
+		exec_timer_.disarm();
+}
+
+void Coordinator::child_settled(Controller &parent)
+{
+	if (parent.awaiting_child == 0)
+		return;
+	loop_.remove(parent.awaiting_child_fd.get());
+	parent.awaiting_child_fd.reset();
+	parent.awaiting_child = 0;
+	if (parent.state != CtlState::Exited)
+		reply_now(parent, 0);
+}
+
+// Whether c has a child that runs in real time, outside tcs: a static
+// program, or one whose environment lost LD_PRELOAD, started with vfork or
+// posix_spawn (it would register when its program loads). A wait for a
+// child then passes in real time, as that child's time does: each step is
+// a re-check. Said once per child, once it has gone unregistered for long
+// enough not to be one still loading.
+bool Coordinator::has_real_time_child(Controller &c)
+{
+	bool any = false;
+	int64_t now = wall_now();
+	for (const auto &o : ctls_)
+		if (o->parent_id == c.id && o->outside && o->state != CtlState::Exited)
+			any = true;
+	for (pid_t child : proc_children(c.pid)) {
+		if (std::any_of(ctls_.begin(), ctls_.end(), [child](const auto &o) { return o->pid == child; }))
+			continue;
+		any = true;
+		auto [it, fresh] = c.unregistered_children.try_emplace(child, now);
+		if (!fresh && it->second >= 0 && now - it->second > kRegistrationGrace) {
+			it->second = -1; // said
+			warn_once("process " + std::to_string(child) + " (" + proc_name(child, "?") + "), started by " + c.name +
+				  ", runs in real time: it did not load tcs's preload (a static program, or LD_PRELOAD removed "
+				  "from its environment)");
+		}
+	}
+	return any;
+}
+
+// A wait for a child's end begins (side: a thread's, else the
+// controller's own). With a child in real time, the wait's own time-out
+// does not count: the child's end does, in real time, looked for at each
+// step (if nothing else has a next event, virtual time passes at the speed
+// of real time meanwhile). After a child ended unseen (the program looked
+// for it just before, and the exit came between its look and its wait), it
+// re-checks at once.
+void Coordinator::child_wait_begins(Controller &c, const ::tcs_msg &m, SideWait *side)
+{
+	if (!(m.flags & TCS_BLOCK_CHILD))
+		return;
+	if (has_real_time_child(c)) {
+		if (side) {
+			side->flags |= TCS_BLOCK_RECHECK;
+		} else {
+			c.wait.recheck = true;
+			c.wait.deadline = TCS_NEVER;
+		}
+	}
+	if (!c.child_ended)
+		return;
+	c.child_ended = false;
+	if (side)
+		side->wake_reason = TCS_WAKE_RECHECK;
+	else
+		wake(c, c.v, TCS_WAKE_RECHECK);
+}
+
+} // namespace tcs

@@ -1,0 +1,161 @@
+// A controller's messages: read from its channels (the main one, a
+// thread's) or its mailbox, checked (a controller is untrusted), and each
+// handed to the part that serves it.
+#include <signal.h>
+#include <sys/signalfd.h>
+#include <sys/socket.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
+#include <time.h>
+
+#include <algorithm>
+#include <cstring>
+
+#include "clock_ns.h"
+#include "coordinator.h"
+#include "proc_info.h"
+#include "tcs/msg_io.h"
+#include "tcs/protocol.h"
+
+namespace tcs {
+
+namespace {
+// Messages a controller may send without an answer (see on_channel).
+constexpr int kMaxUnanswered = 4;
+} // namespace
+
+// One message per call: the loop is level-triggered, so a channel with more
+// comes back after the others had their turn. Drained in a loop, a channel
+// whose thread always had its next request there by the time the last was
+// answered (the coordinator paused in a system call, under load) kept the
+// coordinator from ever going back to epoll, and another thread's wait went
+// unread for hundreds of virtual ms.
+void Coordinator::on_channel(Controller &c, ThreadChannel *t)
+{
+	const int fd = t ? t->fd.get() : c.channel.get();
+	ChannelState &st = t ? t->state : c.main_state;
+	alignas(8) unsigned char buf[sizeof(struct tcs_msg) + 1];
+	// A child or a thread registering passes its channel (SCM_RIGHTS); an
+	// fd that comes with any other message is closed.
+	struct tcs_msg_io io;
+	tcs_msg_io_recv(&io, buf, sizeof buf);
+	ssize_t n = recvmsg(fd, &io.mh, MSG_DONTWAIT | MSG_CMSG_CLOEXEC);
+	if (n < 0 && (errno == EAGAIN || errno == EINTR))
+		return;
+	UniqueFd passed(n > 0 ? tcs_msg_io_fd(&io) : -1);
+	if (n == 0 || (n < 0 && errno == ECONNRESET)) {
+		devices_.take_lazy_commands(c, -1, trace_);
+		// Every copy of this end is closed: the thread has ended, or the
+		// controller is exiting (its pidfd tells when).
+		if (t)
+			thread_gone(c, t);
+		else
+			loop_.remove(c.channel.get());
+		return;
+	}
+	struct tcs_msg m;
+	if (const char *why = tcs_msg_check(buf, (long)n, &m)) {
+		devices_.take_lazy_commands(c, -1, trace_);
+		drop(c, std::string("bad message on its channel: ") + why);
+		return;
+	}
+	// What it posted in its mailbox came before anything that followed on
+	// the channel (an EARLY from its parked wait, say).
+	const bool took = !t && take_mailbox(c);
+	if (!c.dropped.empty())
+		return;
+	if (m.type == TCS_MSG_DOORBELL) {
+		// Rung for a request already taken while polling, or now.
+		if (t)
+			drop(c, "a DOORBELL on a thread's channel");
+		else if (!took && ++st.unanswered > kMaxUnanswered)
+			drop(c, "it rings without a request in its mailbox");
+		return;
+	}
+	on_request(c, t, m, std::move(passed));
+}
+
+void Coordinator::on_request(Controller &c, ThreadChannel *t, const ::tcs_msg &m, UniqueFd passed)
+{
+	const int fd = t ? t->fd.get() : c.channel.get();
+	const pid_t tid = t ? t->tid : c.pid;
+	ChannelState &st = t ? t->state : c.main_state;
+	// Records it wrote since its last request carry the time it has now,
+	// before anything it asks moves that. (A device it asks to take what
+	// it wrote: that request takes them, and judges them with its write.)
+	devices_.take_lazy_commands(c, m.type == TCS_MSG_DEV_SYNC && m.kind == TCS_SYNC_WRITE ? m.arg : -1, trace_);
+	if (!t && m.type == TCS_MSG_CHILD && !(m.flags & TCS_CHILD_PARENT)) {
+		// From a new child, not from c: it waits on its own channel.
+		on_child(c, m, std::move(passed));
+		return;
+	}
+	if (!t && m.type == TCS_MSG_THREAD) {
+		on_thread(c, m, std::move(passed));
+		return;
+	}
+	// The preload waits for the answer to each request: its HELLO, one
+	// request and the EARLY that may cross the answer (and one from another
+	// thread ending its wait) are all it can have outstanding. More is a
+	// flood.
+	if (++st.unanswered > kMaxUnanswered) {
+		drop(c, "it floods its channel (" + std::to_string(st.unanswered) + " messages without waiting for an answer)");
+		return;
+	}
+	on_message(c, m, fd, tid);
+}
+
+void Coordinator::on_message(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
+{
+	if (c.asleep)
+		wake_from_asleep(c); // it woke by itself and asks something
+	if (m.type != TCS_MSG_BLOCK && m.type != TCS_MSG_EARLY)
+		c.wait.fd = fd; // a request answered at once, on its thread's channel
+	switch (m.type) {
+	case TCS_MSG_HELLO:
+		if (fd != c.channel.get()) {
+			drop(c, "HELLO on a thread's channel");
+			return;
+		}
+		if (m.arg != c.pid) {
+			drop(c, "HELLO from pid " + std::to_string(m.arg) + " on pid " + std::to_string(c.pid) + "'s channel");
+			return;
+		}
+		// Again after an exec (a new image, a new nonce): welcome.
+		if (c.attached && m.v == c.hello_nonce) {
+			drop(c, "it said HELLO twice");
+			return;
+		}
+		c.attached = true;
+		c.hello_nonce = m.v;
+		if (c.parent_id != 0)
+			c.name = proc_name(c.pid, c.name); // a child after its exec
+		c.main_state = ChannelState{}; // a new image owes nothing yet
+		return;
+	case TCS_MSG_BLOCK:
+		on_block(c, m, fd, tid);
+		return;
+	case TCS_MSG_EARLY:
+		on_early(c, m, fd);
+		return;
+	case TCS_MSG_DEV_OPEN:
+		on_dev_open(c, m);
+		return;
+	case TCS_MSG_DEV_SYNC:
+		on_dev_sync(c, m);
+		return;
+	case TCS_MSG_TIMER:
+		on_timer(c, m);
+		return;
+	case TCS_MSG_CHILD:
+		on_forked(c, m);
+		return;
+	case TCS_MSG_THREAD:
+		drop(c, "THREAD on a thread's channel");
+		return;
+	case TCS_MSG_KILL:
+		on_kill(c, m);
+		return;
+	}
+}
+
+} // namespace tcs
