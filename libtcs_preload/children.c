@@ -7,7 +7,6 @@
  * parent's virtual time. A parent waiting for a child
  * (wait, waitpid, wait3, wait4, waitid) waits in virtual time: the
  * coordinator wakes it when a child of its exits. */
-#include <dlfcn.h>
 #include <pthread.h>
 #include <signal.h>
 #include <spawn.h>
@@ -18,6 +17,7 @@
 
 #include "devices.h"
 #include "raw_syscall.h"
+#include "real.h"
 #include "timerfd.h"
 
 extern char **environ;
@@ -131,9 +131,7 @@ static void tcs_await_child(pid_t pid)
 
 TCS_EXPORT pid_t fork(void)
 {
-	static pid_t (*real_fork)(void);
-	if (!real_fork)
-		real_fork = (pid_t(*)(void))dlsym(RTLD_NEXT, "fork");
+	pid_t (*real_fork)(void) = tcs_real()->fork;
 	if (!real_fork)
 		return (pid_t)tcs_errno_result(-ENOSYS);
 	pid_t pid = real_fork();
@@ -144,16 +142,13 @@ TCS_EXPORT pid_t fork(void)
 typedef int (*tcs_spawn_fn)(pid_t *, const char *, const posix_spawn_file_actions_t *, const posix_spawnattr_t *,
 			    char *const[], char *const[]);
 
-static int tcs_spawn(const char *name, tcs_spawn_fn *real, pid_t *pid, const char *file,
-		     const posix_spawn_file_actions_t *actions, const posix_spawnattr_t *attr, char *const argv[],
-		     char *const envp[])
+static int tcs_spawn(tcs_spawn_fn real, pid_t *pid, const char *file, const posix_spawn_file_actions_t *actions,
+		     const posix_spawnattr_t *attr, char *const argv[], char *const envp[])
 {
-	if (!*real)
-		*real = (tcs_spawn_fn)dlsym(RTLD_NEXT, name);
-	if (!*real)
+	if (!real)
 		return ENOSYS;
 	pid_t child = -1;
-	int r = (*real)(&child, file, actions, attr, argv, envp);
+	int r = real(&child, file, actions, attr, argv, envp);
 	if (r == 0) {
 		if (pid)
 			*pid = child;
@@ -165,15 +160,13 @@ static int tcs_spawn(const char *name, tcs_spawn_fn *real, pid_t *pid, const cha
 TCS_EXPORT int posix_spawn(pid_t *pid, const char *path, const posix_spawn_file_actions_t *actions,
 			   const posix_spawnattr_t *attr, char *const argv[], char *const envp[])
 {
-	static tcs_spawn_fn real;
-	return tcs_spawn("posix_spawn", &real, pid, path, actions, attr, argv, envp);
+	return tcs_spawn(tcs_real()->posix_spawn, pid, path, actions, attr, argv, envp);
 }
 
 TCS_EXPORT int posix_spawnp(pid_t *pid, const char *file, const posix_spawn_file_actions_t *actions,
 			    const posix_spawnattr_t *attr, char *const argv[], char *const envp[])
 {
-	static tcs_spawn_fn real;
-	return tcs_spawn("posix_spawnp", &real, pid, file, actions, attr, argv, envp);
+	return tcs_spawn(tcs_real()->posix_spawnp, pid, file, actions, attr, argv, envp);
 }
 
 #if defined(__x86_64__)
@@ -298,9 +291,7 @@ TCS_EXPORT int waitid(idtype_t type, id_t id, siginfo_t *info, int options)
 TCS_EXPORT int system(const char *command)
 {
 	if (!tcs_active()) {
-		static int (*real_system)(const char *);
-		if (!real_system)
-			real_system = (int (*)(const char *))dlsym(RTLD_NEXT, "system");
+		int (*real_system)(const char *) = tcs_real()->system;
 		return real_system ? real_system(command) : tcs_errno_result(-ENOSYS);
 	}
 	if (!command)

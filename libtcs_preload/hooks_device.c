@@ -6,7 +6,6 @@
 /* Both open() and open64() are defined here: the headers must not rename
  * one to the other (meson builds with _FILE_OFFSET_BITS=64). */
 #undef _FILE_OFFSET_BITS
-#include <dlfcn.h>
 #include <fcntl.h>
 #include <stdarg.h>
 #include <string.h>
@@ -233,28 +232,20 @@ static FILE *tcs_fopen(const char *path, const char *mode)
 	return f;
 }
 
-/* The real libc functions for everything that is not a device. Resolved
- * by the runtime's constructor; a library constructor that runs before it
- * (they may fopen a configuration file) resolves them itself, once. */
-#define TCS_REAL(field, name)                                                          \
-	(__atomic_load_n(&tcs_rt.field, __ATOMIC_ACQUIRE)                               \
-		 ? tcs_rt.field                                                         \
-		 : (__atomic_store_n(&tcs_rt.field, (__typeof__(tcs_rt.field))dlsym(RTLD_NEXT, name), \
-				     __ATOMIC_RELEASE),                                 \
-		    tcs_rt.field))
-
+/* Everything that is not a device goes to libc's (resolved here when a
+ * library's constructor, before ours, opens a configuration file). */
 TCS_EXPORT FILE *fopen(const char *path, const char *mode)
 {
 	if (tcs_device_lookup(path) >= 0)
 		return tcs_fopen(path, mode);
-	return TCS_REAL(real_fopen, "fopen")(path, mode);
+	return tcs_real()->fopen(path, mode);
 }
 
 TCS_EXPORT FILE *fopen64(const char *path, const char *mode)
 {
 	if (tcs_device_lookup(path) >= 0)
 		return tcs_fopen(path, mode);
-	return TCS_REAL(real_fopen64, "fopen64")(path, mode);
+	return tcs_real()->fopen64(path, mode);
 }
 
 /* ---- a serial port's line settings -------------------------------------------- */
@@ -265,7 +256,7 @@ TCS_EXPORT FILE *fopen64(const char *path, const char *mode)
 TCS_EXPORT int tcgetattr(int fd, struct termios *t)
 {
 	if (tcs_device_handle(fd) < 0)
-		return TCS_REAL(real_tcgetattr, "tcgetattr")(fd, t);
+		return tcs_real()->tcgetattr(fd, t);
 	memset(t, 0, sizeof *t);
 	t->c_cflag = CS8 | CREAD | CLOCAL | B115200;
 	t->c_ispeed = B115200;
@@ -276,7 +267,7 @@ TCS_EXPORT int tcgetattr(int fd, struct termios *t)
 TCS_EXPORT int tcsetattr(int fd, int when, const struct termios *t)
 {
 	if (tcs_device_handle(fd) < 0)
-		return TCS_REAL(real_tcsetattr, "tcsetattr")(fd, when, t);
+		return tcs_real()->tcsetattr(fd, when, t);
 	return 0;
 }
 

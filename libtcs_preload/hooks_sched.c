@@ -9,11 +9,11 @@
  * --cyclic asks for it first). Requests to run elsewhere than the
  * core tcs gives the controller succeed without moving it: a controller is
  * one virtual CPU. Each is said once. */
-#include <dlfcn.h>
 #include <pthread.h>
 #include <sched.h>
 
 #include "raw_syscall.h"
+#include "real.h"
 #include "sched_clamp.h"
 
 /* The kernel's struct sched_attr, as far as it matters here. */
@@ -140,8 +140,7 @@ TCS_EXPORT int pthread_setaffinity_np(pthread_t thread, size_t size, const cpu_s
 {
 	(void)thread;
 	if (!tcs_active()) {
-		int (*real)(pthread_t, size_t, const cpu_set_t *) =
-			(int (*)(pthread_t, size_t, const cpu_set_t *))dlsym(RTLD_NEXT, "pthread_setaffinity_np");
+		int (*real)(pthread_t, size_t, const cpu_set_t *) = tcs_real()->pthread_setaffinity_np;
 		return real ? real(thread, size, set) : ENOSYS;
 	}
 	return (int)-tcs_sched_setaffinity(size, set);
@@ -149,8 +148,7 @@ TCS_EXPORT int pthread_setaffinity_np(pthread_t thread, size_t size, const cpu_s
 
 TCS_EXPORT int pthread_setschedparam(pthread_t thread, int policy, const struct sched_param *param)
 {
-	int (*real)(pthread_t, int, const struct sched_param *) =
-		(int (*)(pthread_t, int, const struct sched_param *))dlsym(RTLD_NEXT, "pthread_setschedparam");
+	int (*real)(pthread_t, int, const struct sched_param *) = tcs_real()->pthread_setschedparam;
 	if (!real)
 		return ENOSYS;
 	if (!tcs_active())
@@ -162,7 +160,7 @@ TCS_EXPORT int pthread_setschedparam(pthread_t thread, int policy, const struct 
 
 TCS_EXPORT int pthread_setschedprio(pthread_t thread, int prio)
 {
-	int (*real)(pthread_t, int) = (int (*)(pthread_t, int))dlsym(RTLD_NEXT, "pthread_setschedprio");
+	int (*real)(pthread_t, int) = tcs_real()->pthread_setschedprio;
 	if (!real)
 		return ENOSYS;
 	if (!tcs_active())

@@ -9,17 +9,12 @@
  * (the wait returns EINTR if a handler ran). What is left of a timer is
  * computed here from the same two numbers. SIGEV_THREAD timers are served
  * by a helper thread each (timer_thread.c). */
-#include <dlfcn.h>
 #include <signal.h>
 #include <sys/time.h>
 
 #include "raw_syscall.h"
+#include "real.h"
 #include "signal_timers.h"
-
-static void *tcs_next_symbol(const char *name)
-{
-	return dlsym(RTLD_NEXT, name);
-}
 
 /* Our timer_t values: tagged, so that ids of real timers are told apart. */
 #define TCS_TIMER_TAG 0x7c000000u
@@ -177,17 +172,12 @@ static int tcs_timer_slot(timer_t id)
 	return tcs_stimers[slot].used ? slot : -1;
 }
 
-static int (*tcs_real_timer_create)(clockid_t, struct sigevent *, timer_t *);
-
 TCS_EXPORT int timer_create(clockid_t clock, struct sigevent *sev, timer_t *id)
 {
 	int notify = sev ? sev->sigev_notify : SIGEV_SIGNAL;
 	if (!tcs_active()) {
-		if (!tcs_real_timer_create)
-			tcs_real_timer_create = (int (*)(clockid_t, struct sigevent *, timer_t *))tcs_next_symbol("timer_create");
-		if (!tcs_real_timer_create)
-			return tcs_errno_result(-ENOSYS);
-		return tcs_real_timer_create(clock, sev, id);
+		int (*real)(clockid_t, struct sigevent *, timer_t *) = tcs_real()->timer_create;
+		return real ? real(clock, sev, id) : tcs_errno_result(-ENOSYS);
 	}
 	if (tcs_sleep_clock_origin(clock) < 0 || (notify != SIGEV_SIGNAL && notify != SIGEV_NONE &&
 						    notify != SIGEV_THREAD_ID && notify != SIGEV_THREAD))
@@ -231,19 +221,11 @@ TCS_EXPORT int timer_create(clockid_t clock, struct sigevent *sev, timer_t *id)
 	return 0;
 }
 
-static int (*tcs_real_timer_settime)(timer_t, int, const struct itimerspec *, struct itimerspec *);
-static int (*tcs_real_timer_gettime)(timer_t, struct itimerspec *);
-static int (*tcs_real_timer_delete)(timer_t);
-static int (*tcs_real_timer_getoverrun)(timer_t);
-
-#define TCS_REAL(fn, type) (tcs_real_##fn ? tcs_real_##fn : (tcs_real_##fn = (type)tcs_next_symbol(#fn)))
-
 TCS_EXPORT int timer_settime(timer_t id, int flags, const struct itimerspec *val, struct itimerspec *old)
 {
 	int slot = tcs_timer_slot(id);
 	if (slot < 0) {
-		int (*real)(timer_t, int, const struct itimerspec *, struct itimerspec *) =
-			TCS_REAL(timer_settime, int (*)(timer_t, int, const struct itimerspec *, struct itimerspec *));
+		int (*real)(timer_t, int, const struct itimerspec *, struct itimerspec *) = tcs_real()->timer_settime;
 		return real ? real(id, flags, val, old) : tcs_errno_result(-EINVAL);
 	}
 	if (!val || !tcs_ts_valid(&val->it_value) || !tcs_ts_valid(&val->it_interval))
@@ -256,7 +238,7 @@ TCS_EXPORT int timer_gettime(timer_t id, struct itimerspec *cur)
 {
 	int slot = tcs_timer_slot(id);
 	if (slot < 0) {
-		int (*real)(timer_t, struct itimerspec *) = TCS_REAL(timer_gettime, int (*)(timer_t, struct itimerspec *));
+		int (*real)(timer_t, struct itimerspec *) = tcs_real()->timer_gettime;
 		return real ? real(id, cur) : tcs_errno_result(-EINVAL);
 	}
 	tcs_spin_lock(&tcs_stimer_lock);
@@ -269,7 +251,7 @@ TCS_EXPORT int timer_getoverrun(timer_t id)
 {
 	int slot = tcs_timer_slot(id);
 	if (slot < 0) {
-		int (*real)(timer_t) = TCS_REAL(timer_getoverrun, int (*)(timer_t));
+		int (*real)(timer_t) = tcs_real()->timer_getoverrun;
 		return real ? real(id) : tcs_errno_result(-EINVAL);
 	}
 	/* Signals: expirations are signalled one by one. SIGEV_THREAD: those
@@ -281,7 +263,7 @@ TCS_EXPORT int timer_delete(timer_t id)
 {
 	int slot = tcs_timer_slot(id);
 	if (slot < 0) {
-		int (*real)(timer_t) = TCS_REAL(timer_delete, int (*)(timer_t));
+		int (*real)(timer_t) = tcs_real()->timer_delete;
 		return real ? real(id) : tcs_errno_result(-EINVAL);
 	}
 	long r = tcs_stimer_set(slot, 0, 0, 0, NULL);

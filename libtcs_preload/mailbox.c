@@ -41,7 +41,7 @@ int tcs_mailbox_post(const struct tcs_msg *m)
 static int64_t tcs_mailbox_clock(void)
 {
 	struct timespec ts;
-	tcs_rt.real_clock_gettime(CLOCK_MONOTONIC, &ts);
+	tcs_real_fns.clock_gettime(CLOCK_MONOTONIC, &ts);
 	return tcs_ts_to_ns(&ts);
 }
 

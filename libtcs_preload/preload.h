@@ -28,6 +28,8 @@ struct termios;
 #define TCS_EXPORT __attribute__((visibility("default")))
 #define TCS_HIDDEN __attribute__((visibility("hidden")))
 
+#include "real.h"
+
 enum tcs_state {
 	TCS_OFF = 0,      /* not initialised yet, or not under tcs-run: real time */
 	TCS_ON = 1,       /* this process is a controller in virtual time */
@@ -42,14 +44,6 @@ struct tcs_runtime {
 	struct tcs_clock_page *page;
 	const struct tcs_device_table *devices; /* beside the page, constant */
 	uint32_t next_seq;
-
-	/* The real libc entry points we still need, resolved once at load. */
-	int (*real_clock_gettime)(clockid_t, struct timespec *);
-	int (*real_gettimeofday)(struct timeval *, void *);
-	struct _IO_FILE *(*real_fopen)(const char *, const char *);
-	struct _IO_FILE *(*real_fopen64)(const char *, const char *);
-	int (*real_tcgetattr)(int, struct termios *);
-	int (*real_tcsetattr)(int, int, const struct termios *);
 };
 
 extern struct tcs_runtime tcs_rt TCS_HIDDEN;
@@ -122,7 +116,7 @@ static inline uint64_t tcs_ticks(const struct tcs_clock_page *p)
 {
 	if (__builtin_expect(p->flags & TCS_PAGE_TICKS_VDSO, 0)) {
 		struct timespec ts;
-		tcs_rt.real_clock_gettime(CLOCK_MONOTONIC_RAW, &ts);
+		tcs_real_fns.clock_gettime(CLOCK_MONOTONIC_RAW, &ts);
 		return (uint64_t)tcs_ts_to_ns(&ts);
 	}
 	return __rdtsc();

@@ -5,7 +5,6 @@
  * tcs_init() runs as a constructor, single-threaded, before main(); it may
  * use libc freely. Everything else here runs inside hooks and follows the
  * rules in preload.h. */
-#include <dlfcn.h>
 #include <fcntl.h>
 #include <pthread.h>
 #include <stdlib.h>
@@ -465,22 +464,6 @@ static void tcs_detach_descendant(int page_fd)
 		munmap(page, TCS_PAGE_SIZE);
 }
 
-static void tcs_resolve_real_symbols(void)
-{
-	tcs_rt.real_clock_gettime = (int (*)(clockid_t, struct timespec *))dlsym(RTLD_NEXT, "clock_gettime");
-	tcs_rt.real_gettimeofday = (int (*)(struct timeval *, void *))dlsym(RTLD_NEXT, "gettimeofday");
-	/* (fopen and termios are resolved on first use if a library's
-	 * constructor calls them before this runs; see hooks_device.c.) */
-	if (!tcs_rt.real_fopen)
-		tcs_rt.real_fopen = (struct _IO_FILE * (*)(const char *, const char *)) dlsym(RTLD_NEXT, "fopen");
-	if (!tcs_rt.real_fopen64)
-		tcs_rt.real_fopen64 = (struct _IO_FILE * (*)(const char *, const char *)) dlsym(RTLD_NEXT, "fopen64");
-	if (!tcs_rt.real_tcgetattr)
-		tcs_rt.real_tcgetattr = (int (*)(int, struct termios *))dlsym(RTLD_NEXT, "tcgetattr");
-	if (!tcs_rt.real_tcsetattr)
-		tcs_rt.real_tcsetattr = (int (*)(int, int, const struct termios *))dlsym(RTLD_NEXT, "tcsetattr");
-}
-
 static int tcs_read_environment(long *channel, long *page, long *controller)
 {
 	if (tcs_env_int(TCS_ENV_CHANNEL_FD, channel) || tcs_env_int(TCS_ENV_PAGE_FD, page) ||
@@ -516,7 +499,7 @@ __attribute__((constructor)) static void tcs_init(void)
 	long channel, page, controller;
 	int saved_errno = errno;
 
-	tcs_resolve_real_symbols();
+	tcs_real_resolve();
 	tcs_threads_init();
 	long delay;
 	if (tcs_env_int("TCS_CPU_CLOCK_DELAY_NS", &delay) == 0 && delay > 0)

@@ -5,13 +5,13 @@
  * reach, and a forked child drop them (it has one thread). pthread_create
  * is counted in the clock page: from the first one on, the coordinator
  * looks at every thread before it lets virtual time pass. */
-#include <dlfcn.h>
 #include <fcntl.h>
 #include <pthread.h>
 #include <sched.h>
 #include <sys/socket.h>
 
 #include "raw_syscall.h"
+#include "real.h"
 #include "sched_clamp.h"
 
 #define TCS_MAX_THREAD_CHANNELS 256
@@ -21,7 +21,6 @@ static int tcs_thread_fds[TCS_MAX_THREAD_CHANNELS];
 static int tcs_thread_fd_count; /* slots in use, for the fast path */
 static int tcs_thread_fds_lock;
 static pthread_key_t tcs_thread_key;
-static int (*tcs_real_pthread_create)(pthread_t *, const pthread_attr_t *, void *(*)(void *), void *);
 
 static void tcs_thread_fd_remember(int fd, int add)
 {
@@ -125,11 +124,7 @@ void tcs_threads_after_fork(void)
 
 void tcs_threads_init(void)
 {
-	if (tcs_real_pthread_create)
-		return;
 	pthread_key_create(&tcs_thread_key, tcs_thread_ended);
-	tcs_real_pthread_create = (int (*)(pthread_t *, const pthread_attr_t *, void *(*)(void *), void *))dlsym(
-		RTLD_NEXT, "pthread_create");
 }
 
 /* tcs runs a controller SCHED_FIFO so that nothing else takes its core while
@@ -153,13 +148,12 @@ TCS_EXPORT int pthread_create(pthread_t *thread, const pthread_attr_t *attr, voi
 {
 	if (tcs_active() && __atomic_fetch_add(&tcs_rt.page->threads_started, 1, __ATOMIC_RELAXED) == 0)
 		tcs_threads_share_core();
-	if (!tcs_real_pthread_create) /* a library's constructor, before ours */
-		tcs_threads_init();
 	struct sched_param saved;
 	int saved_policy;
 	pthread_attr_t *own = (pthread_attr_t *)attr;
 	int clamped = tcs_active() && tcs_sched_clamp_attr(own, &saved, &saved_policy);
-	int r = tcs_real_pthread_create(thread, attr, start, arg);
+	/* (Resolved here when a library's constructor, before ours, starts a thread.) */
+	int r = tcs_real()->pthread_create(thread, attr, start, arg);
 	if (clamped)
 		tcs_sched_restore_attr(own, &saved, saved_policy);
 	return r;
