@@ -7,7 +7,12 @@
 #include <fcntl.h>
 
 #include "devices.h"
+#include "lazy_writes.h"
 #include "raw_syscall.h"
+#include "report.h"
+#include "roundtrip.h"
+#include "vclock.h"
+#include "wait.h"
 
 /* fd -> device handle + 1 (0: not a device). fds beyond the table are
  * never devices: open() moves a device fd below it if it must. */

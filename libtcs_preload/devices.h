@@ -2,8 +2,9 @@
 #ifndef TCS_DEVICES_H
 #define TCS_DEVICES_H
 
-#include "preload.h"
-#include "tcs/device_table.h"
+#include <stddef.h>
+
+#include "runtime.h"
 
 /* Device fds live below this; the map from fd to device is a flat table. */
 #define TCS_DEVICE_FD_MAX 4096
@@ -32,16 +33,5 @@ void tcs_devices_after_fork(void) TCS_HIDDEN;
 long tcs_device_sync(int handle, int fd, unsigned kind) TCS_HIDDEN;
 /* The same, for a caller already inside tcs_wait_enter(). */
 long tcs_device_sync_held(int handle, int fd, unsigned kind) TCS_HIDDEN;
-
-/* Actuator writes without a round trip in lockstep (lazy_writes.c). Before
- * writing n bytes of buf to fd: 1 if they go without one (then, once all
- * were written, tcs_lazy_write_done), 0 if the write takes the round trip. */
-int tcs_lazy_write_begin(int fd, const void *buf, size_t n) TCS_HIDDEN;
-void tcs_lazy_write_done(int fd, size_t n) TCS_HIDDEN;
-/* A write that takes the round trip: `written` bytes, the last one `last`. */
-void tcs_lazy_note_written(int fd, long written, char last) TCS_HIDDEN;
-/* A new handle; a request went to the coordinator (which took the records). */
-void tcs_lazy_device_opened(int handle) TCS_HIDDEN;
-void tcs_lazy_request_sent(void) TCS_HIDDEN;
 
 #endif

@@ -5,8 +5,10 @@
 #include <sys/resource.h>
 #include <sys/times.h>
 
-#include "preload.h"
+#include "cpu_estimate.h"
 #include "raw_syscall.h"
+#include "real.h"
+#include "vclock.h"
 
 /* <sys/timeb.h> is gone from glibc's headers; the ABI stays. */
 struct tcs_timeb {
@@ -140,6 +142,8 @@ TCS_EXPORT int timespec_get(struct timespec *ts, int base)
 	return base;
 }
 
+/* (No public header declares it any more.) */
+TCS_EXPORT int ftime(struct tcs_timeb *tb);
 TCS_EXPORT int ftime(struct tcs_timeb *tb)
 {
 	int64_t ns = tcs_realtime_ns();

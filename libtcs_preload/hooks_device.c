@@ -16,8 +16,11 @@
 #include <termios.h>
 
 #include "devices.h"
+#include "lazy_writes.h"
 #include "raw_syscall.h"
+#include "real.h"
 #include "timerfd.h"
+#include "wait.h"
 
 /* ---- open ---------------------------------------------------------------- */
 
@@ -67,7 +70,13 @@ TCS_EXPORT int openat64(int dirfd, const char *path, int flags, ...)
 	return tcs_errno_result(tcs_openat(dirfd, path, flags | O_LARGEFILE, mode));
 }
 
-/* _FORTIFY_SOURCE variants: no mode argument (O_CREAT is a compile error). */
+/* _FORTIFY_SOURCE variants: no mode argument (O_CREAT is a compile error);
+ * declared by no public header. */
+TCS_EXPORT int __open_2(const char *path, int flags);
+TCS_EXPORT int __open64_2(const char *path, int flags);
+TCS_EXPORT int __openat_2(int dirfd, const char *path, int flags);
+TCS_EXPORT int __openat64_2(int dirfd, const char *path, int flags);
+
 TCS_EXPORT int __open_2(const char *path, int flags)
 {
 	return tcs_errno_result(tcs_openat(AT_FDCWD, path, flags, 0));
@@ -134,6 +143,7 @@ TCS_EXPORT ssize_t read(int fd, void *buf, size_t n)
 	return tcs_errno_result(tcs_sys3(SYS_read, fd, buf, n));
 }
 
+TCS_EXPORT long __read_chk(int fd, void *buf, size_t n, size_t buflen);
 TCS_EXPORT long __read_chk(int fd, void *buf, size_t n, size_t buflen)
 {
 	(void)buflen;

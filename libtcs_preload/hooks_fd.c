@@ -7,6 +7,7 @@
 
 #include "devices.h"
 #include "raw_syscall.h"
+#include "thread_channels.h"
 #include "timerfd.h"
 
 TCS_EXPORT int close(int fd)

@@ -14,6 +14,7 @@
 
 #include "raw_syscall.h"
 #include "real.h"
+#include "report.h"
 #include "sched_clamp.h"
 
 /* The kernel's struct sched_attr, as far as it matters here. */

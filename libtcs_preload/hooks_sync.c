@@ -13,6 +13,8 @@
 #include "parking.h"
 #include "raw_syscall.h"
 #include "real.h"
+#include "vclock.h"
+#include "wait.h"
 
 /* Every hook here takes the real functions with tcs_real() first, before
  * anything else: a library's constructor may lock a mutex before the

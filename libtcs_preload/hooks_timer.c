@@ -7,21 +7,25 @@
  * the coordinator, which sends the signal when the controller's virtual time
  * reaches an expiry: it stops a computing controller there, and ends a wait
  * (the wait returns EINTR if a handler ran). What is left of a timer is
- * computed here from the same two numbers. SIGEV_THREAD timers are served
- * by a helper thread each (timer_thread.c). */
+ * computed here from the same two numbers (kept in signal_timers.c's
+ * table). SIGEV_THREAD timers are served by a helper thread each
+ * (timer_thread.c). */
 #include <signal.h>
 #include <sys/time.h>
 
 #include "raw_syscall.h"
 #include "real.h"
+#include "roundtrip.h"
 #include "signal_timers.h"
+#include "spin_lock.h"
+#include "timer_thread.h"
+#include "vclock.h"
+#include "wait.h"
 
 /* Our timer_t values: tagged, so that ids of real timers are told apart. */
 #define TCS_TIMER_TAG 0x7c000000u
 
-static struct tcs_stimer tcs_stimers[TCS_MAX_TIMERS];
-static int tcs_stimer_lock;
-static uint32_t tcs_stimer_gens;
+static uint32_t tcs_stimer_gens; /* incarnations handed out */
 
 static struct itimerspec tcs_stimer_value(const struct tcs_stimer *t, int64_t v)
 {
@@ -74,39 +78,6 @@ static long tcs_stimer_set(int slot, int64_t value, int64_t interval, int abs, s
 		return 0;
 	}
 	return tcs_stimer_sync(slot, &copy);
-}
-
-int tcs_stimer_copy(int slot, uint32_t gen, struct tcs_stimer *out)
-{
-	tcs_spin_lock(&tcs_stimer_lock);
-	int alive = tcs_stimers[slot].used && tcs_stimers[slot].gen == gen;
-	if (alive)
-		*out = tcs_stimers[slot];
-	tcs_spin_unlock(&tcs_stimer_lock);
-	return alive ? 0 : -1;
-}
-
-void tcs_stimer_set_overrun(int slot, uint32_t gen, int overrun)
-{
-	tcs_spin_lock(&tcs_stimer_lock);
-	if (tcs_stimers[slot].gen == gen)
-		tcs_stimers[slot].overrun = overrun;
-	tcs_spin_unlock(&tcs_stimer_lock);
-}
-
-void tcs_timers_forget_all(void)
-{
-	__builtin_memset(tcs_stimers, 0, sizeof tcs_stimers);
-	for (int i = 0; i < TCS_MAX_TIMERS; i++)
-		tcs_stimers[i].first = TCS_NEVER;
-}
-
-int tcs_timer_signal_target(int signo)
-{
-	for (int i = 0; i < TCS_MAX_TIMERS; i++)
-		if (tcs_stimers[i].used && tcs_stimers[i].signo == signo && tcs_stimers[i].tid > 0)
-			return tcs_stimers[i].tid;
-	return 0;
 }
 
 /* ---- ITIMER_REAL and alarm --------------------------------------------------- */

@@ -13,7 +13,9 @@
  * takes the round trip, as in cpu mode, where the time of each write
  * counts. */
 #include "devices.h"
+#include "lazy_writes.h"
 #include "tcs/record_check.h"
+#include "wait.h"
 
 /* Handles beyond this always take the round trip (one bit each in the page). */
 #define TCS_LAZY_HANDLES 64

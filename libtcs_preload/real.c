@@ -6,7 +6,7 @@
  * constructor may resolve at once, and then store the same values. */
 #include <dlfcn.h>
 
-#include "preload.h"
+#include "real.h"
 
 struct tcs_real_fns tcs_real_fns;
 int tcs_real_ready;

@@ -12,9 +12,7 @@
 #include <sys/time.h>
 #include <time.h>
 
-#ifndef TCS_HIDDEN
-#define TCS_HIDDEN __attribute__((visibility("hidden")))
-#endif
+#include "runtime.h"
 
 struct termios;
 

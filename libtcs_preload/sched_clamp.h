@@ -7,7 +7,7 @@
 #include <pthread.h>
 #include <sched.h>
 
-#include "preload.h"
+#include "runtime.h"
 
 long tcs_sched_setscheduler(long pid, int policy, const struct sched_param *param) TCS_HIDDEN;
 long tcs_sched_setattr(long pid, const void *attr, long flags) TCS_HIDDEN;

@@ -13,7 +13,11 @@
 
 #include "devices.h"
 #include "raw_syscall.h"
+#include "report.h"
+#include "spin_lock.h"
 #include "timerfd.h"
+#include "vclock.h"
+#include "wait.h"
 
 #define TCS_VTIMERS_MAX 64
 

@@ -3,7 +3,7 @@
 #ifndef TCS_TIMERFD_H
 #define TCS_TIMERFD_H
 
-#include "preload.h"
+#include "runtime.h"
 
 /* Whether fd is a virtual timerfd. */
 int tcs_vtimer_of(int fd) TCS_HIDDEN;
