@@ -16,10 +16,11 @@
 #include <termios.h>
 
 #include "devices.h"
+#include "hooks_timerfd.h"
 #include "lazy_writes.h"
 #include "raw_syscall.h"
 #include "real.h"
-#include "timerfd.h"
+#include "timerfds.h"
 #include "wait.h"
 
 /* ---- open ---------------------------------------------------------------- */
@@ -127,7 +128,7 @@ static long tcs_after_write(int fd, long written, char last)
 TCS_EXPORT ssize_t read(int fd, void *buf, size_t n)
 {
 	if (tcs_vtimer_of(fd) && tcs_active())
-		return tcs_errno_result(tcs_vtimer_read(fd, buf, n));
+		return tcs_errno_result(tcs_timerfd_read(fd, buf, n));
 	/* A stream sensor's records already in the fd were due when they were
 	 * put there (at the controller's last wake or sync): they are read
 	 * without a round trip, as from a serial port's buffer. Once it is

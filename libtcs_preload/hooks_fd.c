@@ -8,7 +8,7 @@
 #include "devices.h"
 #include "raw_syscall.h"
 #include "thread_channels.h"
-#include "timerfd.h"
+#include "timerfds.h"
 
 TCS_EXPORT int close(int fd)
 {

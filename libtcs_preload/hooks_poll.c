@@ -11,7 +11,7 @@
 
 #include "devices.h"
 #include "raw_syscall.h"
-#include "timerfd.h"
+#include "timerfds.h"
 #include "vclock.h"
 #include "wait.h"
 
