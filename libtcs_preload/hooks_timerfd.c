@@ -7,7 +7,7 @@
  * the eventfd when the program looks: before a multiplexer checks its fds,
  * and in read(). Multiplexers also wake at the next expiry, so a wait on a
  * timerfd ends at its virtual time. The timers are timerfds.c's table;
- * read() on one comes here from the read hook (hooks_device.c). */
+ * read() on one comes here from the read hook (hooks_io.c). */
 #include <fcntl.h>
 #include <sys/timerfd.h>
 

@@ -1,4 +1,4 @@
-/* What of the timerfd hooks (hooks_timerfd.c) the read hook (hooks_device.c)
+/* What of the timerfd hooks (hooks_timerfd.c) the read hook (hooks_io.c)
  * calls: a timerfd's read is served by its own hook file. */
 #ifndef TCS_PRELOAD_HOOKS_TIMERFD_H
 #define TCS_PRELOAD_HOOKS_TIMERFD_H
