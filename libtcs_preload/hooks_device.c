@@ -95,7 +95,8 @@ TCS_EXPORT int __openat64_2(int dirfd, const char *path, int flags)
 /* ---- stdio ------------------------------------------------------------------ */
 
 /* glibc's stdio reads and writes through internal calls no preload sees,
- * so a device opened with fopen() is a stream of our own over the fd. */
+ * so a device opened with fopen() is a stream of our own over the fd,
+ * read and written through the I/O hooks (hooks_io.c). */
 static ssize_t tcs_cookie_read(void *c, char *buf, size_t n)
 {
 	return read((int)(intptr_t)c, buf, n);

@@ -1,7 +1,7 @@
 /* The controller's side of the mailbox (tcs/mailbox.h): a request handed
  * to the coordinator through the clock page and its answer awaited by
  * spinning on this core, which is the controller's alone while the
- * coordinator polls on its own. runtime.c's round trip comes here first
+ * coordinator polls on its own. The round trip (roundtrip.c) comes here first
  * and takes the channel when this says no.
  *
  * A signal handler that runs during the spin does not end the wait as one
