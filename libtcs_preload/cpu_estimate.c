@@ -1,4 +1,5 @@
-/* The process's CPU time without a system call, for cpu-mode clock reads.
+/* The process's CPU time: read from the kernel, and without a system call,
+ * for cpu-mode clock reads.
  *
  * Reading CLOCK_PROCESS_CPUTIME_ID is a system call (240 ns on one machine,
  * 1.35 us on another: 10x to 50x a native vDSO clock read). Where the
@@ -19,7 +20,43 @@
  * charge ends, which the coordinator takes only when plausible
  * (Coordinator::charge_point), and an estimate too high there is made good
  * by the next slice, which starts from it. */
-#include "preload.h"
+#include "cpu_estimate.h"
+#include "raw_syscall.h"
+
+int64_t tcs_kernel_clock(clockid_t id)
+{
+	struct timespec ts;
+	long r = tcs_sys2(SYS_clock_gettime, id, &ts);
+	return r < 0 ? r : tcs_ts_to_ns(&ts);
+}
+
+/* A machine whose CPU-clock system call is slow, imitated for the test
+ * suite's slow-clock setup (TCS_CPU_CLOCK_DELAY_NS, read at start-up): each
+ * reading computes that much longer, half before the kernel reads the clock
+ * and half after, as the system call's own entry and exit would. */
+static int64_t tcs_cpu_clock_delay;
+
+void tcs_cpu_clock_delay_set(int64_t ns)
+{
+	tcs_cpu_clock_delay = ns;
+}
+
+static void tcs_compute_for(int64_t ns)
+{
+	int64_t until = tcs_kernel_clock(CLOCK_MONOTONIC) + ns;
+	while (tcs_kernel_clock(CLOCK_MONOTONIC) < until)
+		tcs_cpu_relax();
+}
+
+int64_t tcs_process_cpu(void)
+{
+	if (__builtin_expect(tcs_cpu_clock_delay == 0, 1))
+		return tcs_kernel_clock(CLOCK_PROCESS_CPUTIME_ID);
+	tcs_compute_for(tcs_cpu_clock_delay / 2);
+	int64_t cpu = tcs_kernel_clock(CLOCK_PROCESS_CPUTIME_ID);
+	tcs_compute_for(tcs_cpu_clock_delay - tcs_cpu_clock_delay / 2);
+	return cpu;
+}
 
 #if defined(__x86_64__)
 

@@ -3,11 +3,20 @@
  * socket whose other end the coordinator holds; before a read or a
  * readiness check the coordinator puts in what is due at the controller's
  * virtual time (or holds the read until it is due), and after a write it
- * takes the records out, stamped with the time they were written. */
+ * takes the records out, stamped with the time they were written. The I/O
+ * hooks (hooks_io.c) hand a device's reads and writes to this file whole:
+ * from here each makes its one round trip, or none (lazy_writes.c). */
 #include <fcntl.h>
+#include <sys/socket.h>
+#include <sys/uio.h>
 
 #include "devices.h"
+#include "lazy_writes.h"
 #include "raw_syscall.h"
+#include "report.h"
+#include "roundtrip.h"
+#include "vclock.h"
+#include "wait.h"
 
 /* fd -> device handle + 1 (0: not a device). fds beyond the table are
  * never devices: open() moves a device fd below it if it must. */
@@ -41,17 +50,20 @@ int tcs_device_handle(int fd)
 	return __atomic_load_n(&tcs_fd_handle[fd], __ATOMIC_RELAXED) - 1;
 }
 
-int tcs_device_kind(int fd)
+/* The kind of device fd is (TCS_DEVICE_SENSOR/ACTUATOR), or 0. */
+static int tcs_device_kind(int fd)
 {
 	return tcs_device_handle(fd) < 0 ? 0 : tcs_fd_kind[fd] & ~TCS_FD_STREAM;
 }
 
-const struct tcs_device_entry *tcs_device_entry(int fd)
+/* The table entry of the device fd is (a device fd only). */
+static const struct tcs_device_entry *tcs_device_entry(int fd)
 {
 	return &tcs_rt.devices->dev[tcs_fd_dev[fd]];
 }
 
-int tcs_device_streams(int fd)
+/* Whether fd is a stream sensor, whose records in the fd are all due. */
+static int tcs_device_streams(int fd)
 {
 	return tcs_device_handle(fd) >= 0 && (tcs_fd_kind[fd] & TCS_FD_STREAM);
 }
@@ -140,7 +152,9 @@ long tcs_device_sync_held(int handle, int fd, unsigned kind)
 	return w.arg < 0 ? w.arg : 0;
 }
 
-long tcs_device_sync(int handle, int fd, unsigned kind)
+/* Brings the device up to the controller's virtual time (kind: TCS_SYNC_*);
+ * fd tells whether it is non-blocking. 0 or -errno. */
+static long tcs_device_sync(int handle, int fd, unsigned kind)
 {
 	if (!tcs_wait_enter()) {
 		static int once;
@@ -151,6 +165,86 @@ long tcs_device_sync(int handle, int fd, unsigned kind)
 	tcs_wait_leave();
 	return r;
 }
+
+/* ---- reads and writes ---------------------------------------------------------- */
+
+/* Before reading a device: what is due goes into the fd (or the read
+ * waits for it, in virtual time). */
+static long tcs_before_read(int fd)
+{
+	int h = tcs_device_handle(fd);
+	if (h < 0)
+		return 0;
+	if (tcs_device_kind(fd) != TCS_DEVICE_SENSOR)
+		return -EBADF; /* write-only, like the file it stands for */
+	return tcs_device_sync(h, fd, TCS_SYNC_READ);
+}
+
+long tcs_device_read(int fd, void *buf, size_t n)
+{
+	/* A stream sensor's records already in the fd were due when they were
+	 * put there (at the controller's last wake or sync): they are read
+	 * without a round trip, as from a serial port's buffer. Once it is
+	 * empty, the sync brings what has come due since, or waits for it. */
+	if (n > 0 && tcs_device_streams(fd)) {
+		long got = tcs_sys6(SYS_recvfrom, fd, buf, n, MSG_DONTWAIT, 0, 0);
+		if (got > 0)
+			return got;
+	}
+	long r = tcs_before_read(fd);
+	if (r < 0)
+		return r;
+	return tcs_sys3(SYS_read, fd, buf, n);
+}
+
+long tcs_device_readv(int fd, const struct iovec *iov, int n)
+{
+	long r = tcs_before_read(fd);
+	if (r < 0)
+		return r;
+	return tcs_sys3(SYS_readv, fd, iov, n);
+}
+
+/* After writing device handle h (fd): the coordinator takes the records,
+ * stamped with the virtual time of the write; a malformed one fails the
+ * write. `last` is the last byte written. */
+static long tcs_after_write(int h, int fd, long written, char last)
+{
+	if (h < 0 || written <= 0 || !tcs_active())
+		return written;
+	tcs_lazy_note_written(h, tcs_device_entry(fd), written, last);
+	long r = tcs_device_sync(h, fd, TCS_SYNC_WRITE);
+	return r < 0 && r != -EINTR ? r : written;
+}
+
+long tcs_device_write(int fd, const void *buf, size_t n)
+{
+	int h = tcs_device_handle(fd);
+	if (tcs_device_kind(fd) == TCS_DEVICE_SENSOR)
+		return -EBADF; /* read-only, like the file it stands for */
+	int lazy = tcs_active() && tcs_lazy_write_begin(h, tcs_device_entry(fd), buf, n);
+	long w = tcs_sys3(SYS_write, fd, buf, n);
+	if (lazy && w == (long)n) {
+		tcs_lazy_write_done(h, n);
+		return w;
+	}
+	return tcs_after_write(h, fd, w, w > 0 ? ((const char *)buf)[w - 1] : 0);
+}
+
+long tcs_device_writev(int fd, const struct iovec *iov, int n)
+{
+	int h = tcs_device_handle(fd);
+	if (tcs_device_kind(fd) == TCS_DEVICE_SENSOR)
+		return -EBADF;
+	long w = tcs_sys3(SYS_writev, fd, iov, n);
+	char last = 0;
+	for (long left = w, i = 0; left > 0 && i < n; left -= (long)iov[i].iov_len, i++)
+		if ((size_t)left <= iov[i].iov_len)
+			last = ((const char *)iov[i].iov_base)[left - 1];
+	return tcs_after_write(h, fd, w, last);
+}
+
+/* ---- a new child ------------------------------------------------------------ */
 
 /* A new child's device fds are its parent's handles: it opens each device
  * again as a controller of its own and puts the new fd in the old one's

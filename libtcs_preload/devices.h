@@ -1,9 +1,13 @@
-/* Virtual devices in the preload: see devices.c. */
+/* Virtual devices in the preload (devices.c): which fds are devices, and
+ * their opens, reads, writes and syncs in virtual time. */
 #ifndef TCS_DEVICES_H
 #define TCS_DEVICES_H
 
-#include "preload.h"
-#include "tcs/device_table.h"
+#include <stddef.h>
+
+#include "runtime.h"
+
+struct iovec;
 
 /* Device fds live below this; the map from fd to device is a flat table. */
 #define TCS_DEVICE_FD_MAX 4096
@@ -14,12 +18,6 @@ int tcs_device_lookup(const char *path) TCS_HIDDEN;
 long tcs_device_open(int dev, int oflags) TCS_HIDDEN;
 /* The device handle of fd, or -1 if fd is not a device. */
 int tcs_device_handle(int fd) TCS_HIDDEN;
-/* The kind of device fd is (TCS_DEVICE_SENSOR/ACTUATOR), or 0. */
-int tcs_device_kind(int fd) TCS_HIDDEN;
-/* Whether fd is a stream sensor, whose records in the fd are all due. */
-int tcs_device_streams(int fd) TCS_HIDDEN;
-/* The table entry of the device fd is (a device fd only). */
-const struct tcs_device_entry *tcs_device_entry(int fd) TCS_HIDDEN;
 /* How many device fds are open (then readiness checks must sync). */
 int tcs_devices_open(void) TCS_HIDDEN;
 /* fd was closed / `to` became a copy of `from`. */
@@ -27,21 +25,17 @@ void tcs_device_forget(int fd) TCS_HIDDEN;
 void tcs_device_copy(int from, int to) TCS_HIDDEN;
 /* In a new child, registered: its inherited device fds opened again as its own. */
 void tcs_devices_after_fork(void) TCS_HIDDEN;
-/* Brings the device up to the controller's virtual time (kind: TCS_SYNC_*);
- * fd tells whether it is non-blocking. 0 or -errno. */
-long tcs_device_sync(int handle, int fd, unsigned kind) TCS_HIDDEN;
-/* The same, for a caller already inside tcs_wait_enter(). */
+/* Brings the device up to the controller's virtual time (kind: TCS_SYNC_*;
+ * a POLL is for every device, whatever the handle), for a caller already
+ * inside tcs_wait_enter(); fd tells whether it is non-blocking. 0 or
+ * -errno. */
 long tcs_device_sync_held(int handle, int fd, unsigned kind) TCS_HIDDEN;
-
-/* Actuator writes without a round trip in lockstep (lazy_writes.c). Before
- * writing n bytes of buf to fd: 1 if they go without one (then, once all
- * were written, tcs_lazy_write_done), 0 if the write takes the round trip. */
-int tcs_lazy_write_begin(int fd, const void *buf, size_t n) TCS_HIDDEN;
-void tcs_lazy_write_done(int fd, size_t n) TCS_HIDDEN;
-/* A write that takes the round trip: `written` bytes, the last one `last`. */
-void tcs_lazy_note_written(int fd, long written, char last) TCS_HIDDEN;
-/* A new handle; a request went to the coordinator (which took the records). */
-void tcs_lazy_device_opened(int handle) TCS_HIDDEN;
-void tcs_lazy_request_sent(void) TCS_HIDDEN;
+/* read(2), readv(2), write(2), writev(2) of device fd (the runtime active
+ * for reads): what is due read in virtual time, what is written taken by
+ * the coordinator at the time of the write. The result or -errno. */
+long tcs_device_read(int fd, void *buf, size_t n) TCS_HIDDEN;
+long tcs_device_readv(int fd, const struct iovec *iov, int n) TCS_HIDDEN;
+long tcs_device_write(int fd, const void *buf, size_t n) TCS_HIDDEN;
+long tcs_device_writev(int fd, const struct iovec *iov, int n) TCS_HIDDEN;
 
 #endif

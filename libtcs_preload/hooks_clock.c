@@ -5,8 +5,10 @@
 #include <sys/resource.h>
 #include <sys/times.h>
 
-#include "preload.h"
+#include "cpu_estimate.h"
 #include "raw_syscall.h"
+#include "real.h"
+#include "vclock.h"
 
 /* <sys/timeb.h> is gone from glibc's headers; the ABI stays. */
 struct tcs_timeb {
@@ -73,10 +75,13 @@ static int tcs_virtual_clock(clockid_t id, int64_t *ns)
 	}
 }
 
+/* Before start-up resolved it, the kernel's: a clock read (maybe in a
+ * signal handler) never resolves anything itself (real.h). */
 static int tcs_real_clock_gettime(clockid_t id, struct timespec *ts)
 {
-	if (tcs_rt.real_clock_gettime)
-		return tcs_rt.real_clock_gettime(id, ts);
+	int (*real)(clockid_t, struct timespec *) = __atomic_load_n(&tcs_real_fns.clock_gettime, __ATOMIC_RELAXED);
+	if (real)
+		return real(id, ts);
 	return tcs_errno_result(tcs_sys2(SYS_clock_gettime, id, ts));
 }
 
@@ -108,8 +113,9 @@ static int64_t tcs_realtime_ns(void)
 TCS_EXPORT int gettimeofday(struct timeval *tv, void *tz)
 {
 	if (!tcs_active()) {
-		if (tcs_rt.real_gettimeofday)
-			return tcs_rt.real_gettimeofday(tv, tz);
+		int (*real)(struct timeval *, void *) = __atomic_load_n(&tcs_real_fns.gettimeofday, __ATOMIC_RELAXED);
+		if (real)
+			return real(tv, tz);
 		return tcs_errno_result(tcs_sys2(SYS_gettimeofday, tv, tz));
 	}
 	if (tz)
@@ -136,6 +142,8 @@ TCS_EXPORT int timespec_get(struct timespec *ts, int base)
 	return base;
 }
 
+/* (No public header declares it any more.) */
+TCS_EXPORT int ftime(struct tcs_timeb *tb);
 TCS_EXPORT int ftime(struct tcs_timeb *tb)
 {
 	int64_t ns = tcs_realtime_ns();

@@ -1,24 +1,21 @@
 /* Device hooks: open/openat/fopen (with their 64 and fortified variants)
- * of a scenario's device paths give a real fd the coordinator serves;
- * read/readv/write/writev on it are kept in virtual time (devices.c);
+ * of a scenario's device paths give a real fd the coordinator serves
+ * (devices.c); reads and writes of it are the I/O hooks' (hooks_io.c);
  * termios calls on it succeed as on a serial port. Everything else passes
- * straight to the kernel. */
+ * straight to the kernel, or to libc. */
 /* Both open() and open64() are defined here: the headers must not rename
  * one to the other (meson builds with _FILE_OFFSET_BITS=64). */
 #undef _FILE_OFFSET_BITS
-#include <dlfcn.h>
 #include <fcntl.h>
 #include <stdarg.h>
 #include <string.h>
 #include <stdio.h>
 #include <sys/ioctl.h>
-#include <sys/socket.h>
-#include <sys/uio.h>
 #include <termios.h>
 
 #include "devices.h"
 #include "raw_syscall.h"
-#include "timerfd.h"
+#include "real.h"
 
 /* ---- open ---------------------------------------------------------------- */
 
@@ -68,7 +65,13 @@ TCS_EXPORT int openat64(int dirfd, const char *path, int flags, ...)
 	return tcs_errno_result(tcs_openat(dirfd, path, flags | O_LARGEFILE, mode));
 }
 
-/* _FORTIFY_SOURCE variants: no mode argument (O_CREAT is a compile error). */
+/* _FORTIFY_SOURCE variants: no mode argument (O_CREAT is a compile error);
+ * declared by no public header. */
+TCS_EXPORT int __open_2(const char *path, int flags);
+TCS_EXPORT int __open64_2(const char *path, int flags);
+TCS_EXPORT int __openat_2(int dirfd, const char *path, int flags);
+TCS_EXPORT int __openat64_2(int dirfd, const char *path, int flags);
+
 TCS_EXPORT int __open_2(const char *path, int flags)
 {
 	return tcs_errno_result(tcs_openat(AT_FDCWD, path, flags, 0));
@@ -89,105 +92,11 @@ TCS_EXPORT int __openat64_2(int dirfd, const char *path, int flags)
 	return tcs_errno_result(tcs_openat(dirfd, path, flags | O_LARGEFILE, 0));
 }
 
-/* ---- read / write ---------------------------------------------------------- */
-
-/* Before reading a device: what is due goes into the fd (or the read
- * waits for it, in virtual time). */
-static long tcs_before_read(int fd)
-{
-	int h = tcs_device_handle(fd);
-	if (h < 0 || !tcs_active())
-		return 0;
-	if (tcs_device_kind(fd) != TCS_DEVICE_SENSOR)
-		return -EBADF; /* write-only, like the file it stands for */
-	return tcs_device_sync(h, fd, TCS_SYNC_READ);
-}
-
-/* After writing a device: the coordinator takes the records, stamped with
- * the virtual time of the write; a malformed one fails the write. `last`
- * is the last byte written. */
-static long tcs_after_write(int fd, long written, char last)
-{
-	int h = tcs_device_handle(fd);
-	if (h < 0 || written <= 0 || !tcs_active())
-		return written;
-	tcs_lazy_note_written(fd, written, last);
-	long r = tcs_device_sync(h, fd, TCS_SYNC_WRITE);
-	return r < 0 && r != -EINTR ? r : written;
-}
-
-TCS_EXPORT ssize_t read(int fd, void *buf, size_t n)
-{
-	if (tcs_vtimer_of(fd) && tcs_active())
-		return tcs_errno_result(tcs_vtimer_read(fd, buf, n));
-	/* A stream sensor's records already in the fd were due when they were
-	 * put there (at the controller's last wake or sync): they are read
-	 * without a round trip, as from a serial port's buffer. Once it is
-	 * empty, the sync brings what has come due since, or waits for it. */
-	if (n > 0 && tcs_device_streams(fd) && tcs_active()) {
-		long got = tcs_sys6(SYS_recvfrom, fd, buf, n, MSG_DONTWAIT, 0, 0);
-		if (got > 0)
-			return got;
-	}
-	long r = tcs_before_read(fd);
-	if (r < 0)
-		return tcs_errno_result(r);
-	return tcs_errno_result(tcs_sys3(SYS_read, fd, buf, n));
-}
-
-TCS_EXPORT long __read_chk(int fd, void *buf, size_t n, size_t buflen)
-{
-	(void)buflen;
-	return read(fd, buf, n);
-}
-
-TCS_EXPORT ssize_t readv(int fd, const struct iovec *iov, int n)
-{
-	long r = tcs_before_read(fd);
-	if (r < 0)
-		return tcs_errno_result(r);
-	return tcs_errno_result(tcs_sys3(SYS_readv, fd, iov, n));
-}
-
-/* A sensor is read-only, like the file it stands for. */
-static int tcs_write_refused(int fd)
-{
-	return tcs_device_kind(fd) == TCS_DEVICE_SENSOR;
-}
-
-TCS_EXPORT ssize_t write(int fd, const void *buf, size_t n)
-{
-	if (tcs_device_handle(fd) < 0) /* most writes: no device */
-		return tcs_errno_result(tcs_sys3(SYS_write, fd, buf, n));
-	if (tcs_write_refused(fd))
-		return tcs_errno_result(-EBADF);
-	int lazy = tcs_lazy_write_begin(fd, buf, n);
-	long w = tcs_sys3(SYS_write, fd, buf, n);
-	if (lazy && w == (long)n) {
-		tcs_lazy_write_done(fd, n);
-		return w;
-	}
-	return tcs_errno_result(tcs_after_write(fd, w, w > 0 ? ((const char *)buf)[w - 1] : 0));
-}
-
-TCS_EXPORT ssize_t writev(int fd, const struct iovec *iov, int n)
-{
-	if (tcs_device_handle(fd) < 0)
-		return tcs_errno_result(tcs_sys3(SYS_writev, fd, iov, n));
-	if (tcs_write_refused(fd))
-		return tcs_errno_result(-EBADF);
-	long w = tcs_sys3(SYS_writev, fd, iov, n);
-	char last = 0;
-	for (long left = w, i = 0; left > 0 && i < n; left -= (long)iov[i].iov_len, i++)
-		if ((size_t)left <= iov[i].iov_len)
-			last = ((const char *)iov[i].iov_base)[left - 1];
-	return tcs_errno_result(tcs_after_write(fd, w, last));
-}
-
 /* ---- stdio ------------------------------------------------------------------ */
 
 /* glibc's stdio reads and writes through internal calls no preload sees,
- * so a device opened with fopen() is a stream of our own over the fd. */
+ * so a device opened with fopen() is a stream of our own over the fd,
+ * read and written through the I/O hooks (hooks_io.c). */
 static ssize_t tcs_cookie_read(void *c, char *buf, size_t n)
 {
 	return read((int)(intptr_t)c, buf, n);
@@ -233,28 +142,20 @@ static FILE *tcs_fopen(const char *path, const char *mode)
 	return f;
 }
 
-/* The real libc functions for everything that is not a device. Resolved
- * by the runtime's constructor; a library constructor that runs before it
- * (they may fopen a configuration file) resolves them itself, once. */
-#define TCS_REAL(field, name)                                                          \
-	(__atomic_load_n(&tcs_rt.field, __ATOMIC_ACQUIRE)                               \
-		 ? tcs_rt.field                                                         \
-		 : (__atomic_store_n(&tcs_rt.field, (__typeof__(tcs_rt.field))dlsym(RTLD_NEXT, name), \
-				     __ATOMIC_RELEASE),                                 \
-		    tcs_rt.field))
-
+/* Everything that is not a device goes to libc's (resolved here when a
+ * library's constructor, before ours, opens a configuration file). */
 TCS_EXPORT FILE *fopen(const char *path, const char *mode)
 {
 	if (tcs_device_lookup(path) >= 0)
 		return tcs_fopen(path, mode);
-	return TCS_REAL(real_fopen, "fopen")(path, mode);
+	return tcs_real()->fopen(path, mode);
 }
 
 TCS_EXPORT FILE *fopen64(const char *path, const char *mode)
 {
 	if (tcs_device_lookup(path) >= 0)
 		return tcs_fopen(path, mode);
-	return TCS_REAL(real_fopen64, "fopen64")(path, mode);
+	return tcs_real()->fopen64(path, mode);
 }
 
 /* ---- a serial port's line settings -------------------------------------------- */
@@ -265,7 +166,7 @@ TCS_EXPORT FILE *fopen64(const char *path, const char *mode)
 TCS_EXPORT int tcgetattr(int fd, struct termios *t)
 {
 	if (tcs_device_handle(fd) < 0)
-		return TCS_REAL(real_tcgetattr, "tcgetattr")(fd, t);
+		return tcs_real()->tcgetattr(fd, t);
 	memset(t, 0, sizeof *t);
 	t->c_cflag = CS8 | CREAD | CLOCAL | B115200;
 	t->c_ispeed = B115200;
@@ -276,7 +177,7 @@ TCS_EXPORT int tcgetattr(int fd, struct termios *t)
 TCS_EXPORT int tcsetattr(int fd, int when, const struct termios *t)
 {
 	if (tcs_device_handle(fd) < 0)
-		return TCS_REAL(real_tcsetattr, "tcsetattr")(fd, when, t);
+		return tcs_real()->tcsetattr(fd, when, t);
 	return 0;
 }
 

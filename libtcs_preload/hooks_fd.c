@@ -7,7 +7,8 @@
 
 #include "devices.h"
 #include "raw_syscall.h"
-#include "timerfd.h"
+#include "thread_channels.h"
+#include "timerfds.h"
 
 TCS_EXPORT int close(int fd)
 {

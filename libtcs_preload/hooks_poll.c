@@ -11,7 +11,9 @@
 
 #include "devices.h"
 #include "raw_syscall.h"
-#include "timerfd.h"
+#include "timerfds.h"
+#include "vclock.h"
+#include "wait.h"
 
 /* Real fds mirrored on the stack while waiting (slot 0 is the channel). */
 #define TCS_MIRROR_MAX 256
@@ -118,6 +120,8 @@ TCS_EXPORT int poll(struct pollfd *fds, nfds_t n, int timeout_ms)
 	return tcs_errno_result(tcs_poll(fds, n, tcs_ms_to_ns(timeout_ms), timeout_ms < 0 ? NULL : &ts, NULL));
 }
 
+/* _FORTIFY_SOURCE variants (declared by no public header). */
+TCS_EXPORT int __poll_chk(struct pollfd *fds, nfds_t n, int timeout_ms, size_t fdslen);
 TCS_EXPORT int __poll_chk(struct pollfd *fds, nfds_t n, int timeout_ms, size_t fdslen)
 {
 	(void)fdslen;
@@ -131,6 +135,8 @@ TCS_EXPORT int ppoll(struct pollfd *fds, nfds_t n, const struct timespec *ts, co
 	return tcs_errno_result(tcs_poll(fds, n, ts ? tcs_ts_to_ns(ts) : -1, ts, mask));
 }
 
+TCS_EXPORT int __ppoll_chk(struct pollfd *fds, nfds_t n, const struct timespec *ts, const sigset_t *mask,
+			   size_t fdslen);
 TCS_EXPORT int __ppoll_chk(struct pollfd *fds, nfds_t n, const struct timespec *ts, const sigset_t *mask,
 			   size_t fdslen)
 {

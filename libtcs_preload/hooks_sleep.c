@@ -5,8 +5,10 @@
  * shows (the channel read is restarted by the kernel, not interrupted). */
 #include <threads.h>
 
-#include "preload.h"
 #include "raw_syscall.h"
+#include "report.h"
+#include "vclock.h"
+#include "wait.h"
 
 /* The virtual half of clock_nanosleep; returns 0 or -errno. */
 static long tcs_virtual_sleep(clockid_t clock, int flags, const struct timespec *req, struct timespec *rem)
@@ -73,6 +75,8 @@ TCS_EXPORT int nanosleep(const struct timespec *req, struct timespec *rem)
 	return tcs_errno_result(tcs_sleep(CLOCK_MONOTONIC, 0, req, rem));
 }
 
+/* glibc's internal name, which some programs call (no public header). */
+TCS_EXPORT int __nanosleep(const struct timespec *req, struct timespec *rem);
 TCS_EXPORT int __nanosleep(const struct timespec *req, struct timespec *rem)
 {
 	return nanosleep(req, rem);

@@ -7,73 +7,20 @@
  * timeout is a virtual deadline on the clock the object or call names.
  * These are what C++ std::condition_variable and Python's threading (locks,
  * Event, queue, and its GIL) are built on. */
-#include <dlfcn.h>
 #include <pthread.h>
 #include <semaphore.h>
 
 #include "parking.h"
 #include "raw_syscall.h"
+#include "real.h"
+#include "vclock.h"
+#include "wait.h"
 
+/* Every hook here takes the real functions with tcs_real() first, before
+ * anything else: a library's constructor may lock a mutex before the
+ * preload's own constructor has run. The helpers below them then read the
+ * table directly. */
 typedef int (*tcs_cond_fn)(pthread_cond_t *);
-typedef int (*tcs_cond_wait_fn)(pthread_cond_t *, pthread_mutex_t *);
-typedef int (*tcs_cond_timedwait_fn)(pthread_cond_t *, pthread_mutex_t *, const struct timespec *);
-typedef int (*tcs_mutex_fn)(pthread_mutex_t *);
-typedef int (*tcs_sem_fn)(sem_t *);
-
-static struct {
-	int ready;
-	tcs_cond_fn signal, broadcast, old_signal, old_broadcast;
-	tcs_cond_wait_fn wait, old_wait;
-	tcs_cond_timedwait_fn timedwait, old_timedwait;
-	int (*clockwait)(pthread_cond_t *, pthread_mutex_t *, clockid_t, const struct timespec *);
-	tcs_mutex_fn lock, unlock, trylock;
-	int (*timedlock)(pthread_mutex_t *, const struct timespec *);
-	int (*clocklock)(pthread_mutex_t *, clockid_t, const struct timespec *);
-	tcs_sem_fn sem_wait, sem_trywait, sem_post;
-	int (*sem_timedwait)(sem_t *, const struct timespec *);
-	int (*sem_clockwait)(sem_t *, clockid_t, const struct timespec *);
-} real;
-
-/* Resolved on first use: a library's constructor may lock a mutex before
- * the preload's own constructor has run. */
-static void tcs_sync_resolve(void)
-{
-#define TCS_REAL(field, name) real.field = (__typeof__(real.field))dlsym(RTLD_NEXT, name)
-#if defined(__x86_64__)
-#define TCS_REAL_V(field, name, version) real.field = (__typeof__(real.field))dlvsym(RTLD_NEXT, name, version)
-	TCS_REAL_V(signal, "pthread_cond_signal", "GLIBC_2.3.2");
-	TCS_REAL_V(broadcast, "pthread_cond_broadcast", "GLIBC_2.3.2");
-	TCS_REAL_V(wait, "pthread_cond_wait", "GLIBC_2.3.2");
-	TCS_REAL_V(timedwait, "pthread_cond_timedwait", "GLIBC_2.3.2");
-	TCS_REAL_V(old_signal, "pthread_cond_signal", "GLIBC_2.2.5");
-	TCS_REAL_V(old_broadcast, "pthread_cond_broadcast", "GLIBC_2.2.5");
-	TCS_REAL_V(old_wait, "pthread_cond_wait", "GLIBC_2.2.5");
-	TCS_REAL_V(old_timedwait, "pthread_cond_timedwait", "GLIBC_2.2.5");
-#else
-	TCS_REAL(signal, "pthread_cond_signal");
-	TCS_REAL(broadcast, "pthread_cond_broadcast");
-	TCS_REAL(wait, "pthread_cond_wait");
-	TCS_REAL(timedwait, "pthread_cond_timedwait");
-#endif
-	TCS_REAL(clockwait, "pthread_cond_clockwait");
-	TCS_REAL(lock, "pthread_mutex_lock");
-	TCS_REAL(unlock, "pthread_mutex_unlock");
-	TCS_REAL(trylock, "pthread_mutex_trylock");
-	TCS_REAL(timedlock, "pthread_mutex_timedlock");
-	TCS_REAL(clocklock, "pthread_mutex_clocklock");
-	TCS_REAL(sem_wait, "sem_wait");
-	TCS_REAL(sem_trywait, "sem_trywait");
-	TCS_REAL(sem_post, "sem_post");
-	TCS_REAL(sem_timedwait, "sem_timedwait");
-	TCS_REAL(sem_clockwait, "sem_clockwait");
-	__atomic_store_n(&real.ready, 1, __ATOMIC_RELEASE);
-}
-
-#define TCS_SYNC_READY()                                              \
-	do {                                                          \
-		if (!__atomic_load_n(&real.ready, __ATOMIC_ACQUIRE)) \
-			tcs_sync_resolve();                           \
-	} while (0)
 
 /* An absolute time on clock into a virtual deadline; -EINVAL if invalid. */
 static int64_t tcs_abs_deadline(clockid_t clock, const struct timespec *abstime)
@@ -93,8 +40,8 @@ static int64_t tcs_abs_deadline(clockid_t clock, const struct timespec *abstime)
 
 TCS_EXPORT int pthread_mutex_unlock(pthread_mutex_t *m)
 {
-	TCS_SYNC_READY();
-	int r = real.unlock(m);
+	const struct tcs_real_fns *real = tcs_real();
+	int r = real->pthread_mutex_unlock(m);
 	if (r == 0)
 		tcs_unpark(m);
 	return r;
@@ -103,7 +50,7 @@ TCS_EXPORT int pthread_mutex_unlock(pthread_mutex_t *m)
 /* A timed lock: try, park until an unlock (or the deadline), try again. */
 static int tcs_mutex_timedlock(pthread_mutex_t *m, clockid_t clock, const struct timespec *abstime)
 {
-	int r = real.trylock(m);
+	int r = tcs_real_fns.pthread_mutex_trylock(m);
 	if (r != EBUSY)
 		return r;
 	int64_t deadline = tcs_abs_deadline(clock, abstime);
@@ -116,14 +63,14 @@ static int tcs_mutex_timedlock(pthread_mutex_t *m, clockid_t clock, const struct
 	for (;;) {
 		struct tcs_wait_time t = { deadline, 0, 0, 0, 0 };
 		int slot = tcs_park_begin(m);
-		r = real.trylock(m);
+		r = tcs_real_fns.pthread_mutex_trylock(m);
 		if (r != EBUSY) {
 			tcs_park_end(slot);
 			return r;
 		}
 		int w = tcs_park_wait(slot, &t, 0);
 		tcs_park_end(slot);
-		r = real.trylock(m);
+		r = tcs_real_fns.pthread_mutex_trylock(m);
 		if (r != EBUSY)
 			return r;
 		if (w == TCS_WAIT_DEADLINE)
@@ -135,9 +82,9 @@ static int tcs_mutex_timedlock(pthread_mutex_t *m, clockid_t clock, const struct
 
 TCS_EXPORT int pthread_mutex_timedlock(pthread_mutex_t *m, const struct timespec *abstime)
 {
-	TCS_SYNC_READY();
+	const struct tcs_real_fns *real = tcs_real();
 	if (!tcs_wait_enter())
-		return real.timedlock(m, abstime);
+		return real->pthread_mutex_timedlock(m, abstime);
 	int r = tcs_mutex_timedlock(m, CLOCK_REALTIME, abstime);
 	tcs_wait_leave();
 	return r;
@@ -145,9 +92,9 @@ TCS_EXPORT int pthread_mutex_timedlock(pthread_mutex_t *m, const struct timespec
 
 TCS_EXPORT int pthread_mutex_clocklock(pthread_mutex_t *m, clockid_t clock, const struct timespec *abstime)
 {
-	TCS_SYNC_READY();
+	const struct tcs_real_fns *real = tcs_real();
 	if (!tcs_wait_enter())
-		return real.clocklock(m, clock, abstime);
+		return real->pthread_mutex_clocklock(m, clock, abstime);
 	int r = clock == CLOCK_REALTIME || clock == CLOCK_MONOTONIC ? tcs_mutex_timedlock(m, clock, abstime) : EINVAL;
 	tcs_wait_leave();
 	return r;
@@ -180,7 +127,7 @@ static int tcs_cond_wait(const void *cond, pthread_mutex_t *mutex, clockid_t clo
 	}
 	int w = tcs_park_wait(slot, &t, 0);
 	tcs_park_end(slot);
-	r = real.lock(mutex);
+	r = tcs_real_fns.pthread_mutex_lock(mutex);
 	if (r)
 		return r;
 	return abstime && w == TCS_WAIT_DEADLINE ? ETIMEDOUT : 0;
@@ -196,9 +143,9 @@ static int tcs_cond_wake(pthread_cond_t *c, tcs_cond_fn fn)
 int tcs_cond_wait_new(pthread_cond_t *c, pthread_mutex_t *m) TCS_EXPORT;
 int tcs_cond_wait_new(pthread_cond_t *c, pthread_mutex_t *m)
 {
-	TCS_SYNC_READY();
+	const struct tcs_real_fns *real = tcs_real();
 	if (!tcs_wait_enter())
-		return real.wait(c, m);
+		return real->pthread_cond_wait(c, m);
 	int r = tcs_cond_wait(c, m, CLOCK_REALTIME, NULL);
 	tcs_wait_leave();
 	return r;
@@ -207,9 +154,9 @@ int tcs_cond_wait_new(pthread_cond_t *c, pthread_mutex_t *m)
 int tcs_cond_timedwait_new(pthread_cond_t *c, pthread_mutex_t *m, const struct timespec *abstime) TCS_EXPORT;
 int tcs_cond_timedwait_new(pthread_cond_t *c, pthread_mutex_t *m, const struct timespec *abstime)
 {
-	TCS_SYNC_READY();
+	const struct tcs_real_fns *real = tcs_real();
 	if (!tcs_wait_enter())
-		return real.timedwait(c, m, abstime);
+		return real->pthread_cond_timedwait(c, m, abstime);
 	int r = tcs_cond_wait(c, m, tcs_cond_clock(c), abstime);
 	tcs_wait_leave();
 	return r;
@@ -218,23 +165,23 @@ int tcs_cond_timedwait_new(pthread_cond_t *c, pthread_mutex_t *m, const struct t
 int tcs_cond_signal_new(pthread_cond_t *c) TCS_EXPORT;
 int tcs_cond_signal_new(pthread_cond_t *c)
 {
-	TCS_SYNC_READY();
-	return tcs_cond_wake(c, real.signal);
+	const struct tcs_real_fns *real = tcs_real();
+	return tcs_cond_wake(c, real->pthread_cond_signal);
 }
 
 int tcs_cond_broadcast_new(pthread_cond_t *c) TCS_EXPORT;
 int tcs_cond_broadcast_new(pthread_cond_t *c)
 {
-	TCS_SYNC_READY();
-	return tcs_cond_wake(c, real.broadcast);
+	const struct tcs_real_fns *real = tcs_real();
+	return tcs_cond_wake(c, real->pthread_cond_broadcast);
 }
 
 TCS_EXPORT int pthread_cond_clockwait(pthread_cond_t *c, pthread_mutex_t *m, clockid_t clock,
 				      const struct timespec *abstime)
 {
-	TCS_SYNC_READY();
+	const struct tcs_real_fns *real = tcs_real();
 	if (!tcs_wait_enter())
-		return real.clockwait(c, m, clock, abstime);
+		return real->pthread_cond_clockwait(c, m, clock, abstime);
 	int r = clock == CLOCK_REALTIME || clock == CLOCK_MONOTONIC ? tcs_cond_wait(c, m, clock, abstime) : EINVAL;
 	tcs_wait_leave();
 	return r;
@@ -246,9 +193,9 @@ TCS_EXPORT int pthread_cond_clockwait(pthread_cond_t *c, pthread_mutex_t *m, clo
 int tcs_cond_wait_old(pthread_cond_t *c, pthread_mutex_t *m) TCS_EXPORT;
 int tcs_cond_wait_old(pthread_cond_t *c, pthread_mutex_t *m)
 {
-	TCS_SYNC_READY();
+	const struct tcs_real_fns *real = tcs_real();
 	if (!tcs_wait_enter())
-		return real.old_wait(c, m);
+		return real->pthread_cond_wait_old(c, m);
 	int r = tcs_cond_wait(c, m, CLOCK_REALTIME, NULL);
 	tcs_wait_leave();
 	return r;
@@ -257,9 +204,9 @@ int tcs_cond_wait_old(pthread_cond_t *c, pthread_mutex_t *m)
 int tcs_cond_timedwait_old(pthread_cond_t *c, pthread_mutex_t *m, const struct timespec *abstime) TCS_EXPORT;
 int tcs_cond_timedwait_old(pthread_cond_t *c, pthread_mutex_t *m, const struct timespec *abstime)
 {
-	TCS_SYNC_READY();
+	const struct tcs_real_fns *real = tcs_real();
 	if (!tcs_wait_enter())
-		return real.old_timedwait(c, m, abstime);
+		return real->pthread_cond_timedwait_old(c, m, abstime);
 	int r = tcs_cond_wait(c, m, CLOCK_REALTIME, abstime);
 	tcs_wait_leave();
 	return r;
@@ -268,15 +215,15 @@ int tcs_cond_timedwait_old(pthread_cond_t *c, pthread_mutex_t *m, const struct t
 int tcs_cond_signal_old(pthread_cond_t *c) TCS_EXPORT;
 int tcs_cond_signal_old(pthread_cond_t *c)
 {
-	TCS_SYNC_READY();
-	return tcs_cond_wake(c, real.old_signal);
+	const struct tcs_real_fns *real = tcs_real();
+	return tcs_cond_wake(c, real->pthread_cond_signal_old);
 }
 
 int tcs_cond_broadcast_old(pthread_cond_t *c) TCS_EXPORT;
 int tcs_cond_broadcast_old(pthread_cond_t *c)
 {
-	TCS_SYNC_READY();
-	return tcs_cond_wake(c, real.old_broadcast);
+	const struct tcs_real_fns *real = tcs_real();
+	return tcs_cond_wake(c, real->pthread_cond_broadcast_old);
 }
 
 __asm__(".symver tcs_cond_wait_new, pthread_cond_wait@@GLIBC_2.3.2");
@@ -315,7 +262,7 @@ static int tcs_sem_wait(sem_t *s, clockid_t clock, const struct timespec *abstim
 	int saved = errno;
 	int r = 0;
 	for (;;) {
-		if (real.sem_trywait(s) == 0)
+		if (tcs_real_fns.sem_trywait(s) == 0)
 			break;
 		int64_t deadline = tcs_abs_deadline(clock, abstime);
 		if (deadline < 0) {
@@ -324,7 +271,7 @@ static int tcs_sem_wait(sem_t *s, clockid_t clock, const struct timespec *abstim
 		}
 		struct tcs_wait_time t = { deadline, 0, 0, 0, 0 };
 		int slot = tcs_park_begin(s);
-		if (real.sem_trywait(s) == 0) {
+		if (tcs_real_fns.sem_trywait(s) == 0) {
 			tcs_park_end(slot);
 			break;
 		}
@@ -335,7 +282,7 @@ static int tcs_sem_wait(sem_t *s, clockid_t clock, const struct timespec *abstim
 			break;
 		}
 		if (w == TCS_WAIT_DEADLINE && abstime) {
-			r = real.sem_trywait(s) == 0 ? 0 : ETIMEDOUT;
+			r = tcs_real_fns.sem_trywait(s) == 0 ? 0 : ETIMEDOUT;
 			break;
 		}
 	}
@@ -345,8 +292,8 @@ static int tcs_sem_wait(sem_t *s, clockid_t clock, const struct timespec *abstim
 
 TCS_EXPORT int sem_post(sem_t *s)
 {
-	TCS_SYNC_READY();
-	int r = real.sem_post(s);
+	const struct tcs_real_fns *real = tcs_real();
+	int r = real->sem_post(s);
 	if (r == 0)
 		tcs_unpark(s);
 	return r;
@@ -354,9 +301,9 @@ TCS_EXPORT int sem_post(sem_t *s)
 
 TCS_EXPORT int sem_wait(sem_t *s)
 {
-	TCS_SYNC_READY();
+	const struct tcs_real_fns *real = tcs_real();
 	if (!tcs_wait_enter())
-		return real.sem_wait(s);
+		return real->sem_wait(s);
 	int r = tcs_sem_wait(s, CLOCK_REALTIME, NULL);
 	tcs_wait_leave();
 	return tcs_errno_result(-r);
@@ -364,9 +311,9 @@ TCS_EXPORT int sem_wait(sem_t *s)
 
 TCS_EXPORT int sem_timedwait(sem_t *s, const struct timespec *abstime)
 {
-	TCS_SYNC_READY();
+	const struct tcs_real_fns *real = tcs_real();
 	if (!tcs_wait_enter())
-		return real.sem_timedwait(s, abstime);
+		return real->sem_timedwait(s, abstime);
 	int r = tcs_sem_wait(s, CLOCK_REALTIME, abstime);
 	tcs_wait_leave();
 	return tcs_errno_result(-r);
@@ -374,9 +321,9 @@ TCS_EXPORT int sem_timedwait(sem_t *s, const struct timespec *abstime)
 
 TCS_EXPORT int sem_clockwait(sem_t *s, clockid_t clock, const struct timespec *abstime)
 {
-	TCS_SYNC_READY();
+	const struct tcs_real_fns *real = tcs_real();
 	if (!tcs_wait_enter())
-		return real.sem_clockwait(s, clock, abstime);
+		return real->sem_clockwait(s, clock, abstime);
 	int r = clock == CLOCK_REALTIME || clock == CLOCK_MONOTONIC ? tcs_sem_wait(s, clock, abstime) : EINVAL;
 	tcs_wait_leave();
 	return tcs_errno_result(-r);

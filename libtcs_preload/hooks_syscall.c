@@ -4,15 +4,18 @@
  * parked; io_uring is refused (its timeouts and waits would run in real
  * time, unseen): programs fall back to plain calls on ENOSYS. Everything
  * else goes to the kernel unchanged (signals to other processes are told to
- * the coordinator, hooks_signal.c), clock reads included: syscall(
+ * the coordinator, wait.c), clock reads included: syscall(
  * SYS_clock_gettime) is the documented way for a program to read the real
  * clocks of this machine (examples/pendulum_pd.c measures its work so). */
 #include <linux/futex.h>
 #include <stdarg.h>
 
 #include "parking.h"
-#include "sched_clamp.h"
 #include "raw_syscall.h"
+#include "report.h"
+#include "sched_clamp.h"
+#include "vclock.h"
+#include "wait.h"
 
 /* A futex wait with a timeout, in virtual time: 0 (woken, or spurious),
  * or -EAGAIN, -ETIMEDOUT, -EINTR. */
@@ -60,6 +63,22 @@ static long tcs_futex(long a[6])
 		tcs_report_once(&once, "a priority-inheritance futex with a timeout waited in real time");
 	}
 	return r;
+}
+
+/* A signal sent by number: the kernel sends it; the coordinator is told
+ * whom it reached (wait.c). */
+static long tcs_signal_syscall(long nr, const long a[6])
+{
+	long r = tcs_sys6(nr, a[0], a[1], a[2], a[3], a[4], a[5]);
+	switch (nr) {
+	case SYS_kill:
+	case SYS_rt_sigqueueinfo:
+		return tcs_signal_sent(r, a[0], (int)a[1]);
+	case SYS_tgkill:
+		return tcs_signal_sent(r, a[0], (int)a[2]);
+	default: /* tkill, pidfd_send_signal: the process is not at hand */
+		return tcs_signal_sent(r, -1, (int)a[1]);
+	}
 }
 
 /* The C convention of syscall(): -1 and errno on failure. */

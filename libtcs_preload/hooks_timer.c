@@ -7,26 +7,25 @@
  * the coordinator, which sends the signal when the controller's virtual time
  * reaches an expiry: it stops a computing controller there, and ends a wait
  * (the wait returns EINTR if a handler ran). What is left of a timer is
- * computed here from the same two numbers. SIGEV_THREAD timers are served
- * by a helper thread each (timer_thread.c). */
-#include <dlfcn.h>
+ * computed here from the same two numbers (kept in signal_timers.c's
+ * table). SIGEV_THREAD timers are served by a helper thread each
+ * (timer_thread.c). */
 #include <signal.h>
 #include <sys/time.h>
 
 #include "raw_syscall.h"
+#include "real.h"
+#include "roundtrip.h"
 #include "signal_timers.h"
-
-static void *tcs_next_symbol(const char *name)
-{
-	return dlsym(RTLD_NEXT, name);
-}
+#include "spin_lock.h"
+#include "timer_thread.h"
+#include "vclock.h"
+#include "wait.h"
 
 /* Our timer_t values: tagged, so that ids of real timers are told apart. */
 #define TCS_TIMER_TAG 0x7c000000u
 
-static struct tcs_stimer tcs_stimers[TCS_MAX_TIMERS];
-static int tcs_stimer_lock;
-static uint32_t tcs_stimer_gens;
+static uint32_t tcs_stimer_gens; /* incarnations handed out */
 
 static struct itimerspec tcs_stimer_value(const struct tcs_stimer *t, int64_t v)
 {
@@ -79,39 +78,6 @@ static long tcs_stimer_set(int slot, int64_t value, int64_t interval, int abs, s
 		return 0;
 	}
 	return tcs_stimer_sync(slot, &copy);
-}
-
-int tcs_stimer_copy(int slot, uint32_t gen, struct tcs_stimer *out)
-{
-	tcs_spin_lock(&tcs_stimer_lock);
-	int alive = tcs_stimers[slot].used && tcs_stimers[slot].gen == gen;
-	if (alive)
-		*out = tcs_stimers[slot];
-	tcs_spin_unlock(&tcs_stimer_lock);
-	return alive ? 0 : -1;
-}
-
-void tcs_stimer_set_overrun(int slot, uint32_t gen, int overrun)
-{
-	tcs_spin_lock(&tcs_stimer_lock);
-	if (tcs_stimers[slot].gen == gen)
-		tcs_stimers[slot].overrun = overrun;
-	tcs_spin_unlock(&tcs_stimer_lock);
-}
-
-void tcs_timers_forget_all(void)
-{
-	__builtin_memset(tcs_stimers, 0, sizeof tcs_stimers);
-	for (int i = 0; i < TCS_MAX_TIMERS; i++)
-		tcs_stimers[i].first = TCS_NEVER;
-}
-
-int tcs_timer_signal_target(int signo)
-{
-	for (int i = 0; i < TCS_MAX_TIMERS; i++)
-		if (tcs_stimers[i].used && tcs_stimers[i].signo == signo && tcs_stimers[i].tid > 0)
-			return tcs_stimers[i].tid;
-	return 0;
 }
 
 /* ---- ITIMER_REAL and alarm --------------------------------------------------- */
@@ -177,17 +143,12 @@ static int tcs_timer_slot(timer_t id)
 	return tcs_stimers[slot].used ? slot : -1;
 }
 
-static int (*tcs_real_timer_create)(clockid_t, struct sigevent *, timer_t *);
-
 TCS_EXPORT int timer_create(clockid_t clock, struct sigevent *sev, timer_t *id)
 {
 	int notify = sev ? sev->sigev_notify : SIGEV_SIGNAL;
 	if (!tcs_active()) {
-		if (!tcs_real_timer_create)
-			tcs_real_timer_create = (int (*)(clockid_t, struct sigevent *, timer_t *))tcs_next_symbol("timer_create");
-		if (!tcs_real_timer_create)
-			return tcs_errno_result(-ENOSYS);
-		return tcs_real_timer_create(clock, sev, id);
+		int (*real)(clockid_t, struct sigevent *, timer_t *) = tcs_real()->timer_create;
+		return real ? real(clock, sev, id) : tcs_errno_result(-ENOSYS);
 	}
 	if (tcs_sleep_clock_origin(clock) < 0 || (notify != SIGEV_SIGNAL && notify != SIGEV_NONE &&
 						    notify != SIGEV_THREAD_ID && notify != SIGEV_THREAD))
@@ -231,19 +192,11 @@ TCS_EXPORT int timer_create(clockid_t clock, struct sigevent *sev, timer_t *id)
 	return 0;
 }
 
-static int (*tcs_real_timer_settime)(timer_t, int, const struct itimerspec *, struct itimerspec *);
-static int (*tcs_real_timer_gettime)(timer_t, struct itimerspec *);
-static int (*tcs_real_timer_delete)(timer_t);
-static int (*tcs_real_timer_getoverrun)(timer_t);
-
-#define TCS_REAL(fn, type) (tcs_real_##fn ? tcs_real_##fn : (tcs_real_##fn = (type)tcs_next_symbol(#fn)))
-
 TCS_EXPORT int timer_settime(timer_t id, int flags, const struct itimerspec *val, struct itimerspec *old)
 {
 	int slot = tcs_timer_slot(id);
 	if (slot < 0) {
-		int (*real)(timer_t, int, const struct itimerspec *, struct itimerspec *) =
-			TCS_REAL(timer_settime, int (*)(timer_t, int, const struct itimerspec *, struct itimerspec *));
+		int (*real)(timer_t, int, const struct itimerspec *, struct itimerspec *) = tcs_real()->timer_settime;
 		return real ? real(id, flags, val, old) : tcs_errno_result(-EINVAL);
 	}
 	if (!val || !tcs_ts_valid(&val->it_value) || !tcs_ts_valid(&val->it_interval))
@@ -256,7 +209,7 @@ TCS_EXPORT int timer_gettime(timer_t id, struct itimerspec *cur)
 {
 	int slot = tcs_timer_slot(id);
 	if (slot < 0) {
-		int (*real)(timer_t, struct itimerspec *) = TCS_REAL(timer_gettime, int (*)(timer_t, struct itimerspec *));
+		int (*real)(timer_t, struct itimerspec *) = tcs_real()->timer_gettime;
 		return real ? real(id, cur) : tcs_errno_result(-EINVAL);
 	}
 	tcs_spin_lock(&tcs_stimer_lock);
@@ -269,7 +222,7 @@ TCS_EXPORT int timer_getoverrun(timer_t id)
 {
 	int slot = tcs_timer_slot(id);
 	if (slot < 0) {
-		int (*real)(timer_t) = TCS_REAL(timer_getoverrun, int (*)(timer_t));
+		int (*real)(timer_t) = tcs_real()->timer_getoverrun;
 		return real ? real(id) : tcs_errno_result(-EINVAL);
 	}
 	/* Signals: expirations are signalled one by one. SIGEV_THREAD: those
@@ -281,7 +234,7 @@ TCS_EXPORT int timer_delete(timer_t id)
 {
 	int slot = tcs_timer_slot(id);
 	if (slot < 0) {
-		int (*real)(timer_t) = TCS_REAL(timer_delete, int (*)(timer_t));
+		int (*real)(timer_t) = tcs_real()->timer_delete;
 		return real ? real(id) : tcs_errno_result(-EINVAL);
 	}
 	long r = tcs_stimer_set(slot, 0, 0, 0, NULL);

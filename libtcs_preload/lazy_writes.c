@@ -12,8 +12,9 @@
  * first (one thread, not asleep, not inside another hook). Anything else
  * takes the round trip, as in cpu mode, where the time of each write
  * counts. */
-#include "devices.h"
+#include "lazy_writes.h"
 #include "tcs/record_check.h"
+#include "wait.h"
 
 /* Handles beyond this always take the round trip (one bit each in the page). */
 #define TCS_LAZY_HANDLES 64
@@ -44,16 +45,14 @@ void tcs_lazy_request_sent(void)
 	tcs_lazy_writes = 0;
 }
 
-int tcs_lazy_write_begin(int fd, const void *buf, size_t n)
+int tcs_lazy_write_begin(int h, const struct tcs_device_entry *e, const void *buf, size_t n)
 {
 	const struct tcs_clock_page *p = tcs_rt.page;
-	int h = tcs_device_handle(fd);
 	if (h < 0 || h >= TCS_LAZY_HANDLES || !tcs_active() || tcs_in_wait || p->mode != TCS_MODE_LOCKSTEP ||
 	    (__atomic_load_n(&p->flags, __ATOMIC_RELAXED) & TCS_PAGE_ASLEEP) ||
 	    __atomic_load_n(&p->threads_started, __ATOMIC_RELAXED) != 0 || tcs_lazy_partial[h] != 0 ||
 	    tcs_lazy_writes >= TCS_LAZY_WRITES_MAX || n > TCS_LAZY_BYTES_MAX - tcs_lazy_bytes)
 		return 0;
-	const struct tcs_device_entry *e = tcs_device_entry(fd);
 	if (tcs_records_check(buf, n, e->format, e->width) <= 0)
 		return 0;
 	/* Marked before the bytes go: a signal handler's request in between
@@ -62,20 +61,18 @@ int tcs_lazy_write_begin(int fd, const void *buf, size_t n)
 	return 1;
 }
 
-void tcs_lazy_write_done(int fd, size_t n)
+void tcs_lazy_write_done(int h, size_t n)
 {
 	/* Again: a handler's request between the mark and the write took it. */
-	__atomic_or_fetch(&tcs_rt.page->lazy_handles, 1ull << tcs_device_handle(fd), __ATOMIC_RELEASE);
+	__atomic_or_fetch(&tcs_rt.page->lazy_handles, 1ull << h, __ATOMIC_RELEASE);
 	tcs_lazy_bytes += (uint32_t)n;
 	tcs_lazy_writes++;
 }
 
-void tcs_lazy_note_written(int fd, long written, char last)
+void tcs_lazy_note_written(int h, const struct tcs_device_entry *e, long written, char last)
 {
-	int h = tcs_device_handle(fd);
 	if (h < 0 || h >= TCS_LAZY_HANDLES || written <= 0)
 		return;
-	const struct tcs_device_entry *e = tcs_device_entry(fd);
 	if (e->format == TCS_FORMAT_BINARY)
 		tcs_lazy_partial[h] = (uint32_t)((tcs_lazy_partial[h] + (uint64_t)written) % (8 * (uint64_t)(e->width ? e->width : 1)));
 	else

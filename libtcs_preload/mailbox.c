@@ -1,7 +1,7 @@
 /* The controller's side of the mailbox (tcs/mailbox.h): a request handed
  * to the coordinator through the clock page and its answer awaited by
  * spinning on this core, which is the controller's alone while the
- * coordinator polls on its own. runtime.c's round trip comes here first
+ * coordinator polls on its own. The round trip (roundtrip.c) comes here first
  * and takes the channel when this says no.
  *
  * A signal handler that runs during the spin does not end the wait as one
@@ -15,8 +15,7 @@
  * With other controllers queued behind it on its core (TCS_PAGE_QUEUED,
  * lockstep), it parks at once: its answer comes only once they have run. */
 #include "mailbox.h"
-
-#include "raw_syscall.h"
+#include "real.h"
 
 int tcs_mailbox_fits(const struct tcs_msg *m, int channel)
 {
@@ -41,7 +40,7 @@ int tcs_mailbox_post(const struct tcs_msg *m)
 static int64_t tcs_mailbox_clock(void)
 {
 	struct timespec ts;
-	tcs_rt.real_clock_gettime(CLOCK_MONOTONIC, &ts);
+	tcs_real_fns.clock_gettime(CLOCK_MONOTONIC, &ts);
 	return tcs_ts_to_ns(&ts);
 }
 

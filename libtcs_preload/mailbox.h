@@ -2,7 +2,7 @@
 #ifndef TCS_PRELOAD_MAILBOX_H
 #define TCS_PRELOAD_MAILBOX_H
 
-#include "preload.h"
+#include "runtime.h"
 
 /* May request m, about to go on channel, go through the mailbox? */
 int tcs_mailbox_fits(const struct tcs_msg *m, int channel) TCS_HIDDEN;

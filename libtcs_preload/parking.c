@@ -8,8 +8,14 @@
  * object (and an EARLY that may arrive before the BLOCK) means no wake-up
  * is lost. Waking every thread parked on an address is a spurious wake-up
  * to those that were not meant, which all these primitives allow. */
+#include <sys/socket.h>
+
 #include "parking.h"
 #include "raw_syscall.h"
+#include "report.h"
+#include "spin_lock.h"
+#include "thread_channels.h"
+#include "vclock.h"
 
 #define TCS_MAX_PARKED 256
 

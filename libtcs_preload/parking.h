@@ -3,7 +3,8 @@
 #ifndef TCS_PARKING_H
 #define TCS_PARKING_H
 
-#include "preload.h"
+#include "runtime.h"
+#include "wait.h"
 
 /* Threads parked now: zero makes every waker's check one load. */
 extern int tcs_parked_count TCS_HIDDEN;

@@ -1,11 +1,13 @@
-/* The runtime's record of a signal timer (hooks_timer.c), shared with the
- * helper threads of SIGEV_THREAD timers (timer_thread.c). */
+/* The signal timers' table (signal_timers.c): the runtime's record of each
+ * timer, which the timer hooks (hooks_timer.c) keep, the helper threads of
+ * SIGEV_THREAD timers (timer_thread.c) follow, and a wait consults when
+ * the coordinator says a timer's signal is due (wait.c). */
 #ifndef TCS_PRELOAD_SIGNAL_TIMERS_H
 #define TCS_PRELOAD_SIGNAL_TIMERS_H
 
 #include <signal.h>
 
-#include "preload.h"
+#include "runtime.h"
 
 struct tcs_stimer {
 	int used;
@@ -35,14 +37,18 @@ static inline int64_t tcs_stimer_next(const struct tcs_stimer *t, int64_t v)
 	return t->first + ((v - t->first) / t->interval + 1) * t->interval;
 }
 
-/* hooks_timer.c: a copy of slot while it is still incarnation gen (0, else
- * -1: deleted), and the overrun of its latest call. */
+/* The table (TCS_MAX_TIMERS, protocol.h; slot 0 is ITIMER_REAL, which
+ * alarm shares), under tcs_stimer_lock (a spin lock, spin_lock.h). */
+extern struct tcs_stimer tcs_stimers[TCS_MAX_TIMERS] TCS_HIDDEN;
+extern int tcs_stimer_lock TCS_HIDDEN;
+
+/* A copy of slot while it is still incarnation gen (0, else -1: deleted),
+ * and the overrun of its latest call. */
 int tcs_stimer_copy(int slot, uint32_t gen, struct tcs_stimer *out) TCS_HIDDEN;
 void tcs_stimer_set_overrun(int slot, uint32_t gen, int overrun) TCS_HIDDEN;
-
-/* timer_thread.c: starts the helper thread of SIGEV_THREAD timer slot (0 or
- * -errno); tells the helpers that a timer changed. */
-int tcs_timer_thread_start(int slot, uint32_t gen, const struct sigevent *sev) TCS_HIDDEN;
-void tcs_timer_threads_poke(void) TCS_HIDDEN;
+/* Forgets every signal timer (a new child has none). */
+void tcs_timers_forget_all(void) TCS_HIDDEN;
+/* The thread a timer's signal signo goes to; 0: the process. */
+int tcs_timer_signal_target(int signo) TCS_HIDDEN;
 
 #endif

@@ -6,13 +6,13 @@
  * instead; here the calls of one timer follow each other on its helper,
  * and expiries that pass while a call runs are counted as its successor's
  * overrun (timer_getoverrun), as the kernel counts them for a signal that
- * is still pending. */
+ * is still pending. A helper waits and wakes through the hooks, by their
+ * public names, as any thread of the program does. */
 #include <pthread.h>
 
 #include "signal_timers.h"
-
-int tcs_cond_wait_new(pthread_cond_t *c, pthread_mutex_t *m);
-int tcs_cond_broadcast_new(pthread_cond_t *c);
+#include "timer_thread.h"
+#include "vclock.h"
 
 /* One lock and condition for all helpers: timer changes are rare, and each
  * helper re-reads its own timer when woken. */
@@ -42,7 +42,7 @@ static void *tcs_timer_thread(void *arg)
 			next = t.first; /* (re)armed: its first expiry, even one already past */
 		}
 		if (next == TCS_NEVER) {
-			tcs_cond_wait_new(&tcs_helpers_cond, &tcs_helpers_lock);
+			pthread_cond_wait(&tcs_helpers_cond, &tcs_helpers_lock);
 			continue;
 		}
 		int64_t now = tcs_vnow();
@@ -87,6 +87,6 @@ int tcs_timer_thread_start(int slot, uint32_t gen, const struct sigevent *sev)
 void tcs_timer_threads_poke(void)
 {
 	pthread_mutex_lock(&tcs_helpers_lock);
-	tcs_cond_broadcast_new(&tcs_helpers_cond);
+	pthread_cond_broadcast(&tcs_helpers_cond);
 	pthread_mutex_unlock(&tcs_helpers_lock);
 }

@@ -131,7 +131,7 @@ def test_a_child_outside_tcs_is_said_and_waited_for_in_real_time():
         # each step. So at least a step, and no more than the run's wall
         # time. The registered child that exec'd without the preload is
         # first waited for as any child, 100 ms of virtual time at once
-        # (children.c: a wait looks again every 100 ms) before the
+        # (hooks_process.c: a wait looks again every 100 ms) before the
         # coordinator can know it runs in real time. (How much of the
         # child's 0.5 s the wait covers depends on when, in real time, the
         # parent begins it: the child sleeps first; no figure tells.)

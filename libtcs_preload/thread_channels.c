@@ -1,18 +1,17 @@
-/* Threads of a controller. Each thread waits on a channel of its own (see
- * protocol.h): the main thread on the controller's, every other one on a
- * channel it makes at its first wait and that closes when it ends. The
- * table of those fds lets the descriptor hooks keep them out of a program's
- * reach, and a forked child drop them (it has one thread). pthread_create
- * is counted in the clock page: from the first one on, the coordinator
- * looks at every thread before it lets virtual time pass. */
-#include <dlfcn.h>
+/* The channels of a controller's threads (thread_channels.h). Each thread
+ * waits on a channel of its own (see protocol.h): the main thread on the
+ * controller's, every other one on a channel it makes at its first wait
+ * and that closes when it ends. The table of those fds lets the descriptor
+ * hooks keep them out of a program's reach, and a forked child drop them
+ * (it has one thread). */
 #include <fcntl.h>
 #include <pthread.h>
-#include <sched.h>
 #include <sys/socket.h>
 
 #include "raw_syscall.h"
-#include "sched_clamp.h"
+#include "spin_lock.h"
+#include "tcs/msg_io.h"
+#include "thread_channels.h"
 
 #define TCS_MAX_THREAD_CHANNELS 256
 
@@ -21,7 +20,6 @@ static int tcs_thread_fds[TCS_MAX_THREAD_CHANNELS];
 static int tcs_thread_fd_count; /* slots in use, for the fast path */
 static int tcs_thread_fds_lock;
 static pthread_key_t tcs_thread_key;
-static int (*tcs_real_pthread_create)(pthread_t *, const pthread_attr_t *, void *(*)(void *), void *);
 
 static void tcs_thread_fd_remember(int fd, int add)
 {
@@ -109,7 +107,7 @@ int tcs_my_channel(void)
 	return fd;
 }
 
-void tcs_threads_after_fork(void)
+void tcs_thread_channels_after_fork(void)
 {
 	int fds[TCS_MAX_THREAD_CHANNELS];
 	int n = tcs_thread_channels(fds, TCS_MAX_THREAD_CHANNELS);
@@ -123,44 +121,7 @@ void tcs_threads_after_fork(void)
 	pthread_setspecific(tcs_thread_key, NULL);
 }
 
-void tcs_threads_init(void)
+void tcs_thread_channels_init(void)
 {
-	if (tcs_real_pthread_create)
-		return;
 	pthread_key_create(&tcs_thread_key, tcs_thread_ended);
-	tcs_real_pthread_create = (int (*)(pthread_t *, const pthread_attr_t *, void *(*)(void *), void *))dlsym(
-		RTLD_NEXT, "pthread_create");
-}
-
-/* tcs runs a controller SCHED_FIFO so that nothing else takes its core while
- * it computes. Its threads, though, must share that core the way the kernel
- * shares one between the threads of an ordinary program: at one FIFO
- * priority a thread woken while another computes would wait until that one
- * blocked. So before its first thread the process steps down to
- * SCHED_OTHER, which new threads inherit; the coordinator stays above it.
- * A policy the program chose itself is left alone. */
-static void tcs_threads_share_core(void)
-{
-	struct sched_param sp;
-	if (sched_getscheduler(0) != SCHED_FIFO || sched_getparam(0, &sp) != 0 ||
-	    sp.sched_priority != TCS_CONTROLLER_FIFO_PRIO)
-		return;
-	sp.sched_priority = 0;
-	tcs_sys3(SYS_sched_setscheduler, 0, SCHED_OTHER, &sp);
-}
-
-TCS_EXPORT int pthread_create(pthread_t *thread, const pthread_attr_t *attr, void *(*start)(void *), void *arg)
-{
-	if (tcs_active() && __atomic_fetch_add(&tcs_rt.page->threads_started, 1, __ATOMIC_RELAXED) == 0)
-		tcs_threads_share_core();
-	if (!tcs_real_pthread_create) /* a library's constructor, before ours */
-		tcs_threads_init();
-	struct sched_param saved;
-	int saved_policy;
-	pthread_attr_t *own = (pthread_attr_t *)attr;
-	int clamped = tcs_active() && tcs_sched_clamp_attr(own, &saved, &saved_policy);
-	int r = tcs_real_pthread_create(thread, attr, start, arg);
-	if (clamped)
-		tcs_sched_restore_attr(own, &saved, saved_policy);
-	return r;
 }

@@ -1,115 +1,24 @@
-/* Child processes in virtual time. A child of a controller (fork, vfork,
- * posix_spawn, system) registers with the coordinator before it runs on:
+/* Process hooks: fork, vfork, posix_spawn, posix_spawnp, system, and the
+ * wait family (wait, waitpid, wait3, wait4, waitid). A child of a
+ * controller registers with the coordinator before it runs on (child.c):
  * a forked one in the fork's child handler, one started by vfork or
  * posix_spawn when its new program loads (its clock page is then its
- * parent's); the parent waits for that in each case. It becomes a
- * controller of its own, with its own virtual CPU, starting at its
- * parent's virtual time. A parent waiting for a child
- * (wait, waitpid, wait3, wait4, waitid) waits in virtual time: the
- * coordinator wakes it when a child of its exits. */
-#include <dlfcn.h>
-#include <pthread.h>
+ * parent's); the parent waits here for that in each case. A parent
+ * waiting for a child waits in virtual time: the coordinator wakes it when
+ * a child of its exits. */
 #include <signal.h>
 #include <spawn.h>
-#include <sys/mman.h>
 #include <sys/resource.h>
-#include <sys/socket.h>
 #include <sys/wait.h>
 
-#include "devices.h"
+#include "cpu_estimate.h"
 #include "raw_syscall.h"
-#include "timerfd.h"
+#include "real.h"
+#include "roundtrip.h"
+#include "vclock.h"
+#include "wait.h"
 
 extern char **environ;
-
-static int64_t tcs_fork_v; /* the parent's virtual time at the fork */
-
-/* Sends CHILD on parent_channel and waits for the answer; on success the
- * new channel and clock page are at fds channel_no and page_no. 0 or -1. */
-static int tcs_register_child(int parent_channel, int channel_no, int page_no, int64_t fork_v, int v_known)
-{
-	int sv[2];
-	if (tcs_sys4(SYS_socketpair, AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0, sv) < 0)
-		return -1;
-	struct tcs_msg m = tcs_msg_make(TCS_MSG_CHILD, 1);
-	m.arg = tcs_sys0(SYS_getpid);
-	m.v = v_known ? fork_v : 0;
-	m.flags = v_known ? TCS_CHILD_V_KNOWN : 0;
-	struct tcs_msg_io io;
-	tcs_msg_io_send(&io, &m, sizeof m, sv[1]);
-	long r;
-	do
-		r = tcs_sys3(SYS_sendmsg, parent_channel, &io.mh, MSG_NOSIGNAL);
-	while (r == -EINTR);
-	tcs_sys1(SYS_close, sv[1]);
-	if (r != (long)sizeof m) {
-		tcs_sys1(SYS_close, sv[0]);
-		return -1;
-	}
-	struct tcs_msg w;
-	tcs_msg_io_recv(&io, &w, sizeof w);
-	do
-		r = tcs_sys3(SYS_recvmsg, sv[0], &io.mh, MSG_CMSG_CLOEXEC);
-	while (r == -EINTR);
-	int page = r > 0 ? tcs_msg_io_fd(&io) : -1;
-	if (r != (long)sizeof w || w.magic != TCS_PROTO_MAGIC || w.type != TCS_MSG_WAKE || w.arg != 0 || page < 0) {
-		if (page >= 0)
-			tcs_sys1(SYS_close, page);
-		tcs_sys1(SYS_close, sv[0]);
-		return -1;
-	}
-	/* Over the parent's channel and page in this process (not in the parent). */
-	tcs_sys3(SYS_dup3, sv[0], channel_no, 0);
-	tcs_sys1(SYS_close, sv[0]);
-	tcs_sys3(SYS_dup3, page, page_no, 0);
-	tcs_sys1(SYS_close, page);
-	return 0;
-}
-
-int tcs_become_child(int parent_channel, int64_t fork_v, int v_known)
-{
-	struct tcs_clock_page *old = tcs_rt.page;
-	if (tcs_register_child(parent_channel, tcs_rt.channel_fd, tcs_rt.page_fd, fork_v, v_known) < 0)
-		return -1;
-	if (old)
-		tcs_sys2(SYS_munmap, old, TCS_SHARED_SIZE);
-	tcs_rt.page = NULL;
-	long m = tcs_sys6(SYS_mmap, NULL, TCS_SHARED_SIZE, PROT_READ | PROT_WRITE, MAP_SHARED, tcs_rt.page_fd, 0);
-	if (m < 0 && m > -4096)
-		return -1;
-	tcs_rt.page = (struct tcs_clock_page *)m;
-	tcs_rt.devices = tcs_device_table_of(tcs_rt.page);
-	tcs_rt.pid = tcs_sys0(SYS_getpid);
-	tcs_in_wait = 0;
-	tcs_threads_after_fork();
-	tcs_cpu_forget(); /* a CPU clock of its own now, from 0 */
-	tcs_timers_forget_all(); /* POSIX: timers are not inherited */
-	tcs_devices_after_fork();
-	return 0;
-}
-
-static void tcs_atfork_prepare(void)
-{
-	if (tcs_active())
-		tcs_fork_v = tcs_vnow();
-}
-
-static void tcs_atfork_child(void)
-{
-	if (tcs_rt.state != TCS_ON)
-		return;
-	if (tcs_become_child(tcs_rt.channel_fd, tcs_fork_v, 1) == 0)
-		return;
-	tcs_rt.state = TCS_DETACHED;
-	tcs_tell_detached(tcs_rt.page);
-	tcs_sys1(SYS_close, tcs_rt.channel_fd);
-	tcs_rt.channel_fd = -1;
-}
-
-void tcs_children_init(void)
-{
-	pthread_atfork(tcs_atfork_prepare, NULL, tcs_atfork_child);
-}
 
 /* The parent of a new child waits until the child has registered (or can
  * be seen never to: a static program, LD_PRELOAD gone; or has died), so
@@ -131,9 +40,7 @@ static void tcs_await_child(pid_t pid)
 
 TCS_EXPORT pid_t fork(void)
 {
-	static pid_t (*real_fork)(void);
-	if (!real_fork)
-		real_fork = (pid_t(*)(void))dlsym(RTLD_NEXT, "fork");
+	pid_t (*real_fork)(void) = tcs_real()->fork;
 	if (!real_fork)
 		return (pid_t)tcs_errno_result(-ENOSYS);
 	pid_t pid = real_fork();
@@ -144,16 +51,13 @@ TCS_EXPORT pid_t fork(void)
 typedef int (*tcs_spawn_fn)(pid_t *, const char *, const posix_spawn_file_actions_t *, const posix_spawnattr_t *,
 			    char *const[], char *const[]);
 
-static int tcs_spawn(const char *name, tcs_spawn_fn *real, pid_t *pid, const char *file,
-		     const posix_spawn_file_actions_t *actions, const posix_spawnattr_t *attr, char *const argv[],
-		     char *const envp[])
+static int tcs_spawn(tcs_spawn_fn real, pid_t *pid, const char *file, const posix_spawn_file_actions_t *actions,
+		     const posix_spawnattr_t *attr, char *const argv[], char *const envp[])
 {
-	if (!*real)
-		*real = (tcs_spawn_fn)dlsym(RTLD_NEXT, name);
-	if (!*real)
+	if (!real)
 		return ENOSYS;
 	pid_t child = -1;
-	int r = (*real)(&child, file, actions, attr, argv, envp);
+	int r = real(&child, file, actions, attr, argv, envp);
 	if (r == 0) {
 		if (pid)
 			*pid = child;
@@ -165,15 +69,13 @@ static int tcs_spawn(const char *name, tcs_spawn_fn *real, pid_t *pid, const cha
 TCS_EXPORT int posix_spawn(pid_t *pid, const char *path, const posix_spawn_file_actions_t *actions,
 			   const posix_spawnattr_t *attr, char *const argv[], char *const envp[])
 {
-	static tcs_spawn_fn real;
-	return tcs_spawn("posix_spawn", &real, pid, path, actions, attr, argv, envp);
+	return tcs_spawn(tcs_real()->posix_spawn, pid, path, actions, attr, argv, envp);
 }
 
 TCS_EXPORT int posix_spawnp(pid_t *pid, const char *file, const posix_spawn_file_actions_t *actions,
 			    const posix_spawnattr_t *attr, char *const argv[], char *const envp[])
 {
-	static tcs_spawn_fn real;
-	return tcs_spawn("posix_spawnp", &real, pid, file, actions, attr, argv, envp);
+	return tcs_spawn(tcs_real()->posix_spawnp, pid, file, actions, attr, argv, envp);
 }
 
 #if defined(__x86_64__)
@@ -298,9 +200,7 @@ TCS_EXPORT int waitid(idtype_t type, id_t id, siginfo_t *info, int options)
 TCS_EXPORT int system(const char *command)
 {
 	if (!tcs_active()) {
-		static int (*real_system)(const char *);
-		if (!real_system)
-			real_system = (int (*)(const char *))dlsym(RTLD_NEXT, "system");
+		int (*real_system)(const char *) = tcs_real()->system;
 		return real_system ? real_system(command) : tcs_errno_result(-ENOSYS);
 	}
 	if (!command)

@@ -1,0 +1,25 @@
+/* One request to the coordinator and its answer (roundtrip.c): on this
+ * thread's channel, or through the clock page's mailbox. */
+#ifndef TCS_PRELOAD_ROUNDTRIP_H
+#define TCS_PRELOAD_ROUNDTRIP_H
+
+#include <poll.h>
+#include <signal.h>
+
+#include "runtime.h"
+
+/* Sends m on fd, or ends the program when the channel is gone (there is no
+ * virtual time left to give it, and running on in real time would be a
+ * silent lie). */
+void tcs_send(int fd, const struct tcs_msg *m) TCS_HIDDEN;
+
+/* Sends m (its seq is assigned here) and waits for the WAKE answering it,
+ * in ppoll over the channel and fds[1..nfds-1] (fds may be NULL) with the
+ * signal mask `mask`. A real fd becoming ready or a signal handler running
+ * first sends EARLY (and the WAKE still comes). Returns the EARLY reason
+ * sent, or 0; the WAKE in *reply; an fd passed with it in *fd_out (or
+ * closed when fd_out is NULL). */
+unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, const sigset_t *mask,
+		       struct tcs_msg *reply, int *fd_out) TCS_HIDDEN;
+
+#endif

@@ -1,0 +1,211 @@
+/* Waiting in virtual time (wait.h): a BLOCK with its deadline and the CPU
+ * up to the hook's entry, answered by a WAKE at the time the wait ended
+ * (roundtrip.c carries both). Blocking hooks are built on tcs_wait between
+ * tcs_wait_enter and tcs_wait_leave.
+ *
+ * Signals sent to other processes are news for the coordinator; a handler
+ * that sends one from inside a wait cannot make a request of its own (the
+ * wait's is under way), so its news is told as the wait is left. */
+#include "raw_syscall.h"
+#include "report.h"
+#include "roundtrip.h"
+#include "signal_timers.h"
+#include "thread_channels.h"
+#include "vclock.h"
+#include "wait.h"
+
+__thread int tcs_in_wait;
+
+/* Targets told from inside a wait, per thread (a handler runs on the
+ * thread whose wait it interrupted). More than fit: tell "everyone". */
+#define TCS_MAX_PENDING_KILLS 8
+static __thread long tcs_pending_kills[TCS_MAX_PENDING_KILLS];
+static __thread volatile int tcs_npending_kills;
+
+static void tcs_send_kill(long target)
+{
+	struct tcs_msg m = tcs_msg_make(TCS_MSG_KILL, 0), w;
+	m.arg = target;
+	m.v = tcs_vnow();
+	m.cpu = tcs_charge_point();
+	tcs_roundtrip(&m, NULL, 0, NULL, &w, NULL);
+}
+
+/* Inside a wait, as it is left (tcs_wait_enter() still held): what
+ * handlers that ran in it left to tell. */
+static void tcs_flush_kills(void)
+{
+	while (tcs_npending_kills > 0) {
+		long target = tcs_pending_kills[tcs_npending_kills - 1];
+		tcs_npending_kills--;
+		tcs_send_kill(target);
+	}
+}
+
+static void tcs_tell_kill(long target)
+{
+	if (!tcs_active())
+		return;
+	if (tcs_wait_enter()) {
+		tcs_send_kill(target);
+		tcs_wait_leave();
+		return;
+	}
+	int n = tcs_npending_kills;
+	for (int i = 0; i < n; i++)
+		if (tcs_pending_kills[i] == target)
+			return;
+	if (n == TCS_MAX_PENDING_KILLS) {
+		tcs_pending_kills[0] = -1;
+		tcs_npending_kills = 1;
+		return;
+	}
+	tcs_pending_kills[n] = target;
+	tcs_npending_kills = n + 1;
+}
+
+long tcs_signal_sent(long r, long target, int sig)
+{
+	if (r == 0 && sig != 0 && target != tcs_rt.pid)
+		tcs_tell_kill(target);
+	return r;
+}
+
+int tcs_wait_enter(void)
+{
+	if (!tcs_active() || tcs_in_wait)
+		return 0;
+	if (tcs_my_channel() < 0) {
+		static int once;
+		tcs_report_once(&once, "a thread could not get a channel to the coordinator (out of file descriptors?); "
+				       "its waits run in real time");
+		return 0;
+	}
+	tcs_in_wait = 1;
+	return 1;
+}
+
+void tcs_wait_leave(void)
+{
+	/* Signals a handler sent from inside this wait, told now. */
+	if (__builtin_expect(tcs_npending_kills != 0, 0))
+		tcs_flush_kills();
+	tcs_in_wait = 0;
+}
+
+/* Timer signals due during a wait: raised here, inside the wait, so that
+ * they meet the wait's signal mask; then the kernel says whether a handler
+ * ran (EINTR) or not (ignored, or blocked: wait on). */
+static int tcs_raise_timer_signals(uint64_t bits, const sigset_t *mask)
+{
+	/* Blocked while raised (a signal sent to oneself is delivered on the
+	 * way out of kill), then let in by the wait's mask in a ppoll that
+	 * does not wait. */
+	uint64_t old;
+	tcs_sys4(SYS_rt_sigprocmask, SIG_BLOCK, &bits, &old, TCS_KERNEL_SIGSET_SIZE);
+	long pid = tcs_sys0(SYS_getpid);
+	for (int sig = 1; sig <= 64; sig++) {
+		if (!(bits & (1ull << (sig - 1))))
+			continue;
+		int tid = tcs_timer_signal_target(sig);
+		if (tid > 0)
+			tcs_sys3(SYS_tgkill, pid, tid, sig);
+		else
+			tcs_sys2(SYS_kill, pid, sig);
+	}
+	struct timespec zero = { 0, 0 };
+	long r = tcs_sys5(SYS_ppoll, NULL, 0, &zero, mask ? (const void *)mask : (const void *)&old,
+			  TCS_KERNEL_SIGSET_SIZE);
+	tcs_sys4(SYS_rt_sigprocmask, SIG_SETMASK, &old, NULL, TCS_KERNEL_SIGSET_SIZE);
+	return r == -EINTR ? -EINTR : TCS_WAIT_RECHECK;
+}
+
+/* Awake after the coordinator stepped us aside (TCS_PAGE_ASLEEP): a wait
+ * already due, which the coordinator answers at the world's time
+ * (TCS_BLOCK_ASK). It was a wait of 1 ns: when the coordinator had seen us
+ * wake just before (a new slice, the flag not yet cleared), it ended 1 ns
+ * after the world's time, and a lockstep run was 1 ns long (1 in 40 runs
+ * under load). */
+static __thread int tcs_catching_up;
+
+static void tcs_catch_up_in_wait(void)
+{
+	if (tcs_catching_up)
+		return;
+	tcs_catching_up = 1;
+	struct tcs_wait_time t = { 0, 1, 0, 0, 0 };
+	(void)tcs_wait(&t, TCS_BLOCK_SLEEP, TCS_BLOCK_ASK, NULL, 0, NULL);
+	tcs_catching_up = 0;
+}
+
+void tcs_catch_up(void)
+{
+	if (!tcs_wait_enter())
+		return; /* inside a hook (a signal handler's clock read): it asks itself */
+	tcs_catch_up_in_wait();
+	tcs_wait_leave();
+}
+
+int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct pollfd *fds, unsigned nfds,
+	     const sigset_t *mask)
+{
+	struct tcs_clock_page *p = tcs_rt.page;
+	if (__builtin_expect(__atomic_load_n(&p->flags, __ATOMIC_RELAXED) & TCS_PAGE_ASLEEP, 0))
+		tcs_catch_up_in_wait();
+	/* The charge up to here, and virtual time from it in cpu mode. */
+	int64_t cpu = tcs_charge_point();
+	int64_t v = tcs_page_vnow(p, tcs_page_read_slice(p), cpu);
+	/* A relative wait counts from the latest time the program was told,
+	 * so it never sees a sleep end before it should have. */
+	int64_t deadline = t->relative ? tcs_ns_add(tcs_v_not_before(v), t->deadline) : t->deadline;
+	t->deadline = deadline;
+	t->relative = 0;
+	t->start = v;
+	int report = (flags & TCS_BLOCK_ABSOLUTE) && (p->flags & TCS_PAGE_REPORT_MISSES);
+	if (deadline <= v && !report && !(flags & TCS_BLOCK_ASK)) {
+		__atomic_add_fetch(&p->quick_returns, 1, __ATOMIC_RELAXED);
+		if (flags & TCS_BLOCK_ABSOLUTE)
+			__atomic_add_fetch(&p->past_deadlines, 1, __ATOMIC_RELAXED);
+		t->end = v;
+		return TCS_WAIT_DEADLINE;
+	}
+
+	/* A wait with its own signal mask (sigsuspend, ppoll, pselect,
+	 * epoll_pwait) may let in a signal already pending: then it ends now,
+	 * before the coordinator could decide anything else. */
+	uint64_t raised = 0;
+	if (mask) {
+		/* What tcs had raised before the look (TCS_BLOCK_SIGMASK): one it
+		 * raises after, stopping us between the look and the BLOCK, is
+		 * pending unseen, and the coordinator has us look again. */
+		raised = __atomic_load_n(&p->signals_raised, __ATOMIC_ACQUIRE);
+		struct timespec zero = { 0, 0 };
+		if (tcs_sys5(SYS_ppoll, NULL, 0, &zero, mask, TCS_KERNEL_SIGSET_SIZE) == -EINTR) {
+			t->end = v;
+			return -EINTR;
+		}
+		flags |= TCS_BLOCK_SIGMASK;
+	}
+
+	struct tcs_msg m = tcs_msg_make(TCS_MSG_BLOCK, t->seq);
+	m.kind = (uint16_t)kind;
+	m.flags = (uint16_t)flags;
+	m.arg = (int64_t)raised;
+	m.deadline = deadline;
+	m.v = v;
+	m.cpu = cpu;
+	struct tcs_msg w;
+	unsigned early = tcs_roundtrip(&m, fds, nfds, mask, &w, NULL);
+	t->end = w.v;
+	/* A handler ran (a timer's signal, say): the wait was interrupted,
+	 * whatever the answer that crossed the EARLY says. */
+	if (early == TCS_EARLY_SIGNAL)
+		return -EINTR;
+	if (w.kind == TCS_WAKE_SIGNAL)
+		return tcs_raise_timer_signals((uint64_t)w.arg, mask);
+	if (w.kind == TCS_WAKE_RECHECK)
+		return TCS_WAIT_RECHECK;
+	if (w.kind == TCS_WAKE_EARLY)
+		return TCS_WAIT_FD;
+	return TCS_WAIT_DEADLINE;
+}

@@ -1,0 +1,56 @@
+/* Waiting in virtual time (wait.c): entering and leaving a blocking hook,
+ * the wait itself, and the news of signals sent to other processes, which
+ * a handler inside a wait leaves for the wait's end. */
+#ifndef TCS_PRELOAD_WAIT_H
+#define TCS_PRELOAD_WAIT_H
+
+#include <poll.h>
+#include <signal.h>
+
+#include "runtime.h"
+
+/* Non-zero while this thread is inside a blocking hook: a nested blocking
+ * call (from a signal handler) passes straight through. */
+extern __thread int tcs_in_wait TCS_HIDDEN __attribute__((tls_model("initial-exec")));
+
+/* Enter/leave a blocking hook. tcs_wait_enter() returns 0 when the caller
+ * must pass through to the real call (not a controller, a nested call from
+ * a signal handler, or no channel for this thread). */
+int tcs_wait_enter(void) TCS_HIDDEN;
+void tcs_wait_leave(void) TCS_HIDDEN;
+
+enum tcs_wait_result {
+	TCS_WAIT_DEADLINE = 0, /* the deadline was reached */
+	TCS_WAIT_FD = 1,       /* one of the real fds became ready first */
+	TCS_WAIT_RECHECK = 2,  /* a step passed; re-check real fds and wait again */
+};
+
+/* When a wait is to end, and when it began and ended (virtual ns). */
+struct tcs_wait_time {
+	int64_t deadline; /* in: absolute, or the timeout if relative; out: absolute */
+	int relative;     /* in: deadline is a timeout from the start of the wait */
+	int64_t start;    /* out: when the wait began */
+	int64_t end;      /* out: when it ended */
+	uint32_t seq;     /* in: a sequence number reserved for it (parking.c), or 0 */
+};
+
+/* Waits until the virtual deadline (TCS_NEVER: forever). With fds, the wait
+ * also ends when one of fds[1..nfds-1] becomes ready; fds[0] is reserved for
+ * the channel and mask (may be NULL) is the signal mask during the wait.
+ * Returns a tcs_wait_result or -EINTR when a signal handler ran. A deadline
+ * already past returns at once without a round trip. The start of the wait
+ * is read once, for both the deadline and the BLOCK: one CPU-clock read. */
+int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct pollfd *fds, unsigned nfds,
+	     const sigset_t *mask) TCS_HIDDEN;
+
+/* Stepped aside by the coordinator (TCS_PAGE_ASLEEP) and awake again: asks
+ * the world's time before a clock read answers (tcs_vnow). */
+void tcs_catch_up(void) TCS_HIDDEN;
+
+/* After a send of sig to target (kill's convention: a pid, -pgid, or -1
+ * when not at hand) that returned r: one that reached another process is
+ * told to the coordinator (TCS_MSG_KILL), so that a controller waiting in
+ * virtual time acts on it at the sender's time. Returns r. */
+long tcs_signal_sent(long r, long target, int sig) TCS_HIDDEN;
+
+#endif

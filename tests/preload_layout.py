@@ -1,0 +1,94 @@
+"""The preload's layout is its architecture (docs/ARCHITECTURE.md): fails,
+naming FILE:LINE, where libtcs_preload/ parts from it.
+
+- a header declares functions of one .c file only, the one it is named
+  after (static inline helpers aside);
+- no source file is over 500 lines;
+- every exported hook (TCS_EXPORT) is in a hooks_*.c file;
+- hooks call down into the runtime, never the reverse: no file but a
+  hooks_*.c one calls a function a hooks_*.c file defines.
+
+    preload_layout.py SOURCE_ROOT
+"""
+
+import os
+import re
+import sys
+
+MAX_LINES = 500
+IDENT = r"[A-Za-z_]\w*"
+# A function declared or defined at the start of a line: its name, then "(".
+FUNCTION = re.compile(r"^(?!static\b|#|\s|typedef\b|extern\b|struct\b[^(]*\{|enum\b|union\b|[}/*])"
+                      r"[^=;{(]*?\b(" + IDENT + r")\s*\(")
+
+
+def strip_comments(text):
+    """The text with comments blanked (newlines kept, for line numbers)."""
+    return re.sub(r"/\*.*?\*/|//[^\n]*", lambda m: re.sub(r"[^\n]", " ", m.group(0)), text, flags=re.S)
+
+
+def top_level_functions(text):
+    """(name, line, is_definition) for each function declared or defined
+    outside any braces, static ones left out."""
+    out = []
+    lines = text.split("\n")
+    depth = 0
+    for n, line in enumerate(lines, 1):
+        if depth == 0:
+            m = FUNCTION.match(line)
+            if m and not line.startswith("static"):
+                # A definition's body opens before the next ";".
+                rest = "\n".join(lines[n - 1:n + 8])
+                semi, brace = rest.find(";"), rest.find("{")
+                is_def = brace >= 0 and (semi < 0 or brace < semi)
+                out.append((m.group(1), n, is_def))
+        depth += line.count("{") - line.count("}")
+    return out
+
+
+def main(root):
+    folder = os.path.join(root, "libtcs_preload")
+    names = sorted(f for f in os.listdir(folder) if f.endswith((".c", ".h")))
+    texts = {}
+    for f in names:
+        with open(os.path.join(folder, f)) as src:
+            texts[f] = src.read()
+    errors = []
+    defined_in = {}  # function -> the .c file that defines it
+    for f in names:
+        if f.endswith(".c"):
+            for name, n, is_def in top_level_functions(strip_comments(texts[f])):
+                if is_def:
+                    defined_in.setdefault(name, f)
+    for f in names:
+        path = "libtcs_preload/" + f
+        count = texts[f].count("\n")
+        if count > MAX_LINES:
+            errors.append("%s:%d: %d lines, over %d: two concerns?" % (path, MAX_LINES + 1, count, MAX_LINES))
+        code = strip_comments(texts[f])
+        if f.endswith(".h"):
+            own = f[:-2] + ".c"
+            for name, n, is_def in top_level_functions(code):
+                where = defined_in.get(name)
+                if not is_def and where is not None and where != own:
+                    errors.append("%s:%d: declares %s, defined in %s (a header declares its own .c file's functions)"
+                                  % (path, n, name, where))
+        else:
+            lines = code.split("\n")
+            for name, n, is_def in top_level_functions(code):
+                if is_def and "TCS_EXPORT" in lines[n - 1] and not f.startswith("hooks_"):
+                    errors.append("%s:%d: exports %s outside a hooks_*.c file" % (path, n, name))
+            if not f.startswith("hooks_"):
+                for name, where in defined_in.items():
+                    if where.startswith("hooks_") and name.startswith("tcs_"):
+                        for n, line in enumerate(code.split("\n"), 1):
+                            if re.search(r"\b%s\s*\(" % re.escape(name), line):
+                                errors.append("%s:%d: calls %s of %s: the runtime calls no hook file" % (path, n, name, where))
+    for e in errors:
+        print(e)
+    print("%d files, %d problems" % (len(names), len(errors)))
+    return 1 if errors else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1] if len(sys.argv) > 1 else "."))
