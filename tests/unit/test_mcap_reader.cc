@@ -25,6 +25,7 @@ extern "C" {
 
 #include "json.h"
 #include "mcap_reader.h"
+#include "mcap_crc32.h"
 #include "mcap_writer.h"
 
 namespace {

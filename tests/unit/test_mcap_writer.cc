@@ -39,6 +39,7 @@ extern "C" {
 
 #include "result_checks.h"
 
+#include "mcap_crc32.h"
 #include "mcap_writer.h"
 
 namespace {
