@@ -17,6 +17,7 @@ extern "C" {
 #include <cmocka.h>
 }
 
+#include "default_scenario.h"
 #include "scenario.h"
 #include "scenario_units.h"
 
