@@ -1,15 +1,9 @@
-// The writer tests' sample messages and their files' folder (see
-// mcap_sample.h).
+// The writer tests' sample messages (see mcap_sample.h).
 #include "mcap_sample.h"
-
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <csetjmp>
 #include <cstdarg>
 #include <cstddef>
-#include <cstdio>
-#include <cstdlib>
 
 extern "C" {
 #include <cmocka.h>
@@ -18,14 +12,6 @@ extern "C" {
 #include "result_checks.h"
 
 namespace mcap_check {
-
-namespace {
-
-std::string g_dir;
-bool g_keep = false;
-std::vector<std::string> g_files;
-
-} // namespace
 
 const char kSliceSchema[] = R"({"type":"object","properties":{"controller":{"type":"string"},)"
 			    R"("start_ns":{"type":"integer"},"end_ns":{"type":"integer"}}})";
@@ -58,62 +44,6 @@ void Sample::write(tcs::McapWriter &w, int from, int to)
 		CHECK_OK(w.write(m.channel, m.log, m.pub, m.data));
 		expected.push_back(std::move(m));
 	}
-}
-
-bool test_dir_open(const char *prefix)
-{
-	if (const char *keep = getenv("TCS_MCAP_TEST_DIR"); keep && *keep) {
-		g_dir = keep;
-		g_keep = true;
-		mkdir(keep, 0777);
-		return true;
-	}
-	std::string tmpl = std::string("/tmp/") + prefix + "-XXXXXX";
-	if (!mkdtemp(tmpl.data())) {
-		perror("mkdtemp");
-		return false;
-	}
-	g_dir = tmpl;
-	return true;
-}
-
-void test_dir_close()
-{
-	if (g_keep) {
-		printf("# MCAP files kept in %s\n", g_dir.c_str());
-		return;
-	}
-	for (const std::string &p : g_files)
-		unlink(p.c_str());
-	rmdir(g_dir.c_str());
-}
-
-std::string test_path(const std::string &name)
-{
-	std::string p = g_dir + "/" + name;
-	g_files.push_back(p);
-	return p;
-}
-
-std::string slurp(const std::string &path)
-{
-	std::string out;
-	FILE *f = std::fopen(path.c_str(), "rb");
-	assert_non_null(f);
-	char buf[65536];
-	size_t n;
-	while ((n = std::fread(buf, 1, sizeof buf, f)) > 0)
-		out.append(buf, n);
-	std::fclose(f);
-	return out;
-}
-
-void spit(const std::string &path, std::string_view bytes)
-{
-	FILE *f = std::fopen(path.c_str(), "wb");
-	assert_non_null(f);
-	assert_int_equal(std::fwrite(bytes.data(), 1, bytes.size(), f), bytes.size());
-	assert_int_equal(std::fclose(f), 0);
 }
 
 } // namespace mcap_check

@@ -1,12 +1,7 @@
-// What the writer's tests write, and where: three channels of known JSON
-// messages, and the folder their files go to (a temporary one, removed at
-// the end, or TCS_MCAP_TEST_DIR, kept, for tests/mcap/check.mjs to read
-// with the reference TypeScript readers).
+// What the writer's tests write: three channels of known JSON messages.
 #pragma once
 
 #include <cstdint>
-#include <string>
-#include <string_view>
 #include <vector>
 
 #include "mcap_check.h"
@@ -31,15 +26,5 @@ struct Sample {
 	// Writes messages from..to-1, and expects them.
 	void write(tcs::McapWriter &w, int from, int to);
 };
-
-// Makes the folder (prefix names a temporary one); false when it cannot.
-bool test_dir_open(const char *prefix);
-// Removes the files and the folder, unless they are to be kept.
-void test_dir_close();
-// A file in the folder, removed at the end.
-std::string test_path(const std::string &name);
-
-std::string slurp(const std::string &path);
-void spit(const std::string &path, std::string_view bytes);
 
 } // namespace mcap_check

@@ -27,10 +27,12 @@ extern "C" {
 #include "mcap_crc32.h"
 #include "mcap_sample.h"
 #include "mcap_writer.h"
+#include "test_files.h"
 
 namespace {
 
 using namespace mcap_check;
+using namespace test_files;
 using tcs::McapCompression;
 using tcs::McapWriter;
 using tcs::McapWriterOptions;
@@ -267,7 +269,7 @@ void test_schema_ids(void **)
 
 int main(void)
 {
-	if (!test_dir_open("tcs-mcap-writer-test"))
+	if (!test_dir_open("tcs-mcap-writer-test", "TCS_MCAP_TEST_DIR"))
 		return 1;
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_crc32),

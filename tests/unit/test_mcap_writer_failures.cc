@@ -1,7 +1,8 @@
 // Unit tests for trace/mcap_writer when a file does not end as it should:
 // cut anywhere (read from the start, it holds its complete chunks), a
 // writer misused, stopped by a full file system, closed by its destructor,
-// or SIGKILLed while writing. Files are read back as mcap_check.h does.
+// or SIGKILLed while writing. Files are read back as mcap_check.h does,
+// and kept in TCS_MCAP_TEST_DIR when it names a directory.
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
@@ -28,10 +29,12 @@ extern "C" {
 #include "mcap_check.h"
 #include "mcap_sample.h"
 #include "mcap_writer.h"
+#include "test_files.h"
 
 namespace {
 
 using namespace mcap_check;
+using namespace test_files;
 using tcs::McapCompression;
 using tcs::McapWriter;
 using tcs::McapWriterOptions;
@@ -243,7 +246,7 @@ void test_sigkill(void **)
 
 int main(void)
 {
-	if (!test_dir_open("tcs-mcap-writer-failures-test"))
+	if (!test_dir_open("tcs-mcap-writer-failures-test", "TCS_MCAP_TEST_DIR"))
 		return 1;
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_truncated),
