@@ -176,8 +176,10 @@ def function_name(stmt):
     return None
 
 
-DECL_SKIP = re.compile(r"^\s*(typedef|using|friend|static_assert|_Static_assert|return|namespace|template\s*<[^;]*>\s*(class|struct)"
-                       r"|(class|struct|union|enum)\s+" + IDENT + r"\s*$)\b")
+# Statements that declare no function (a class template's declaration ends
+# in "(class|struct)", a forward declaration in its name).
+DECL_SKIP = re.compile(r"^\s*(typedef|using|friend|static_assert|_Static_assert|return|namespace"
+                       r"|template\s*<[^;]*>\s*(class|struct)|(class|struct|union|enum)\s+" + IDENT + r"\s*$)\b")
 
 
 def header_functions(text):
@@ -283,8 +285,8 @@ def symbol_name(demangled):
     out, depth, i = [], 0, 0
     while i < len(s):
         if s.startswith("operator", i) and (i == 0 or not (s[i - 1].isalnum() or s[i - 1] == "_")):
-            m = re.match(r"operator\s*(\(\)|\[\]|new\[\]|delete\[\]|<=>|<<=|>>=|<<|>>|<=|>=|->\*|->|[^\s\w(]+|[\w:\s*&<>]+?(?=\())",
-                         s[i:])
+            m = re.match(r"operator\s*(\(\)|\[\]|new\[\]|delete\[\]|<=>|<<=|>>=|<<|>>|<=|>=|->\*|->"
+                         r"|[^\s\w(]+|[\w:\s*&<>]+?(?=\())", s[i:])
             if m and depth == 0:
                 out.append("operator" + re.sub(r"\s+", "", m.group(1)))
                 i += m.end()
@@ -307,8 +309,9 @@ def symbol_name(demangled):
 
 
 def object_sources(root, build):
-    """{object path: source path relative to root} for every compiled
-    source under root, and {object path: its target's folder}."""
+    """{object path: source path relative to root} for every object the
+    build has made of a source under root (compile_commands.json names
+    each compilation's source and output)."""
     with open(os.path.join(build, "compile_commands.json")) as f:
         commands = json.load(f)
     objects = {}
@@ -338,13 +341,16 @@ def target_of(obj, build):
 
 
 def definitions(objects):
-    """{(object, symbol name): kind} for the global functions each object
-    defines: kind 'T' (strong) or 'W' (weak)."""
+    """{(object, symbol name): {kinds}} for the global functions each
+    object defines: 'T' (strong) or 'W' (weak)."""
     found = collections.defaultdict(set)
     names = sorted(objects)
     for k in range(0, len(names), 200):
-        r = subprocess.run(["nm", "-A", "--defined-only", "-C"] + names[k:k + 200], capture_output=True,
-                           text=True)
+        try:
+            r = subprocess.run(["nm", "-A", "--defined-only", "-C"] + names[k:k + 200], capture_output=True,
+                               text=True)
+        except FileNotFoundError:
+            raise SystemExit("source_rules.py: no nm (binutils) to read the objects with")
         if r.returncode != 0 and not r.stdout:
             raise SystemExit("nm failed: " + r.stderr.strip())
         for line in r.stdout.splitlines():
