@@ -103,7 +103,8 @@ struct McapFooter {
 // ("the Chunk's fields run past its 12 bytes"), for the caller to say
 // where. Bytes after the fields are allowed: later versions of the format
 // may append fields. *known, when asked for, is how many bytes the fields
-// took (a definition's repeat is compared on those).
+// took: a definition's repeat is compared on those, and a writer's test
+// checks that nothing follows them. A Message's data is the rest of it.
 std::string mcap_decode_header(std::string_view body, McapHeader *out, size_t *known = nullptr);
 std::string mcap_decode_schema(std::string_view body, McapSchema *out, size_t *known = nullptr);
 std::string mcap_decode_channel(std::string_view body, McapChannel *out, size_t *known = nullptr);
