@@ -2,7 +2,7 @@
 // pendulum with its state sensor and torque actuator. It is TOML read by
 // the same parser as any file, so it cannot drift from what files mean;
 // scenarios/pendulum.toml is the same world, commented.
-#include "scenario.h"
+#include "default_scenario.h"
 
 namespace tcs {
 

@@ -3,6 +3,7 @@
 // the coordinator. Everything keeps the line it came from, so that whoever
 // finds a problem later (the simulation plug-in refusing a parameter, a
 // signal the world does not have) can still say FILE:LINE: what is wrong.
+// The built-in world is default_scenario.h's.
 #pragma once
 
 #include <cstdint>
@@ -78,11 +79,6 @@ Result<Scenario> parse_scenario_file(const std::string &path);
 // The same for text in memory; name_for_errors stands for FILE. Relative
 // model paths stay as written: there is no folder to resolve them against.
 Result<Scenario> parse_scenario_text(const std::string &text, const std::string &name_for_errors);
-
-// The world tcs-run uses without --world: the pendulum of docs/DESIGN.md §4.
-Result<Scenario> default_scenario();
-// Its text, parsed by default_scenario(); scenarios/pendulum.toml documents it.
-std::string_view default_scenario_text();
 
 // Checks every device signal against the signal names of the world actually
 // built (the plug-in's list): "FILE:LINE: unknown signal 'x' (model 'm' has: ...)".

@@ -15,6 +15,7 @@
 #include "preload_path.h"
 #include "program_check.h"
 #include "run_report.h"
+#include "default_scenario.h"
 #include "scenario.h"
 #include "world_setup.h"
 

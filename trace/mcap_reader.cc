@@ -4,12 +4,7 @@
 #include "mcap_format.h"
 #include "read_file.h"
 
-#include <zstd.h>
-
-#include <cstdio>
 #include <cstring>
-
-#include "mcap_writer.h"
 
 namespace tcs {
 
@@ -19,84 +14,7 @@ namespace {
 // memory runs out (a 100 s run at 1 kHz makes about 26 MB).
 constexpr size_t kMaxFileBytes = size_t(16) << 30;
 
-// A chunk larger than this is refused rather than allocated: tcs writes
-// 1 MiB chunks, and a huge size is far more likely damage than data.
-constexpr uint64_t kMaxChunkBytes = uint64_t(1) << 30;
-// No zstd frame expands by more than this: a block holds at most 128 KiB
-// and the smallest block (RLE) takes 4 bytes. A declared size beyond it is
-// a lie the allocation must not believe.
-constexpr uint64_t kMaxZstdRatio = 32768;
-
-
-// Bounds-checked little-endian fields of one record whose bytes are all
-// there; any overrun clears ok() and yields zeros.
-class Fields {
-public:
-	explicit Fields(std::string_view s) : s_(s) {}
-	bool ok() const { return ok_; }
-	size_t used() const { return pos_; }
-	size_t left() const { return s_.size() - pos_; }
-
-	uint64_t le(size_t k)
-	{
-		if (!ok_ || left() < k) {
-			ok_ = false;
-			return 0;
-		}
-		uint64_t v = 0;
-		for (size_t i = 0; i < k; i++)
-			v |= uint64_t(uint8_t(s_[pos_ + i])) << (8 * i);
-		pos_ += k;
-		return v;
-	}
-	uint16_t u16() { return uint16_t(le(2)); }
-	uint32_t u32() { return uint32_t(le(4)); }
-	uint64_t u64() { return le(8); }
-	std::string_view bytes(uint64_t k)
-	{
-		if (!ok_ || left() < k) {
-			ok_ = false;
-			return {};
-		}
-		std::string_view v = s_.substr(pos_, size_t(k));
-		pos_ += size_t(k);
-		return v;
-	}
-	std::string_view str() { return bytes(u32()); }
-
-private:
-	std::string_view s_;
-	size_t pos_ = 0;
-	bool ok_ = true;
-};
-
-uint64_t le64(const char *p)
-{
-	uint64_t v = 0;
-	for (int i = 0; i < 8; i++)
-		v |= uint64_t(uint8_t(p[i])) << (8 * i);
-	return v;
-}
-
-// A string from the file, fit to quote in a message.
-std::string printable(std::string_view s)
-{
-	std::string out;
-	for (char c : s.substr(0, 40))
-		out += c >= 0x20 && c < 0x7F ? c : '?';
-	return s.size() > 40 ? out + "..." : out;
-}
-
-std::string hex32(uint32_t v)
-{
-	char buf[16];
-	snprintf(buf, sizeof buf, "0x%08x", v);
-	return buf;
-}
-
 } // namespace
-
-McapReader::Zstd::~Zstd() { ZSTD_freeDCtx(dctx); }
 
 Status McapReader::open(const std::string &path)
 {
@@ -130,19 +48,17 @@ Status McapReader::open_bytes(std::string name, std::string bytes)
 	pos_ = sizeof kMcapMagic;
 	// The Header, if all of it is there; a file cut inside it is a run
 	// killed at once, which next() reports as truncated.
-	std::string_view body;
-	uint8_t op;
-	if (!whole_record(&op, &body))
+	McapRecord r;
+	if (!whole_record(&r))
 		return Ok{};
-	if (op != mcap_header)
-		return error_at(pos_, "the first record has opcode " + std::to_string(op) + ", not a Header's");
-	Fields f(body);
-	std::string_view profile = f.str(), library = f.str();
-	if (!f.ok())
-		return error_at(pos_, "the Header's strings run past its " + std::to_string(body.size()) + " bytes");
-	profile_ = profile;
-	library_ = library;
-	pos_ += kMcapRecordHead + body.size();
+	if (r.op != mcap_header)
+		return error_at(pos_, "the first record has opcode " + std::to_string(r.op) + ", not a Header's");
+	McapHeader h;
+	if (std::string what = mcap_decode_header(r.body, &h); !what.empty())
+		return error_at(pos_, what);
+	profile_ = h.profile;
+	library_ = h.library;
+	pos_ += kMcapRecordHead + r.body.size();
 	return Ok{};
 }
 
@@ -152,17 +68,14 @@ Error McapReader::error_at(uint64_t at, const std::string &what)
 	return *error_;
 }
 
-bool McapReader::whole_record(uint8_t *op, std::string_view *body)
+bool McapReader::whole_record(McapRecord *record)
 {
-	const size_t left = bytes_.size() - pos_;
-	if (left < kMcapRecordHead || le64(bytes_.data() + pos_ + 1) > left - kMcapRecordHead) {
+	if (!mcap_record_at(bytes_, pos_, record)) {
 		truncated_ = true;
-		bytes_unread_ = left;
+		bytes_unread_ = bytes_.size() - pos_;
 		done_ = true;
 		return false;
 	}
-	*op = uint8_t(bytes_[pos_]);
-	*body = std::string_view(bytes_).substr(pos_ + kMcapRecordHead, size_t(le64(bytes_.data() + pos_ + 1)));
 	return true;
 }
 
@@ -179,13 +92,11 @@ Result<bool> McapReader::next(McapMessage *out)
 		}
 		if (done_)
 			return false;
-		std::string_view body;
-		uint8_t op;
-		if (!whole_record(&op, &body))
+		McapRecord record;
+		if (!whole_record(&record))
 			return false;
-		const uint64_t at = pos_;
-		pos_ += kMcapRecordHead + body.size();
-		if (op == mcap_footer) {
+		pos_ += kMcapRecordHead + record.body.size();
+		if (record.op == mcap_footer) {
 			Status s = footer();
 			if (!s)
 				return s.error();
@@ -193,7 +104,7 @@ Result<bool> McapReader::next(McapMessage *out)
 		}
 		if (in_summary_)
 			continue; // what the summary holds, the data section had
-		Result<bool> r = top_level(at, op, body, out);
+		Result<bool> r = top_level(record, out);
 		if (!r || *r)
 			return r;
 	}
@@ -201,26 +112,26 @@ Result<bool> McapReader::next(McapMessage *out)
 
 // One record of the data section (outside chunks): true when it is a
 // message, now in *out.
-Result<bool> McapReader::top_level(uint64_t at, uint8_t op, std::string_view body, McapMessage *out)
+Result<bool> McapReader::top_level(const McapRecord &record, McapMessage *out)
 {
-	switch (op) {
+	switch (record.op) {
 	case mcap_header:
-		return error_at(at, "a second Header");
+		return error_at(record.offset, "a second Header");
 	case mcap_schema:
 	case mcap_channel: {
-		std::string what = definition(op, body);
+		std::string what = definition(record);
 		if (!what.empty())
-			return error_at(at, what);
+			return error_at(record.offset, what);
 		return false;
 	}
 	case mcap_message: {
-		std::string what = message(body, out);
+		std::string what = message(record.body, out);
 		if (!what.empty())
-			return error_at(at, what);
+			return error_at(record.offset, what);
 		return true;
 	}
 	case mcap_chunk: {
-		Status s = open_chunk(at, body);
+		Status s = open_chunk(record);
 		if (!s)
 			return s.error();
 		return false;
@@ -256,73 +167,20 @@ Status McapReader::footer()
 }
 
 // Checks a Chunk record and makes its records the ones next() reads.
-Status McapReader::open_chunk(uint64_t at, std::string_view body)
+Status McapReader::open_chunk(const McapRecord &record)
 {
-	Fields f(body);
-	f.u64(); // message start and end times: the messages have their own
-	f.u64();
-	const uint64_t size = f.u64();
-	const uint32_t crc = f.u32();
-	const std::string_view compression = f.str();
-	const uint64_t stored_size = f.u64();
-	const std::string_view stored = f.bytes(stored_size);
-	if (!f.ok())
-		return error_at(at, "the Chunk's fields run past its " + std::to_string(body.size()) + " bytes");
-	if (size > kMaxChunkBytes)
-		return error_at(at, "the Chunk declares " + std::to_string(size) +
-					" uncompressed bytes, more than the 1 GiB this reader accepts");
-
+	McapChunk chunk;
 	std::string_view records;
-	bool in_buf = false;
-	if (compression.empty()) {
-		if (stored.size() != size)
-			return error_at(at, "the uncompressed Chunk holds " + std::to_string(stored.size()) +
-						" bytes of records but declares " + std::to_string(size));
-		records = stored;
-	} else if (compression == "zstd") {
-		if (size > stored.size() * kMaxZstdRatio)
-			return error_at(at, "the Chunk declares " + std::to_string(size) + " uncompressed bytes, more than " +
-						std::to_string(stored.size()) + " bytes of zstd data can hold");
-		if (size > 0 || !stored.empty()) {
-			// The frame states its size too: a mismatch is damage,
-			// found before allocating anything.
-			unsigned long long frame = ZSTD_getFrameContentSize(stored.data(), stored.size());
-			if (frame == ZSTD_CONTENTSIZE_ERROR)
-				return error_at(at, "the Chunk's records are not a zstd frame");
-			if (frame != ZSTD_CONTENTSIZE_UNKNOWN && frame != size)
-				return error_at(at, "the Chunk's zstd frame holds " + std::to_string(frame) +
-							" bytes but the Chunk declares " + std::to_string(size));
-			if (chunk_buf_.size() < size)
-				chunk_buf_.resize(size_t(size));
-			if (!zstd_.dctx && !(zstd_.dctx = ZSTD_createDCtx()))
-				return error_at(at, "cannot create a zstd decompression context");
-			size_t n = ZSTD_decompressDCtx(zstd_.dctx, chunk_buf_.data(), size_t(size), stored.data(),
-						       stored.size());
-			if (ZSTD_isError(n))
-				return error_at(at, std::string("the Chunk's zstd data is damaged: ") + ZSTD_getErrorName(n));
-			if (n != size)
-				return error_at(at, "the Chunk's zstd data decompresses to " + std::to_string(n) +
-							" bytes but the Chunk declares " + std::to_string(size));
-		}
-		records = std::string_view(chunk_buf_).substr(0, size_t(size));
-		in_buf = true;
-	} else if (compression == "lz4") {
-		return error_at(at, "the Chunk is lz4-compressed: lz4 chunks are not supported (only zstd and none)");
-	} else {
-		return error_at(at, "the Chunk's compression '" + printable(compression) + "' is unknown");
-	}
-	// A CRC of 0 means the writer did not compute one.
-	if (crc != 0) {
-		uint32_t got = mcap_crc32(0, records.data(), records.size());
-		if (got != crc)
-			return error_at(at, "the CRC of the Chunk's records is " + hex32(got) + ", the Chunk says " +
-						hex32(crc));
-	}
-	records_in_buf_ = in_buf;
-	records_off_ = in_buf ? 0 : size_t(records.data() - bytes_.data());
+	std::string what = mcap_decode_chunk(record.body, &chunk);
+	if (what.empty())
+		what = unpacker_.unpack(chunk, &records);
+	if (!what.empty())
+		return error_at(record.offset, what);
+	records_in_buf_ = !chunk.compression.empty();
+	records_off_ = records_in_buf_ ? 0 : size_t(records.data() - bytes_.data());
 	records_len_ = records.size();
 	records_pos_ = 0;
-	chunk_at_ = at;
+	chunk_at_ = record.offset;
 	return Ok{};
 }
 
@@ -337,25 +195,27 @@ Result<bool> McapReader::next_in_chunk(McapMessage *out)
 		records_pos_ = 0;
 		return error_at(chunk_at_, "in the Chunk's records at offset " + std::to_string(at) + ": " + what);
 	};
-	if (left < kMcapRecordHead)
-		return bad("a record cut short by the end of the Chunk");
-	const uint8_t op = uint8_t(recs[at]);
-	const uint64_t len = le64(recs.data() + at + 1);
-	if (len > left - kMcapRecordHead)
+	McapRecord record;
+	if (!mcap_record_at(recs, at, &record)) {
+		if (left < kMcapRecordHead)
+			return bad("a record cut short by the end of the Chunk");
+		uint64_t len = 0;
+		for (size_t i = 0; i < 8; i++)
+			len |= uint64_t(uint8_t(recs[at + 1 + i])) << (8 * i);
 		return bad("a record of " + std::to_string(len) + " bytes runs past the end of the Chunk");
-	const std::string_view body = recs.substr(at + kMcapRecordHead, size_t(len));
-	records_pos_ += kMcapRecordHead + size_t(len);
+	}
+	records_pos_ += kMcapRecordHead + record.body.size();
 
-	switch (op) {
+	switch (record.op) {
 	case mcap_schema:
 	case mcap_channel: {
-		std::string what = definition(op, body);
+		std::string what = definition(record);
 		if (!what.empty())
 			return bad(what);
 		return false;
 	}
 	case mcap_message: {
-		std::string what = message(body, out);
+		std::string what = message(record.body, out);
 		if (!what.empty())
 			return bad(what);
 		return true;
@@ -364,7 +224,7 @@ Result<bool> McapReader::next_in_chunk(McapMessage *out)
 	case mcap_footer:
 	case mcap_chunk:
 	case mcap_data_end:
-		return bad("a record with opcode " + std::to_string(op) + ", which a Chunk cannot hold");
+		return bad("a record with opcode " + std::to_string(record.op) + ", which a Chunk cannot hold");
 	default:
 		return false; // unknown to this version: skipped
 	}
@@ -387,62 +247,44 @@ static std::string define(std::map<uint16_t, std::string> &records, std::map<uin
 
 // A Schema or Channel record: "" when it is fine (a new definition, or the
 // same one again), or what is wrong with it.
-std::string McapReader::definition(uint8_t op, std::string_view body)
+std::string McapReader::definition(const McapRecord &record)
 {
-	Fields f(body);
-	const uint16_t id = f.u16();
-	if (op == mcap_schema) {
+	size_t known = 0;
+	if (record.op == mcap_schema) {
 		McapSchema s;
-		s.id = id;
-		s.name = f.str();
-		s.encoding = f.str();
-		s.data = f.str();
-		if (!f.ok())
-			return "the Schema's fields run past its " + std::to_string(body.size()) + " bytes";
-		if (id == 0)
-			return "a Schema with id 0, which means \"no schema\"";
-		return define(schema_records_, schemas_, id, body.substr(0, f.used()), std::move(s), "Schema");
+		if (std::string what = mcap_decode_schema(record.body, &s, &known); !what.empty())
+			return what;
+		const uint16_t id = s.id;
+		return define(schema_records_, schemas_, id, record.body.substr(0, known), std::move(s), "Schema");
 	}
 	McapChannel c;
-	c.id = id;
-	c.schema_id = f.u16();
-	c.topic = f.str();
-	c.message_encoding = f.str();
-	Fields metadata(f.bytes(f.u32()));
-	if (!f.ok())
-		return "the Channel's fields run past its " + std::to_string(body.size()) + " bytes";
-	while (metadata.ok() && metadata.left() > 0) {
-		metadata.str();
-		metadata.str();
-	}
-	if (!metadata.ok())
-		return "the metadata of Channel " + std::to_string(id) + " is malformed";
+	if (std::string what = mcap_decode_channel(record.body, &c, &known); !what.empty())
+		return what;
 	if (c.schema_id != 0 && !schemas_.count(c.schema_id))
-		return "Channel " + std::to_string(id) + " refers to Schema " + std::to_string(c.schema_id) +
+		return "Channel " + std::to_string(c.id) + " refers to Schema " + std::to_string(c.schema_id) +
 		       ", which no Schema record defined before it";
-	return define(channel_records_, channels_, id, body.substr(0, f.used()), std::move(c), "Channel");
+	const uint16_t id = c.id;
+	return define(channel_records_, channels_, id, record.body.substr(0, known), std::move(c), "Channel");
 }
 
 // A Message record into *out: "" or what is wrong with it.
 std::string McapReader::message(std::string_view body, McapMessage *out)
 {
-	Fields f(body);
-	const uint16_t channel = f.u16();
-	const uint32_t sequence = f.u32();
-	const uint64_t log_time = f.u64(), publish_time = f.u64();
-	if (!f.ok())
-		return "a Message of " + std::to_string(body.size()) + " bytes, shorter than its fixed fields";
-	auto it = channels_.find(channel);
+	McapMessageFields f;
+	if (std::string what = mcap_decode_message(body, &f); !what.empty())
+		return what;
+	auto it = channels_.find(f.channel_id);
 	if (it == channels_.end())
-		return "a Message on channel " + std::to_string(channel) + ", which no Channel record defined before it";
+		return "a Message on channel " + std::to_string(f.channel_id) +
+		       ", which no Channel record defined before it";
 	out->channel = &it->second;
 	out->schema = nullptr;
 	if (it->second.schema_id != 0)
 		out->schema = &schemas_.at(it->second.schema_id);
-	out->sequence = sequence;
-	out->log_time = log_time;
-	out->publish_time = publish_time;
-	out->data = body.substr(f.used());
+	out->sequence = f.sequence;
+	out->log_time = f.log_time;
+	out->publish_time = f.publish_time;
+	out->data = f.data;
 	return "";
 }
 

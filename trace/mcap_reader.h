@@ -5,6 +5,7 @@
 // decompressed (zstd, or none) and CRC-checked. Every input is untrusted:
 // lengths are checked before use, nothing is allocated from a length that
 // the file does not hold, and errors are values naming the byte offset.
+// Records are split, decoded and unpacked by mcap_records.h.
 #pragma once
 
 #include <cstdint>
@@ -14,21 +15,9 @@
 #include <string_view>
 
 #include "error.h"
-
-struct ZSTD_DCtx_s;
+#include "mcap_records.h"
 
 namespace tcs {
-
-struct McapSchema {
-	uint16_t id = 0;
-	std::string name, encoding, data;
-};
-
-struct McapChannel {
-	uint16_t id = 0;
-	std::string topic, message_encoding;
-	uint16_t schema_id = 0; // 0: none
-};
 
 struct McapMessage {
 	const McapChannel *channel = nullptr; // never null for a message returned
@@ -66,16 +55,16 @@ public:
 
 private:
 	Error error_at(uint64_t at, const std::string &what);
-	bool whole_record(uint8_t *op, std::string_view *body);
-	Result<bool> top_level(uint64_t at, uint8_t op, std::string_view body, McapMessage *out);
+	bool whole_record(McapRecord *record);
+	Result<bool> top_level(const McapRecord &record, McapMessage *out);
 	Status footer();
-	Status open_chunk(uint64_t at, std::string_view body);
+	Status open_chunk(const McapRecord &record);
 	Result<bool> next_in_chunk(McapMessage *out);
-	std::string definition(uint8_t op, std::string_view body);
+	std::string definition(const McapRecord &record);
 	std::string message(std::string_view body, McapMessage *out);
 	std::string_view records() const
 	{
-		return std::string_view(records_in_buf_ ? chunk_buf_ : bytes_).substr(records_off_, records_len_);
+		return (records_in_buf_ ? unpacker_.buffer() : std::string_view(bytes_)).substr(records_off_, records_len_);
 	}
 
 	std::string name_, bytes_, profile_, library_;
@@ -90,24 +79,13 @@ private:
 	size_t pos_ = 0;             // the next top-level record
 	bool done_ = false;          // at the Footer, or where the file stops
 	bool in_summary_ = false;    // past Data End
-	// The records of the chunk being read: in chunk_buf_, or in bytes_
-	// when uncompressed (offsets, not a view, so that a copy of the
-	// reader reads its own bytes); the chunk's offset for messages.
+	// The records of the chunk being read: in the unpacker's buffer, or
+	// in bytes_ when uncompressed (offsets, not a view, so that a copy of
+	// the reader reads its own bytes); the chunk's offset for messages.
 	bool records_in_buf_ = false;
 	size_t records_off_ = 0, records_len_ = 0, records_pos_ = 0;
 	uint64_t chunk_at_ = 0;
-	std::string chunk_buf_; // only grows: reused by every chunk
-
-	// zstd's decompression context, made once: making one per chunk
-	// costs more than decompressing a small chunk. A copy of the reader
-	// makes its own.
-	struct Zstd {
-		ZSTD_DCtx_s *dctx = nullptr;
-		Zstd() = default;
-		Zstd(const Zstd &) {}
-		Zstd &operator=(const Zstd &) { return *this; }
-		~Zstd();
-	} zstd_;
+	McapChunkUnpacker unpacker_;
 };
 
 } // namespace tcs

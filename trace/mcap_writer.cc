@@ -1,9 +1,9 @@
-// The MCAP writer (see mcap_writer.h). Record layouts follow the MCAP
-// specification, format version 0: every record is <opcode u8><content
-// length u64><content>, all integers little-endian, strings and arrays
-// prefixed with their byte length as u32.
+// The MCAP writer (see mcap_writer.h): what goes into each chunk, when it
+// is written out with its indexes, and the summary that closes the file.
+// How each record is laid out is mcap_encode.h's.
 #include "mcap_writer.h"
-#include "mcap_format.h"
+#include "mcap_crc32.h"
+#include "mcap_encode.h"
 
 #include <fcntl.h>
 #include <sys/uio.h>
@@ -18,144 +18,14 @@
 
 namespace tcs {
 
+using namespace mcap_encode;
+
 namespace {
 
 // McapOpcode, content length, channel id, sequence, log time, publish time.
 constexpr size_t kMessageHead = 1 + 8 + 2 + 4 + 8 + 8;
 
-// ---- CRC-32, eight bytes at a time ("slicing-by-8") ----
-
-struct Crc32Tables {
-	uint32_t t[8][256];
-};
-
-constexpr Crc32Tables make_crc32_tables()
-{
-	Crc32Tables tables{};
-	for (uint32_t i = 0; i < 256; i++) {
-		uint32_t c = i;
-		for (int bit = 0; bit < 8; bit++)
-			c = (c & 1) ? (c >> 1) ^ 0xEDB88320u : c >> 1;
-		tables.t[0][i] = c;
-	}
-	// t[k][i]: the CRC of byte i followed by k zero bytes.
-	for (int k = 1; k < 8; k++)
-		for (int i = 0; i < 256; i++) {
-			uint32_t prev = tables.t[k - 1][i];
-			tables.t[k][i] = (prev >> 8) ^ tables.t[0][prev & 0xFF];
-		}
-	return tables;
-}
-
-constexpr Crc32Tables kCrc32 = make_crc32_tables();
-
-inline uint32_t load_le32(const uint8_t *p)
-{
-	return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
-}
-
-// ---- Serialisation into byte vectors ----
-
-inline void store_le(uint8_t *p, uint64_t v, int bytes)
-{
-	for (int i = 0; i < bytes; i++)
-		p[i] = uint8_t(v >> (8 * i));
-}
-
-inline void put_le(std::vector<uint8_t> &b, uint64_t v, int bytes)
-{
-	uint8_t tmp[8];
-	store_le(tmp, v, bytes);
-	b.insert(b.end(), tmp, tmp + bytes);
-}
-
-inline void put_u8(std::vector<uint8_t> &b, uint8_t v) { b.push_back(v); }
-inline void put_u16(std::vector<uint8_t> &b, uint16_t v) { put_le(b, v, 2); }
-inline void put_u32(std::vector<uint8_t> &b, uint32_t v) { put_le(b, v, 4); }
-inline void put_u64(std::vector<uint8_t> &b, uint64_t v) { put_le(b, v, 8); }
-
-inline void put_bytes(std::vector<uint8_t> &b, const void *data, size_t size)
-{
-	const uint8_t *p = static_cast<const uint8_t *>(data);
-	b.insert(b.end(), p, p + size);
-}
-
-// Callers have checked that s fits a u32 length.
-inline void put_string(std::vector<uint8_t> &b, std::string_view s)
-{
-	put_u32(b, uint32_t(s.size()));
-	put_bytes(b, s.data(), s.size());
-}
-
-// Starts a record; returns where its content length goes, which
-// end_record() fills in once the content is there.
-size_t begin_record(std::vector<uint8_t> &b, McapOpcode op)
-{
-	put_u8(b, op);
-	size_t at = b.size();
-	put_u64(b, 0);
-	return at;
-}
-
-void end_record(std::vector<uint8_t> &b, size_t at)
-{
-	store_le(b.data() + at, b.size() - at - 8, 8);
-}
-
 bool fits_u32(size_t n) { return uint64_t(n) <= UINT32_MAX; }
-
-uint64_t metadata_bytes(const McapWriter::Metadata &m)
-{
-	uint64_t n = 0;
-	for (const auto &[k, v] : m)
-		n += 4 + k.size() + 4 + v.size();
-	return n;
-}
-
-} // namespace
-
-uint32_t mcap_crc32(uint32_t crc, const void *data, size_t size)
-{
-	const uint8_t *p = static_cast<const uint8_t *>(data);
-	const auto &t = kCrc32.t;
-	uint32_t c = ~crc;
-	for (; size >= 8; p += 8, size -= 8) {
-		uint32_t lo = load_le32(p) ^ c;
-		uint32_t hi = load_le32(p + 4);
-		c = t[7][lo & 0xFF] ^ t[6][(lo >> 8) & 0xFF] ^ t[5][(lo >> 16) & 0xFF] ^ t[4][lo >> 24] ^
-		    t[3][hi & 0xFF] ^ t[2][(hi >> 8) & 0xFF] ^ t[1][(hi >> 16) & 0xFF] ^ t[0][hi >> 24];
-	}
-	for (; size > 0; p++, size--)
-		c = t[0][(c ^ *p) & 0xFF] ^ (c >> 8);
-	return ~c;
-}
-
-namespace {
-
-template <class SchemaT> void put_schema(std::vector<uint8_t> &b, uint16_t id, const SchemaT &s)
-{
-	size_t at = begin_record(b, mcap_schema);
-	put_u16(b, id);
-	put_string(b, s.name);
-	put_string(b, s.encoding);
-	put_string(b, s.data);
-	end_record(b, at);
-}
-
-template <class ChannelT> void put_channel(std::vector<uint8_t> &b, uint16_t id, const ChannelT &c)
-{
-	size_t at = begin_record(b, mcap_channel);
-	put_u16(b, id);
-	put_u16(b, c.schema_id);
-	put_string(b, c.topic);
-	put_string(b, c.message_encoding);
-	put_u32(b, uint32_t(metadata_bytes(c.metadata)));
-	for (const auto &[k, v] : c.metadata) {
-		put_string(b, k);
-		put_string(b, v);
-	}
-	end_record(b, at);
-}
 
 } // namespace
 

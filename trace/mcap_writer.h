@@ -29,11 +29,6 @@ struct iovec;
 
 namespace tcs {
 
-// CRC-32 as MCAP (and zlib, PNG, Ethernet) define it: reflected polynomial
-// 0xEDB88320, initial value and final xor 0xFFFFFFFF. Pass the previous
-// result to continue over more bytes; start with 0.
-uint32_t mcap_crc32(uint32_t crc, const void *data, size_t size);
-
 enum class McapCompression { none, zstd };
 
 struct McapWriterOptions {

@@ -1,18 +1,29 @@
 // The fuzz target for the trace reader: an input is read as an MCAP file,
-// every message's data parsed as JSON; an input that is not MCAP at all is
-// parsed as one JSON text, so that JSON seeds fuzz the parser directly.
-// Built with libFuzzer (clang) or with standalone_driver.cc (its seeds are
-// in trace_reader_seeds.cc); either way a crash, a sanitizer report or a
-// broken promise of the API aborts.
+// every message's data parsed as JSON, and every top-level record decoded
+// as its kind (what a streaming read skips too); an input that is not MCAP
+// at all is parsed as one JSON text, so that JSON seeds fuzz the parser
+// directly. Built with libFuzzer (clang) or with standalone_driver.cc;
+// either way a crash, a sanitizer report or a broken promise of the API
+// aborts. Its seeds are traces written by McapWriter (zstd, uncompressed,
+// with CRCs zeroed, unchunked, cut in half) and JSON texts; its mutation
+// makes an MCAP record's length, or a chunk's sizes, lie: what the reader
+// trusts least.
+#include <sys/mman.h>
+#include <unistd.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "fuzz_target.h"
 #include "json.h"
+#include "mcap_format.h"
 #include "mcap_reader.h"
+#include "mcap_records.h"
+#include "mcap_writer.h"
 
 namespace {
 
@@ -21,6 +32,8 @@ namespace {
 constexpr size_t kMaxMessages = 20000;
 
 using tcs_fuzz::check;
+using tcs_fuzz::get_le;
+using tcs_fuzz::put_le;
 
 // Every string the parser returns is text json_append_string writes so
 // that it parses back unchanged.
@@ -61,6 +74,153 @@ void parse_json(std::string_view text)
 	check_strings(*v);
 }
 
+
+// Every top-level record through the decoder of its kind: what it accepts
+// lies within the record, and what it read is no more than the record.
+void decode_records(std::string_view f)
+{
+	tcs::McapRecord r;
+	size_t n = 0;
+	for (uint64_t pos = sizeof tcs::kMcapMagic; n < kMaxMessages && tcs::mcap_record_at(f, pos, &r);
+	     pos += tcs::kMcapRecordHead + r.body.size(), n++) {
+		check(r.offset == pos && r.body.data() == f.data() + pos + tcs::kMcapRecordHead);
+		auto inside = [&](std::string_view v) {
+			check(v.empty() || (v.data() >= r.body.data() && v.data() + v.size() <= r.body.data() + r.body.size()));
+		};
+		size_t known = SIZE_MAX;
+		std::string what = "not decoded";
+		switch (r.op) {
+		case tcs::mcap_header: {
+			tcs::McapHeader h;
+			if ((what = tcs::mcap_decode_header(r.body, &h, &known)).empty())
+				inside(h.profile), inside(h.library);
+			break;
+		}
+		case tcs::mcap_chunk: {
+			tcs::McapChunk c;
+			if ((what = tcs::mcap_decode_chunk(r.body, &c, &known)).empty())
+				inside(c.compression), inside(c.records);
+			break;
+		}
+		case tcs::mcap_message_index: {
+			tcs::McapMessageIndex mi;
+			if ((what = tcs::mcap_decode_message_index(r.body, &mi, &known)).empty())
+				check(mi.records.size() * 16 <= r.body.size());
+			break;
+		}
+		case tcs::mcap_chunk_index: {
+			tcs::McapChunkIndex ci;
+			if ((what = tcs::mcap_decode_chunk_index(r.body, &ci, &known)).empty())
+				inside(ci.compression), check(ci.message_index_offsets.size() * 10 <= r.body.size());
+			break;
+		}
+		case tcs::mcap_statistics: {
+			tcs::McapStatistics s;
+			if ((what = tcs::mcap_decode_statistics(r.body, &s, &known)).empty())
+				check(s.channel_message_counts.size() * 10 <= r.body.size());
+			break;
+		}
+		case tcs::mcap_summary_offset: {
+			tcs::McapSummaryOffset so;
+			what = tcs::mcap_decode_summary_offset(r.body, &so, &known);
+			break;
+		}
+		case tcs::mcap_footer: {
+			tcs::McapFooter ft;
+			what = tcs::mcap_decode_footer(r.body, &ft, &known);
+			break;
+		}
+		case tcs::mcap_data_end: {
+			uint32_t crc;
+			what = tcs::mcap_decode_data_end(r.body, &crc, &known);
+			break;
+		}
+		default:
+			break;
+		}
+		// Accepted: read no more than the record; refused: one line, saying what.
+		if (what.empty())
+			check(known <= r.body.size());
+		else
+			check(what.find('\n') == std::string::npos);
+	}
+}
+
+// The offsets of the complete top-level records of an MCAP file.
+std::vector<size_t> records(const std::string &f)
+{
+	std::vector<size_t> out;
+	for (size_t pos = 8; pos < f.size() && f.size() - pos >= 9;) {
+		uint64_t len = get_le(f, pos + 1);
+		if (len > f.size() - pos - 9)
+			break;
+		out.push_back(pos);
+		pos += 9 + size_t(len);
+	}
+	return out;
+}
+
+// A trace as tcs writes them, in memory (a memfd stands in for the file).
+std::string written_trace(tcs::McapCompression compression, int messages)
+{
+	int fd = memfd_create("trace_reader_fuzz", MFD_CLOEXEC);
+	if (fd < 0)
+		return {};
+	std::string path = "/proc/self/fd/" + std::to_string(fd);
+	{
+		tcs::McapWriter w(tcs::McapWriterOptions{ .chunk_size = 300, .compression = compression });
+		if (!w.open(path, "x-tcs", "fuzz").ok()) {
+			::close(fd);
+			return {};
+		}
+		auto schema = w.add_schema("tcs.Slice", R"({"type":"object"})");
+		auto a = w.add_channel("/tcs/slices", schema.ok() ? *schema : 0, { { "controller", "pd" } });
+		auto b = w.add_channel("/clock", 0);
+		for (int i = 0; i < messages && a.ok() && b.ok(); i++) {
+			std::string json = i % 3 ? "{\"t_ns\":" + std::to_string(1000 * i) + "}"
+						 : "{\"name\":\"c\\u00e9\\ud83d\\ude00\\n\",\"v\":[1,-2.5e-3,9007199254740993,true,"
+						   "null,{\"x\":[]}],\"i\":" +
+							   std::to_string(i) + "}";
+			(void)w.write(i % 3 ? *b : *a, uint64_t(i), uint64_t(i), json);
+		}
+		(void)w.close();
+	}
+	std::string out;
+	char buf[65536];
+	ssize_t n;
+	for (off_t at = 0; (n = pread(fd, buf, sizeof buf, at)) > 0; at += n)
+		out.append(buf, size_t(n));
+	::close(fd);
+	return out;
+}
+
+// The same trace with its chunks' CRCs zeroed ("not computed"), so that
+// mutations of their records reach the record and JSON parsers; and with
+// the records taken out of their chunks, as messages outside any chunk.
+std::string without_crcs(std::string f)
+{
+	for (size_t at : records(f))
+		if (f[at] == 0x06 && f.size() - at >= 9 + 28)
+			put_le(f, at + 9 + 24, 0, 4);
+	return f;
+}
+
+std::string unchunked(const std::string &f)
+{
+	std::string out = f.substr(0, 8);
+	for (size_t at : records(f)) {
+		const size_t len = size_t(get_le(f, at + 1));
+		if (f[at] == 0x07) // Message Index: points into chunks no more
+			continue;
+		const size_t records_len_at = at + 9 + 28 + 4; // past an empty compression string
+		if (f[at] == 0x06 && len >= 28 + 4 + 8 && get_le(f, at + 9 + 28, 4) == 0) // uncompressed
+			out += f.substr(records_len_at + 8, size_t(get_le(f, records_len_at)));
+		else
+			out += f.substr(at, 9 + len);
+	}
+	return out + f.substr(f.size() - 8);
+}
+
 } // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
@@ -75,6 +235,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 			parse_json(input);
 		return 0;
 	}
+	decode_records(input);
 	for (size_t n = 0; n < kMaxMessages; n++) {
 		tcs::McapMessage m;
 		auto more = reader.next(&m);
@@ -92,4 +253,48 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		parse_json(m.data);
 	}
 	return 0;
+}
+
+const char *tcs_fuzz_name()
+{
+	return "trace_reader_fuzz";
+}
+
+std::vector<std::string> tcs_fuzz_seeds()
+{
+	std::string zstd = written_trace(tcs::McapCompression::zstd, 40);
+	std::string none = written_trace(tcs::McapCompression::none, 40);
+	return {
+		zstd,
+		none,
+		without_crcs(none),
+		unchunked(none),
+		zstd.substr(0, zstd.size() / 2),
+		written_trace(tcs::McapCompression::zstd, 0),
+		R"({"a":[1,2.5e10,-0,"x\"\\\/\b\f\n\r\t\u0041\ud83d\ude00"],"b":{"c":null,"d":true,"e":false}})",
+		"[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]",
+		"-9223372036854775808 ",
+		"\"\xc3\xa9\xe2\x82\xac\xf0\x9f\x98\x80\"",
+	};
+}
+
+std::vector<std::string> tcs_fuzz_tokens()
+{
+	return { "\x89MCAP0\r\n", "\\u", "\\ud800", "\\udc00", "1e400", "-0", "true", "null", "\"\":" };
+}
+
+// A record's length, or a chunk's sizes, made to lie.
+bool tcs_fuzz_mutate(std::string &s, tcs_fuzz::Rng &rng)
+{
+	std::vector<size_t> recs = records(s);
+	if (recs.empty())
+		return false;
+	size_t at = recs[rng.below(recs.size())];
+	const size_t fields[] = { 1, 9 + 16, 9 + 24, 9 + 28, 9 + 32 }; // len, usize, crc, compression, records len
+	const size_t field = s[at] == 0x06 ? fields[rng.below(5)] : 1;
+	const int bytes = field == 9 + 24 || field == 9 + 28 ? 4 : 8;
+	const uint64_t v = rng.below(2) ? tcs_fuzz::lying_value(rng, s.size())
+					: get_le(s, at + field, bytes) + rng.below(17) - 8;
+	put_le(s, at + field, v, bytes);
+	return true;
 }

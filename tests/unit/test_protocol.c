@@ -1,5 +1,7 @@
 /* Unit tests for tcs/protocol.h: the wire format and tcs_msg_check(), the
- * coordinator's only defence against whatever a controller sends. */
+ * coordinator's only defence against whatever a controller sends: every
+ * message it accepts, and every way one is refused. Random and mutated
+ * messages are test_protocol_fuzz.c's. */
 #include <limits.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -12,6 +14,7 @@
 #include <tcs/protocol.h>
 #include <tcs/vtime.h>
 
+#include "protocol_checks.h"
 #include "test_i64.h"
 
 /* The wire layout is fixed: both sides are built separately and the preload
@@ -27,57 +30,6 @@ _Static_assert(offsetof(struct tcs_msg, deadline) == 16, "layout");
 _Static_assert(offsetof(struct tcs_msg, v) == 24, "layout");
 _Static_assert(offsetof(struct tcs_msg, cpu) == 32, "layout");
 _Static_assert(offsetof(struct tcs_msg, arg) == 40, "layout");
-
-static struct tcs_msg valid_hello(void)
-{
-	struct tcs_msg m = tcs_msg_make(TCS_MSG_HELLO, 0);
-	m.arg = 4242;
-	return m;
-}
-
-static struct tcs_msg valid_block(void)
-{
-	struct tcs_msg m = tcs_msg_make(TCS_MSG_BLOCK, 17);
-	m.kind = TCS_BLOCK_POLL;
-	m.flags = TCS_BLOCK_ABSOLUTE | TCS_BLOCK_RECHECK;
-	m.deadline = 5000000000LL;
-	m.v = 4000000000LL;
-	m.cpu = 123456789;
-	return m;
-}
-
-static struct tcs_msg valid_early(void)
-{
-	struct tcs_msg m = tcs_msg_make(TCS_MSG_EARLY, 17);
-	m.kind = TCS_EARLY_SIGNAL;
-	return m;
-}
-
-/* Checks m as received (exactly 48 bytes) and returns the verdict. */
-static const char *check(struct tcs_msg m, struct tcs_msg *out)
-{
-	struct tcs_msg scratch;
-	return tcs_msg_check(&m, (long)sizeof m, out ? out : &scratch);
-}
-
-static void assert_accepted(struct tcs_msg m)
-{
-	struct tcs_msg out;
-	memset(&out, 0xa5, sizeof out);
-	const char *why = check(m, &out);
-	if (why) {
-		print_error("rejected: %s\n", why);
-		fail();
-	}
-	assert_memory_equal(&out, &m, sizeof m);
-}
-
-static void assert_rejected(struct tcs_msg m)
-{
-	const char *why = check(m, NULL);
-	assert_non_null(why);
-	assert_true(why[0] != '\0');
-}
 
 /* ---- layout ---------------------------------------------------------------- */
 
@@ -406,196 +358,29 @@ static void test_timer_messages(void **state)
 		assert_rejected(bad[i]);
 }
 
-/* ---- fuzz ------------------------------------------------------------------ */
-
-/* What the coordinator relies on for every message tcs_msg_check() accepts. */
-static void assert_invariants(const struct tcs_msg *m, const void *raw)
-{
-	assert_memory_equal(m, raw, sizeof *m);
-	assert_int_equal(m->magic, TCS_PROTO_MAGIC);
-	assert_int_equal(m->version, TCS_PROTO_VERSION);
-	switch (m->type) {
-	case TCS_MSG_HELLO:
-		assert_true(m->arg > 0 && m->arg <= INT32_MAX);
-		break;
-	case TCS_MSG_BLOCK:
-		assert_true(m->kind == TCS_BLOCK_SLEEP || m->kind == TCS_BLOCK_POLL || m->kind == TCS_BLOCK_SYNC);
-		assert_int_equal(m->flags & ~TCS_BLOCK_FLAGS_ALL, 0);
-		assert_true(m->deadline >= 0);
-		assert_true(m->v >= 0);
-		assert_true(m->cpu >= 0);
-		break;
-	case TCS_MSG_EARLY:
-		assert_true(m->kind == TCS_EARLY_FD || m->kind == TCS_EARLY_SIGNAL);
-		break;
-	case TCS_MSG_DEV_OPEN:
-		assert_true(m->arg >= 0 && m->arg < TCS_MAX_DEVICES);
-		assert_int_equal(m->flags & ~TCS_DEV_FLAGS_ALL, 0);
-		assert_true(m->flags & (TCS_DEV_READ | TCS_DEV_WRITE));
-		break;
-	case TCS_MSG_DEV_SYNC:
-		assert_true(m->kind >= TCS_SYNC_READ && m->kind <= TCS_SYNC_POLL);
-		assert_int_equal(m->flags & ~TCS_DEV_FLAGS_ALL, 0);
-		assert_true(m->arg >= 0 && m->arg <= INT32_MAX && m->v >= 0 && m->cpu >= 0);
-		break;
-	case TCS_MSG_CHILD:
-		assert_true(m->arg > 0 && m->arg <= INT32_MAX && m->v >= 0 && m->cpu >= 0);
-		assert_int_equal(m->flags & ~(TCS_CHILD_V_KNOWN | TCS_CHILD_PARENT), 0);
-		break;
-	case TCS_MSG_TIMER:
-		assert_true(m->flags < TCS_MAX_TIMERS);
-		assert_true(m->kind >= 1 && m->kind <= 64);
-		assert_true(m->deadline >= 0 && m->arg >= 0 && m->cpu >= 0);
-		assert_true(m->v >= 0 && m->v <= INT32_MAX);
-		break;
-	case TCS_MSG_THREAD:
-		assert_true(m->arg > 0 && m->arg <= INT32_MAX);
-		break;
-	case TCS_MSG_KILL:
-		assert_true(m->arg >= -(int64_t)INT32_MAX && m->arg <= INT32_MAX && m->v >= 0 && m->cpu >= 0);
-		break;
-	case TCS_MSG_DOORBELL:
-		break; /* only its type is read: look at the mailbox */
-	default:
-		print_error("accepted a message of type %u\n", m->type);
-		fail();
-	}
-}
-
-static void test_fuzz_random_buffers(void **state)
-{
-	uint64_t rng = 0x5eed5eed5eed5eedULL;
-	unsigned char buf[64];
-	unsigned long accepted = 0;
-	for (int i = 0; i < 200000; i++) {
-		for (size_t j = 0; j < sizeof buf; j += 8) {
-			uint64_t r = test_rand(&rng);
-			memcpy(buf + j, &r, 8);
-		}
-		long len = (long)(test_rand(&rng) % 65);
-		/* Often give it the right header so the deeper checks get exercised. */
-		uint64_t r = test_rand(&rng);
-		if (r & 1) {
-			uint32_t magic = TCS_PROTO_MAGIC;
-			memcpy(buf, &magic, 4);
-		}
-		if (r & 2) {
-			uint16_t version = TCS_PROTO_VERSION;
-			memcpy(buf + 4, &version, 2);
-		}
-		if (r & 4) {
-			uint16_t type = (uint16_t)(1 + (r >> 8) % 7);
-			memcpy(buf + 6, &type, 2);
-		}
-		if (r & 8) {
-			uint16_t kind = (uint16_t)((r >> 16) % 4);
-			memcpy(buf + 12, &kind, 2);
-		}
-		if (r & 16) {
-			uint16_t flags = (uint16_t)((r >> 24) % 5);
-			memcpy(buf + 14, &flags, 2);
-		}
-		if (r & 32) { /* clear the sign bits of deadline, v, cpu, arg (little- or big-endian) */
-			for (int f = 0; f < 4; f++)
-				buf[16 + 8 * f + (__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__ ? 7 : 0)] &= 0x7f;
-		}
-		if (r & 64) {
-			int64_t arg = (int64_t)((r >> 32) % 70000) - 100;
-			memcpy(buf + 40, &arg, 8);
-		}
-		if (r & 128)
-			len = 48;
-
-		struct tcs_msg out;
-		const char *why = tcs_msg_check(buf, len, &out);
-		if (why == NULL) {
-			assert_int_equal(len, 48);
-			assert_invariants(&out, buf);
-			accepted++;
-		} else {
-			assert_true(why[0] != '\0');
-		}
-	}
-	print_message("      %lu of 200000 random buffers accepted\n", accepted);
-	/* The loop must have reached the deeper checks, or it tested little. */
-	assert_true(accepted > 100);
-}
-
-static void test_fuzz_mutations(void **state)
-{
-	uint64_t rng = 0xfeedfacecafebeefULL;
-	struct tcs_msg (*const makers[])(void) = { valid_hello, valid_block, valid_early };
-	unsigned long accepted = 0, rejected = 0;
-	for (int i = 0; i < 300000; i++) {
-		struct tcs_msg m = makers[i % 3]();
-		unsigned char raw[48];
-		memcpy(raw, &m, sizeof raw);
-		uint64_t r = test_rand(&rng);
-		switch (r % 4) {
-		case 0: /* flip one bit */
-			raw[(r >> 8) % 48] ^= (unsigned char)(1u << ((r >> 16) % 8));
-			break;
-		case 1: /* replace one byte */
-			raw[(r >> 8) % 48] = (unsigned char)(r >> 16);
-			break;
-		case 2: { /* replace one field with a random or edge value */
-			static const size_t offs[] = { 0, 4, 6, 8, 12, 14, 16, 24, 32, 40 };
-			static const size_t sizes[] = { 4, 2, 2, 4, 2, 2, 8, 8, 8, 8 };
-			size_t f = (r >> 8) % 10;
-			uint64_t v = test_rand(&rng);
-			static const uint64_t edges[] = { 0, 1, 2, 3, 4, 5, UINT64_MAX, (uint64_t)INT64_MIN,
-							  (uint64_t)INT64_MAX, (uint64_t)INT32_MAX,
-							  (uint64_t)INT32_MAX + 1 };
-			if ((r >> 16) & 1)
-				v = edges[(r >> 17) % (sizeof edges / sizeof edges[0])];
-			memcpy(raw + offs[f], &v, sizes[f]); /* little-endian: the low bytes */
-			break;
-		}
-		default: /* several random bytes */
-			for (int k = 0; k < 4; k++)
-				raw[test_rand(&rng) % 48] = (unsigned char)test_rand(&rng);
-			break;
-		}
-		struct tcs_msg out;
-		const char *why = tcs_msg_check(raw, 48, &out);
-		if (why == NULL) {
-			assert_invariants(&out, raw);
-			accepted++;
-		} else {
-			assert_true(why[0] != '\0');
-			rejected++;
-		}
-	}
-	print_message("      mutations: %lu accepted, %lu rejected\n", accepted, rejected);
-	assert_true(accepted > 1000);
-	assert_true(rejected > 1000);
-}
-
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_msg_make),
 		cmocka_unit_test(test_valid_hello),
 		cmocka_unit_test(test_valid_block),
+		cmocka_unit_test(test_thread_message),
+		cmocka_unit_test(test_doorbell_message),
+		cmocka_unit_test(test_kill_message),
 		cmocka_unit_test(test_valid_early),
 		cmocka_unit_test(test_unaligned_buffer),
 		cmocka_unit_test(test_wrong_size),
 		cmocka_unit_test(test_bad_magic),
 		cmocka_unit_test(test_wrong_version),
 		cmocka_unit_test(test_unknown_type),
-		cmocka_unit_test(test_kill_message),
-		cmocka_unit_test(test_doorbell_message),
 		cmocka_unit_test(test_device_messages),
 		cmocka_unit_test(test_wake_to_coordinator),
-		cmocka_unit_test(test_thread_message),
 		cmocka_unit_test(test_block_bad_kind),
 		cmocka_unit_test(test_block_bad_flags),
 		cmocka_unit_test(test_block_negative_times),
 		cmocka_unit_test(test_early_bad_reason),
 		cmocka_unit_test(test_hello_bad_pid),
 		cmocka_unit_test(test_timer_messages),
-		cmocka_unit_test(test_fuzz_random_buffers),
-		cmocka_unit_test(test_fuzz_mutations),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

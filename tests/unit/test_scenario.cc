@@ -1,10 +1,8 @@
-// Unit tests for scenario/scenario and scenario_units: the built-in
-// world, the files in scenarios/, every rule a scenario must follow (with
-// the exact FILE:LINE of each complaint), units, and command splitting.
-#include <dirent.h>
-#include <unistd.h>
-
-#include <algorithm>
+// Unit tests for scenario/: every rule a scenario must follow, with the
+// exact FILE:LINE of each complaint: syntax, unknown keys and types, [sim],
+// models, devices and their signals (also against a world's, with the
+// built-in one), controllers. Files, the built-in world itself and units
+// are test_scenario_files.cc's and test_scenario_units.cc's.
 #include <csetjmp>
 #include <cstdarg>
 #include <cstddef>
@@ -17,260 +15,15 @@ extern "C" {
 #include <cmocka.h>
 }
 
+#include "default_scenario.h"
 #include "scenario.h"
-#include "scenario_units.h"
-
-#ifndef TCS_SCENARIOS_DIR
-#error "TCS_SCENARIOS_DIR must name the source tree's scenarios/ folder"
-#endif
+#include "scenario_checks.h"
 
 namespace {
 
+using namespace scenario_checks;
 using tcs::DeviceSpec;
 using tcs::Scenario;
-
-Scenario parse_ok(const std::string &text)
-{
-	auto r = tcs::parse_scenario_text(text, "t.toml");
-	if (!r.ok()) {
-		print_error("unexpected error: %s\n", r.error().message.c_str());
-		fail();
-	}
-	return std::move(*r);
-}
-
-// The message is exactly "t.toml:LINE: " followed by text containing `what`.
-void expect_error(const std::string &text, int line, const std::string &what)
-{
-	auto r = tcs::parse_scenario_text(text, "t.toml");
-	if (r.ok()) {
-		print_error("expected an error at line %d (%s), but it parsed:\n%s\n", line, what.c_str(), text.c_str());
-		fail();
-	}
-	const std::string &msg = r.error().message;
-	std::string prefix = "t.toml:" + std::to_string(line) + ": ";
-	if (msg.compare(0, prefix.size(), prefix) != 0 || msg.find(what, prefix.size()) == std::string::npos ||
-	    msg.find('\n') != std::string::npos) {
-		print_error("got     \"%s\"\nexpected \"%s...%s...\"\n", msg.c_str(), prefix.c_str(), what.c_str());
-		fail();
-	}
-}
-
-// A valid scenario with one pendulum, to which each test adds a few lines
-// (at line 3 and on).
-const std::string kHead = "[sim]\nmodel = \"pendulum\"\n";
-
-const std::string kSensor = "[[device]]\n"
-			    "path = \"/dev/s\"\n"
-			    "kind = \"sensor\"\n"
-			    "signals = [\"pendulum.hinge.position\"]\n"
-			    "rate = \"1kHz\"\n";
-
-// ---- the built-in default -------------------------------------------------------
-
-void test_default_scenario(void **)
-{
-	auto r = tcs::default_scenario();
-	if (!r.ok()) {
-		print_error("%s\n", r.error().message.c_str());
-		fail();
-	}
-	const Scenario &s = *r;
-	assert_int_equal(s.sim.step_ns, 1000000);
-	assert_int_equal(s.models.size(), 1);
-	assert_string_equal(s.models[0].name.c_str(), "pendulum");
-	assert_string_equal(s.models[0].type.c_str(), "pendulum");
-	const auto &p = s.models[0].params;
-	assert_int_equal(p.size(), 3);
-	assert_string_equal(p[0].key.c_str(), "length");
-	assert_true(p[0].value == 1.0);
-	assert_string_equal(p[1].key.c_str(), "mass");
-	assert_true(p[1].value == 1.0);
-	assert_string_equal(p[2].key.c_str(), "initial_angle");
-	assert_true(p[2].value == 0.0);
-
-	assert_int_equal(s.devices.size(), 2);
-	const DeviceSpec &st = s.devices[0];
-	assert_string_equal(st.path.c_str(), "/dev/tcs/pendulum/state");
-	assert_true(st.kind == DeviceSpec::Kind::Sensor);
-	assert_int_equal(st.signals.size(), 2);
-	assert_string_equal(st.signals[0].name.c_str(), "pendulum.hinge.position");
-	assert_string_equal(st.signals[1].name.c_str(), "pendulum.hinge.velocity");
-	assert_true(st.format == DeviceSpec::Format::Text);
-	assert_true(st.mode == DeviceSpec::Mode::Stream);
-	assert_true(st.rate_hz == 1000.0);
-	assert_int_equal(st.period_ns, 1000000);
-	assert_false(st.limit.has_value());
-
-	const DeviceSpec &tq = s.devices[1];
-	assert_string_equal(tq.path.c_str(), "/dev/tcs/pendulum/torque");
-	assert_true(tq.kind == DeviceSpec::Kind::Actuator);
-	assert_int_equal(tq.signals.size(), 1);
-	assert_string_equal(tq.signals[0].name.c_str(), "pendulum.hinge.effort");
-	assert_true(tq.format == DeviceSpec::Format::Text);
-	assert_true(tq.limit.has_value() && *tq.limit == 5.0);
-	assert_int_equal(tq.period_ns, 0);
-	assert_true(s.controllers.empty());
-	// Lines refer to the built-in text, and the file name says it is built in.
-	assert_true(s.file.find("built-in") != std::string::npos);
-	assert_int_equal(s.devices[0].line, 10);
-}
-
-// scenarios/pendulum.toml documents the default: they must not drift apart.
-void test_pendulum_file_is_the_default(void **)
-{
-	auto f = tcs::parse_scenario_file(TCS_SCENARIOS_DIR "/pendulum.toml");
-	auto d = tcs::default_scenario();
-	assert_true(f.ok() && d.ok());
-	assert_int_equal(f->sim.step_ns, d->sim.step_ns);
-	assert_int_equal(f->models.size(), 1);
-	assert_string_equal(f->models[0].type.c_str(), d->models[0].type.c_str());
-	assert_int_equal(f->models[0].params.size(), d->models[0].params.size());
-	for (size_t i = 0; i < f->models[0].params.size(); i++) {
-		assert_string_equal(f->models[0].params[i].key.c_str(), d->models[0].params[i].key.c_str());
-		assert_true(f->models[0].params[i].value == d->models[0].params[i].value);
-	}
-	assert_int_equal(f->devices.size(), d->devices.size());
-	for (size_t i = 0; i < f->devices.size(); i++) {
-		const DeviceSpec &a = f->devices[i], &b = d->devices[i];
-		assert_string_equal(a.path.c_str(), b.path.c_str());
-		assert_true(a.kind == b.kind && a.format == b.format && a.mode == b.mode);
-		assert_int_equal(a.period_ns, b.period_ns);
-		assert_true(a.limit == b.limit);
-		assert_int_equal(a.signals.size(), b.signals.size());
-		for (size_t j = 0; j < a.signals.size(); j++)
-			assert_string_equal(a.signals[j].name.c_str(), b.signals[j].name.c_str());
-	}
-}
-
-// ---- the files in scenarios/ -----------------------------------------------------
-
-void test_every_scenario_file_parses(void **)
-{
-	DIR *dir = opendir(TCS_SCENARIOS_DIR);
-	assert_non_null(dir);
-	std::vector<std::string> names;
-	while (struct dirent *e = readdir(dir)) {
-		std::string n = e->d_name;
-		if (n.size() > 5 && n.substr(n.size() - 5) == ".toml")
-			names.push_back(n);
-	}
-	closedir(dir);
-	std::sort(names.begin(), names.end());
-	for (const char *want : { "boxes.toml", "cartpole.toml", "double_pendulum.toml", "pendulum.toml",
-				  "two_pendulums.toml" })
-		assert_true(std::find(names.begin(), names.end(), want) != names.end());
-	for (const std::string &n : names) {
-		auto r = tcs::parse_scenario_file(TCS_SCENARIOS_DIR "/" + n);
-		if (!r.ok()) {
-			print_error("%s\n", r.error().message.c_str());
-			fail();
-		}
-		assert_false(r->models.empty());
-		assert_false(r->devices.empty());
-	}
-}
-
-void test_two_pendulums_file(void **)
-{
-	auto r = tcs::parse_scenario_file(TCS_SCENARIOS_DIR "/two_pendulums.toml");
-	assert_true(r.ok());
-	assert_int_equal(r->models.size(), 2);
-	assert_string_equal(r->models[0].name.c_str(), "left");
-	assert_string_equal(r->models[1].name.c_str(), "right");
-	assert_string_equal(r->models[1].type.c_str(), "pendulum");
-	assert_int_equal(r->devices.size(), 4);
-	assert_int_equal(r->devices[0].period_ns, 1000000);
-	assert_int_equal(r->devices[2].period_ns, 4000000);
-	assert_int_equal(r->controllers.size(), 2);
-	// The example controller at two rates (however it is found, whatever else it is told).
-	const auto &a = r->controllers[0].argv, &b = r->controllers[1].argv;
-	auto is_pd = [](const std::string &p) { return p.size() >= 11 && p.substr(p.size() - 11) == "pendulum_pd"; };
-	assert_true(a.size() >= 3 && is_pd(a[0]) && a[1] == "--rate" && a[2] == "1000");
-	assert_true(b.size() >= 3 && is_pd(b[0]) && b[1] == "--rate" && b[2] == "250");
-	assert_false(r->controllers[0].cpu_scale.has_value());
-	assert_true(r->controllers[1].cpu_scale == 2.0);
-}
-
-// ---- units ---------------------------------------------------------------------
-
-void expect_ns(const char *text, int64_t want)
-{
-	auto r = tcs::parse_duration_ns(text);
-	if (!r.ok() || *r != want) {
-		print_error("parse_duration_ns(\"%s\"): %s, expected %lld\n", text,
-			    r.ok() ? std::to_string(*r).c_str() : r.error().message.c_str(), (long long)want);
-		fail();
-	}
-}
-
-void expect_hz(const char *text, double hz, int64_t period)
-{
-	auto r = tcs::parse_rate_hz(text);
-	if (!r.ok() || *r != hz || tcs::rate_period_ns(*r) != period) {
-		print_error("parse_rate_hz(\"%s\"): %s, expected %g Hz\n", text,
-			    r.ok() ? std::to_string(*r).c_str() : r.error().message.c_str(), hz);
-		fail();
-	}
-}
-
-void test_durations(void **)
-{
-	expect_ns("1ms", 1000000);
-	expect_ns("250us", 250000);
-	expect_ns("250 us", 250000);
-	expect_ns("250\xc2\xb5s", 250000);
-	expect_ns("2.5s", 2500000000LL);
-	expect_ns("100ns", 100);
-	expect_ns("0.5ms", 500000);
-	expect_ns(".5ms", 500000);
-	expect_ns("1e-3s", 1000000);
-	expect_ns(" 1ms ", 1000000);
-	for (const char *bad : { "", "5", "1.5", "fast", "ms", "5 sec", "5S", "-1ms", "+1ms", "1e", "1..5ms",
-				 "1ms x", "99999999999s" }) {
-		auto r = tcs::parse_duration_ns(bad);
-		if (r.ok()) {
-			print_error("parse_duration_ns(\"%s\") = %lld, expected an error\n", bad, (long long)*r);
-			fail();
-		}
-		assert_true(r.error().message.find("'" + std::string(bad) + "'") != std::string::npos);
-	}
-}
-
-void test_rates(void **)
-{
-	expect_hz("1kHz", 1000, 1000000);
-	expect_hz("500Hz", 500, 2000000);
-	expect_hz("2.5 kHz", 2500, 400000);
-	expect_hz("1KHz", 1000, 1000000);
-	expect_hz("3kHz", 3000, 333333);
-	expect_hz("1MHz", 1e6, 1000);
-	expect_hz("0.5Hz", 0.5, 2000000000LL);
-	expect_hz("1e3Hz", 1000, 1000000);
-	expect_hz("0.001Hz", 0.001, 1000000000000LL);
-	expect_hz("1e-6Hz", 1e-6, 1000000000000000LL);
-	// Positive but too slow: "11e-4000kHz" (found by scenario_fuzz) was 0 Hz
-	// once made a double, with a period of llround(inf).
-	for (const char *bad : { "", "fast", "1000", "0Hz", "0kHz", "2000MHz", "1 GHz", "1khz", "-5Hz", "Hz",
-				 "11e-4000kHz", "1e-12 Hz", "0.0000009Hz" }) {
-		auto r = tcs::parse_rate_hz(bad);
-		if (r.ok()) {
-			print_error("parse_rate_hz(\"%s\") = %g, expected an error\n", bad, *r);
-			fail();
-		}
-	}
-}
-
-void test_plain_numbers(void **)
-{
-	assert_true(*tcs::parse_plain_number("2") == 2.0);
-	assert_true(*tcs::parse_plain_number("2.5") == 2.5);
-	assert_true(*tcs::parse_plain_number(" 0.25 ") == 0.25);
-	assert_true(*tcs::parse_plain_number("1e3") == 1000.0);
-	assert_true(*tcs::parse_plain_number("2.5E-1") == 0.25);
-	for (const char *bad : { "", ".", "-1", "1x", "1 2", "e3", "1e999999" })
-		assert_false(tcs::parse_plain_number(bad).ok());
-}
 
 // ---- syntax, unknown keys, types ---------------------------------------------------
 
@@ -447,44 +200,6 @@ void test_model_array_form(void **)
 	expect_error(a + kSensor, 7, "signal 'pendulum.hinge.position': the scenario has no model 'pendulum' (models: a)");
 }
 
-void test_model_paths(void **)
-{
-	char dir[] = "/tmp/tcs_scenario_XXXXXX";
-	assert_non_null(mkdtemp(dir));
-	std::string file = std::string(dir) + "/arm.toml";
-	FILE *f = fopen(file.c_str(), "w");
-	assert_non_null(f);
-	fputs("[sim]\nmodel = \"robots/arm.urdf\"\n[[device]]\npath = \"/dev/arm\"\nkind = \"sensor\"\n"
-	      "signals = [\"arm.wrist-1.position\"]\nmode = \"latest\"\n",
-	      f);
-	fclose(f);
-	auto r = tcs::parse_scenario_file(file);
-	unlink(file.c_str());
-	rmdir(dir);
-	if (!r.ok()) {
-		print_error("%s\n", r.error().message.c_str());
-		fail();
-	}
-	// Named after the file's stem; the path resolved against the scenario's folder.
-	assert_string_equal(r->models[0].name.c_str(), "arm");
-	assert_string_equal(r->models[0].type.c_str(), (std::string(dir) + "/robots/arm.urdf").c_str());
-	assert_true(r->devices[0].mode == DeviceSpec::Mode::Latest);
-	assert_int_equal(r->devices[0].period_ns, 0);
-	// Absolute paths, and text with no folder, keep the path as written.
-	assert_string_equal(parse_ok("[sim]\nmodel = \"/r/b.sdf\"\n").models[0].type.c_str(), "/r/b.sdf");
-	assert_string_equal(parse_ok("[sim]\nmodel = \"b.sdf\"\n").models[0].type.c_str(), "b.sdf");
-}
-
-void test_file_errors(void **)
-{
-	auto r = tcs::parse_scenario_file("/nonexistent/w.toml");
-	assert_false(r.ok());
-	assert_string_equal(r.error().message.c_str(), "/nonexistent/w.toml: No such file or directory");
-	auto d = tcs::parse_scenario_file("/");
-	assert_false(d.ok());
-	assert_true(d.error().message.rfind("/: ", 0) == 0);
-}
-
 // ---- devices -----------------------------------------------------------------------
 
 void test_device_required_keys(void **)
@@ -597,36 +312,6 @@ void test_check_signals(void **)
 
 // ---- controllers ---------------------------------------------------------------------
 
-void expect_words(const char *command, std::vector<std::string> want)
-{
-	auto r = tcs::split_command(command);
-	if (!r.ok() || *r != want) {
-		print_error("split_command(%s) gave %s\n", command,
-			    r.ok() ? std::to_string(r->size()).c_str() : r.error().message.c_str());
-		if (r.ok())
-			for (const auto &w : *r)
-				print_error("  [%s]\n", w.c_str());
-		fail();
-	}
-}
-
-void test_split_command(void **)
-{
-	expect_words("examples/pendulum_pd --rate 1000", { "examples/pendulum_pd", "--rate", "1000" });
-	expect_words("  a \t b  ", { "a", "b" });
-	expect_words("", {});
-	expect_words("   ", {});
-	expect_words("prog \"two words\" x", { "prog", "two words", "x" });
-	expect_words("prog --name=\"a b\"c", { "prog", "--name=a bc" });
-	expect_words("prog \"\" x", { "prog", "", "x" });
-	expect_words("prog \"say \\\"hi\\\"\" \"back\\\\slash\" \"\\n\"", { "prog", "say \"hi\"", "back\\slash", "\\n" });
-	expect_words("prog 'it \"is\" \\ raw'", { "prog", "it \"is\" \\ raw" });
-	expect_words("prog a\\b", { "prog", "a\\b" });
-	assert_false(tcs::split_command("prog \"open").ok());
-	assert_false(tcs::split_command("prog 'open").ok());
-	assert_false(tcs::split_command("prog \"ends in \\\"").ok());
-}
-
 void test_controllers(void **)
 {
 	Scenario s = parse_ok(kHead + "[[controller]]\ncommand = 'ctl --gain \"1 2\"'\n"
@@ -653,13 +338,6 @@ void test_controllers(void **)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test(test_default_scenario),
-		cmocka_unit_test(test_pendulum_file_is_the_default),
-		cmocka_unit_test(test_every_scenario_file_parses),
-		cmocka_unit_test(test_two_pendulums_file),
-		cmocka_unit_test(test_durations),
-		cmocka_unit_test(test_rates),
-		cmocka_unit_test(test_plain_numbers),
 		cmocka_unit_test(test_syntax_errors),
 		cmocka_unit_test(test_toml_traps),
 		cmocka_unit_test(test_unknown_keys),
@@ -667,14 +345,11 @@ int main(void)
 		cmocka_unit_test(test_step),
 		cmocka_unit_test(test_single_model_form),
 		cmocka_unit_test(test_model_array_form),
-		cmocka_unit_test(test_model_paths),
-		cmocka_unit_test(test_file_errors),
 		cmocka_unit_test(test_device_required_keys),
 		cmocka_unit_test(test_device_kind_rules),
 		cmocka_unit_test(test_device_paths),
 		cmocka_unit_test(test_signal_names),
 		cmocka_unit_test(test_check_signals),
-		cmocka_unit_test(test_split_command),
 		cmocka_unit_test(test_controllers),
 	};
 	return cmocka_run_group_tests(tests, nullptr, nullptr);

@@ -1,0 +1,14 @@
+// CRC-32 as MCAP (and zlib, PNG, Ethernet) define it, for the writer's and
+// the reader's checks of chunks, the data section and the summary.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace tcs {
+
+// Reflected polynomial 0xEDB88320, initial value and final xor 0xFFFFFFFF.
+// Pass the previous result to continue over more bytes; start with 0.
+uint32_t mcap_crc32(uint32_t crc, const void *data, size_t size);
+
+} // namespace tcs
