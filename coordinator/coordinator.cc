@@ -59,11 +59,11 @@ Status Coordinator::init()
 	if (!rt_.warning.empty())
 		warn_once(rt_.warning);
 	// DDS's threads share the coordinator's core: no polling over them.
-	mailboxes_ = rt_.mailbox && !cfg_.step_host && !cfg_.step_agent;
+	poller_.enable(rt_.mailbox && !cfg_.step_host && !cfg_.step_agent);
 	Lanes::Setup lanes;
 	lanes.cores = rt_.cores;
 	lanes.coordinator_cpu = rt_.cpu;
-	lanes.mailboxes = mailboxes_;
+	lanes.mailboxes = poller_.enabled();
 	lanes.lockstep = cfg_.mode == TCS_MODE_LOCKSTEP;
 	if (auto s = lanes_.init(lanes, loop_, [this](Lane &l) { on_budget(l); }, [this](Lane &l) { on_watchdog(l); }); !s)
 		return s;
@@ -177,7 +177,7 @@ Result<RunReport> Coordinator::run()
 	// children too, has gone.
 	auto going = [&] { return cfg_.serve ? !ending_ || alive_controllers() > 0 : alive() > 0; };
 	while (going() && fatal_) {
-		if (auto s = turn(); !s)
+		if (auto s = poller_.turn(loop_, lanes_, ctls_, [this](Controller &c) { return take_mailbox(c); }); !s)
 			fatal_ = s;
 	}
 	lanes_.disarm_budgets();

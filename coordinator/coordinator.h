@@ -26,6 +26,7 @@
 #include "error.h"
 #include "event_loop.h"
 #include "lanes.h"
+#include "polling.h"
 #include "realtime.h"
 #include "scheduler.h"
 #include "tcs/clock_page.h"
@@ -153,6 +154,7 @@ private:
 	// A request, from a channel or c's mailbox (t == nullptr).
 	void on_request(Controller &c, ThreadChannel *t, const ::tcs_msg &m, UniqueFd passed);
 	void on_message(Controller &c, const ::tcs_msg &m, int fd, pid_t tid);
+	bool take_mailbox(Controller &c);
 
 	// A controller's end (exits.cc).
 	int64_t exited_cpu(const Controller &c);
@@ -242,14 +244,6 @@ private:
 	bool still_asleep(Controller &c, int64_t at);
 	void wake_from_asleep(Controller &c);
 
-	// Mailboxes (polling.cc).
-	// sleeping in epoll; c's posted request served (false: none).
-	Status turn();
-	bool take_mailbox(Controller &c);
-	bool take_mailboxes();
-	bool worth_polling() const;
-	void set_polling(bool on);
-
 	// Devices: what a controller asks of them (device_requests.cc).
 	void on_dev_open(Controller &c, const ::tcs_msg &m);
 	void on_dev_sync(Controller &c, const ::tcs_msg &m);
@@ -285,11 +279,6 @@ private:
 	static constexpr int64_t kEndGrace = 2 * TCS_NS_PER_S;
 	// How often a lane's watchdog looks at those running: asleep.cc.
 	static constexpr int64_t kWatchdog = 2 * TCS_NS_PER_MS;
-	// How long the run's loop polls mailboxes after the last request.
-	static constexpr int64_t kPollFor = 30 * TCS_NS_PER_US;
-	bool mailboxes_ = false; // rt_.mailbox, and no remote peers
-	bool polling_ = false;
-	int64_t polled_at_ = 0; // wall ns of the last request or event while polling
 	// How far a request's CPU claim may exceed the wall time since its slice
 	// began: the hook's part before the coordinator ran (charge_point).
 	static constexpr int64_t kClaimSlack = 1 * TCS_NS_PER_MS;
@@ -301,6 +290,7 @@ private:
 	// The coordinator's core's first (its controller's estimates go stale
 	// whenever the coordinator runs).
 	Lanes lanes_;
+	MailboxPoller poller_;
 	Timer progress_timer_;
 	Timer kill_timer_;
 	Timer idle_timer_;

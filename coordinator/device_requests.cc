@@ -1,4 +1,4 @@
-// What a controller asks of its devices (DESIGN.md §4): an open (DEV_OPEN,
+// What a controller asks of its devices (docs/DESIGN.md §4): an open (DEV_OPEN,
 // answered with the socket that is its fd) and a read, write or poll that
 // needs the coordinator (DEV_SYNC). A controller asking for what the world
 // has not computed yet waits for it. The devices themselves are

@@ -1,5 +1,5 @@
 // The world's devices as the coordinator serves them: see device_server.h.
-// Causality and zero-order hold (DESIGN.md §2, §4): a sensor record due at
+// Causality and zero-order hold (docs/DESIGN.md §2, §4): a sensor record due at
 // T carries the world at the last step boundary <= T; it is made when the
 // world reaches that boundary and put into the controller's fd when the
 // controller's virtual time reaches T. A command written at V is held from

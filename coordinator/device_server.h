@@ -1,6 +1,6 @@
 // The world's devices as the coordinator serves them: the devices bound to
 // the world's signals, the stream records made for each open instance, and
-// the actuator commands written and not yet in force (DESIGN.md §4). What a
+// the actuator commands written and not yet in force (docs/DESIGN.md §4). What a
 // controller asks of them (DEV_OPEN, DEV_SYNC) is device_requests.cc's.
 #pragma once
 

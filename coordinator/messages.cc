@@ -158,4 +158,26 @@ void Coordinator::on_message(Controller &c, const ::tcs_msg &m, int fd, pid_t ti
 	}
 }
 
+// c's request posted in its mailbox, served; false if none.
+bool Coordinator::take_mailbox(Controller &c)
+{
+	alignas(8) unsigned char buf[sizeof(struct tcs_msg)];
+	if (!c.mailbox.take(buf))
+		return false;
+	struct tcs_msg m;
+	const char *why = tcs_msg_check(buf, sizeof buf, &m);
+	if (!why && !tcs_mailbox_carries(m.type))
+		why = "a request the mailbox does not carry";
+	if (why) {
+		devices_.take_lazy_commands(c, -1, trace_);
+		drop(c, std::string("bad request in its mailbox: ") + why);
+		return true;
+	}
+	on_request(c, nullptr, m, UniqueFd{});
+	// Not answered at once: it waits on its channel, off its core, which
+	// the coordinator may give to another controller meanwhile.
+	c.mailbox.park();
+	return true;
+}
+
 } // namespace tcs

@@ -7,71 +7,54 @@
 // controller runs on its own core, which polling from above (SCHED_FIFO)
 // would hold off, nor in a run with remote peers, whose DDS threads share
 // that core.
-#include "coordinator.h"
+#include "polling.h"
+
+#include "clock_ns.h"
 
 namespace tcs {
 
-bool Coordinator::take_mailbox(Controller &c)
-{
-	alignas(8) unsigned char buf[sizeof(struct tcs_msg)];
-	if (!c.mailbox.take(buf))
-		return false;
-	struct tcs_msg m;
-	const char *why = tcs_msg_check(buf, sizeof buf, &m);
-	if (!why && !tcs_mailbox_carries(m.type))
-		why = "a request the mailbox does not carry";
-	if (why) {
-		devices_.take_lazy_commands(c, -1, trace_);
-		drop(c, std::string("bad request in its mailbox: ") + why);
-		return true;
-	}
-	on_request(c, nullptr, m, UniqueFd{});
-	// Not answered at once: it waits on its channel, off its core, which
-	// the coordinator may give to another controller meanwhile.
-	c.mailbox.park();
-	return true;
-}
-
-bool Coordinator::take_mailboxes()
+bool MailboxPoller::take_all(const std::vector<std::unique_ptr<Controller>> &ctls,
+			     const std::function<bool(Controller &)> &take)
 {
 	bool any = false;
 	// Serving one may add controllers (a child): by index.
-	for (size_t i = 0; i < ctls_.size(); i++)
-		any |= take_mailbox(*ctls_[i]);
+	for (size_t i = 0; i < ctls.size(); i++)
+		any |= take(*ctls[i]);
 	return any;
 }
 
-bool Coordinator::worth_polling() const
+bool MailboxPoller::worth_polling(const Lanes &lanes) const
 {
-	if (!mailboxes_ || !lanes_.home().running.empty())
+	if (!enabled_ || !lanes.home().running.empty())
 		return false;
-	for (size_t i = 1; i < lanes_.size(); i++)
-		if (!lanes_[i].running.empty())
+	for (size_t i = 1; i < lanes.size(); i++)
+		if (!lanes[i].running.empty())
 			return true;
 	return false;
 }
 
-void Coordinator::set_polling(bool on)
+void MailboxPoller::set_polling(const std::vector<std::unique_ptr<Controller>> &ctls, bool on)
 {
 	if (polling_ == on)
 		return;
 	polling_ = on;
-	for (auto &c : ctls_)
+	for (auto &c : ctls)
 		c->mailbox.set_polling(on);
 }
 
-Status Coordinator::turn()
+Status MailboxPoller::turn(EventLoop &loop, const Lanes &lanes, const std::vector<std::unique_ptr<Controller>> &ctls,
+			   const std::function<bool(Controller &)> &take)
 {
-	if (worth_polling()) {
-		const int64_t now = wall_now();
+	if (worth_polling(lanes)) {
+		const int64_t now = clock_ns(CLOCK_MONOTONIC);
 		if (!polling_) {
-			set_polling(true);
+			set_polling(ctls, true);
 			polled_at_ = now;
 		}
-		if (take_mailboxes())
+		if (take_all(ctls, take))
 			polled_at_ = now;
 		if (now - polled_at_ < kPollFor) {
-			auto n = loop_.dispatch(0);
+			auto n = loop.dispatch(0);
 			if (!n)
 				return n.error();
 			if (*n > 0)
@@ -82,11 +65,11 @@ Status Coordinator::turn()
 	if (polling_) {
 		// Unpromised first, then one more look: a request posted before
 		// the promise was taken back is seen here, one after rings.
-		set_polling(false);
-		if (take_mailboxes())
+		set_polling(ctls, false);
+		if (take_all(ctls, take))
 			return Ok{};
 	}
-	auto n = loop_.dispatch(-1);
+	auto n = loop.dispatch(-1);
 	if (!n)
 		return n.error();
 	return Ok{};
