@@ -116,7 +116,8 @@ bool Coordinator::still_asleep(Controller &c, int64_t at)
 		return true; // not ours to run: its end is all that is awaited
 	if (c.next_timer() <= at) {
 		c.v = std::max(c.v, at);
-		deliver_due_timers(c);
+		if (!ending_)
+			c.raise_due_timers();
 	}
 	if (proc_all_threads_asleep(c.pid))
 		return true;

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "device_server.h"
 #include "spawn.h"
 #include "tcs/device_table.h"
 
@@ -268,6 +269,72 @@ void Controller::release()
 		munmap(page_, TCS_SHARED_SIZE);
 		page_ = nullptr;
 	}
+}
+
+// Calls f with each timer due by v, then moves it past v: expirations
+// that fell together are one signal, as pending signals of one kind are.
+template <class F> void Controller::advance_due(F f)
+{
+	for (SignalTimer &t : timers) {
+		if (t.next == TCS_NEVER || t.next > v)
+			continue;
+		f(t);
+		t.next = t.interval > 0 ? t.next + ((v - t.next) / t.interval + 1) * t.interval : TCS_NEVER;
+	}
+	timers_changed();
+}
+
+uint64_t Controller::take_due_timer_signals()
+{
+	uint64_t bits = 0;
+	advance_due([&](const SignalTimer &t) { bits |= 1ull << (t.signo - 1); });
+	return bits;
+}
+
+void Controller::raise_due_timers()
+{
+	advance_due([&](const SignalTimer &t) {
+		if (t.tid > 0)
+			syscall(SYS_tgkill, pid, t.tid, t.signo);
+		else
+			kill(pid, t.signo);
+		count_raised_signal(); // (after: pending before it is counted)
+	});
+}
+
+bool Controller::missed_raised_signal(const ::tcs_msg &m) const
+{
+	return (m.flags & TCS_BLOCK_SIGMASK) && (uint64_t)m.arg != signals_raised_;
+}
+
+void Controller::kick(int64_t at)
+{
+	wait.kicked_at = std::min(wait.kicked_at, at);
+	for (SideWait &w : side)
+		if (w.wake_reason == 0)
+			w.wake_reason = TCS_WAKE_RECHECK;
+}
+
+ChannelState &Controller::channel_state(int fd)
+{
+	for (auto &t : threads)
+		if (t->fd.get() == fd)
+			return t->state;
+	return main_state;
+}
+
+int64_t Controller::side_next() const
+{
+	int64_t next = TCS_NEVER;
+	for (const SideWait &w : side)
+		next = std::min(next, w.deadline);
+	return next;
+}
+
+bool Controller::side_due(const SideWait &w, int64_t at, int64_t sim_ns) const
+{
+	return w.wake_reason != 0 || w.deadline <= at || ((w.flags & TCS_BLOCK_RECHECK) && w.rechecked_at < sim_ns) ||
+	       ((w.flags & TCS_BLOCK_DEVICES) && next_record_due(*this) <= at);
 }
 
 } // namespace tcs

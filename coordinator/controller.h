@@ -222,6 +222,12 @@ public:
 	// It has started threads (or has thread channels): each wait looks at
 	// them all.
 	bool multithreaded() const;
+	// The state of its channel fd: the main one's, or a thread's.
+	ChannelState &channel_state(int fd);
+	// The earliest deadline of its threads' waits beside its own.
+	int64_t side_next() const;
+	// A thread's wait w ends by virtual time `at` (the world at sim_ns).
+	bool side_due(const SideWait &w, int64_t at, int64_t sim_ns) const;
 	bool child_ended = false;     // a child ended while it was not waiting for one
 	bool outside = false;         // its program runs without the preload: real time
 	// Children seen running outside tcs: when first seen (wall ns; -1: said).
@@ -243,6 +249,21 @@ public:
 	// scheduler asks on every decision.
 	int64_t next_timer() const { return next_timer_; }
 	void timers_changed();
+	// The signals its timers due by v owe, as bits (n - 1 for signal n),
+	// the timers moved past v: a waiting controller raises them itself,
+	// each to its timer's thread.
+	uint64_t take_due_timer_signals();
+	// The signals its timers due by v owe, sent (it is not waiting: stopped,
+	// or about to run), each to the thread its timer names.
+	void raise_due_timers();
+	// A wait with its own signal mask looked for pending signals before one
+	// of ours was raised (a preemption between its look and its BLOCK): the
+	// kernel would have ended it at once, so it must look again before any
+	// time passes (answered RECHECK at its own time).
+	bool missed_raised_signal(const ::tcs_msg &m) const;
+	// Blocked, it has been sent a signal at virtual time `at`: its waits
+	// are re-checked then (an asleep one is looked at then).
+	void kick(int64_t at);
 	bool budgeted = false;      // Running with a budget timer
 	int lane = -1;  // Running: the coordinator's lane it runs in (lanes.cc)
 	int core = -1;  // the core its threads were last pinned to (-1: not by us)
@@ -269,6 +290,7 @@ public:
 	bool awaiting_exec = false; // its exec not yet done: looked at
 
 private:
+	template <class F> void advance_due(F f);
 	Result<UniqueFd> make_page(const ControllerSpec &spec, int mode, const ClockOrigins &origins,
 				   const RealtimePlan &rt, const std::vector<BoundDevice> &bound);
 	Status take_pid(pid_t p);

@@ -213,11 +213,8 @@ private:
 	void hear_threads(Controller &c);
 	void on_thread(Controller &c, const ::tcs_msg &m, UniqueFd channel);
 	void thread_gone(Controller &c, ThreadChannel *t);
-	ChannelState &channel_state(Controller &c, int fd);
 	bool side_wait(Controller &c, const ::tcs_msg &m, int fd, pid_t tid);
 	void demote_wait(Controller &c);
-	bool side_due(const Controller &c, const SideWait &w, int64_t v) const;
-	int64_t side_next(const Controller &c) const;
 	bool wake_threads(Controller &c, int64_t at);
 	void end_side_waits(Controller &c);
 	void answer_side(Controller &c, const SideWait &w);
@@ -227,14 +224,10 @@ private:
 
 	// Signal timers (signal_timers.cc).
 	void on_timer(Controller &c, const ::tcs_msg &m);
-	void deliver_due_timers(Controller &c);
-	uint64_t due_timer_signals(Controller &c);
-	bool missed_raised_signal(const Controller &c, const ::tcs_msg &m) const;
 	void budget_to_next_timer(Controller &c);
 
 	// Signals between controllers (signals.cc).
 	void on_kill(Controller &c, const ::tcs_msg &m);
-	void kick(Controller &c, int64_t at);
 
 	// Asleep in the kernel outside the hooks (asleep.cc).
 	void arm_watchdog(Controller &c);

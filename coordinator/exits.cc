@@ -97,7 +97,7 @@ void Coordinator::on_exit(Controller &c, int wait_status)
 			wake(*p, std::max(p->v, c.v), TCS_WAKE_RECHECK);
 			seen = true;
 		} else if (p->state == CtlState::Blocked) {
-			kick(*p, std::max(p->v, c.v));
+			p->kick(std::max(p->v, c.v));
 		}
 		// Not waiting for it now: its next wait for a child re-checks.
 		p->child_ended = !seen;

@@ -23,6 +23,8 @@ Decision decide(std::span<const Contender> cs, int64_t sim_ns, int64_t step_ns, 
 			continue;
 		}
 		rechecks |= c.rechecks;
+		if (c.waits_on_running_child)
+			continue; // (one is running: the decision waits at most)
 		if (c.at < target && (!best || c.at < d.at)) {
 			// The earliest behind the step; of equals, the first.
 			best = true;

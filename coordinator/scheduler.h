@@ -21,6 +21,12 @@ struct Contender {
 	int64_t at = 0;
 	// Blocked in a wait that only a re-check each step can see end.
 	bool rechecks = false;
+	// Waits for a child of its own that is running: it does not run till
+	// that child has stopped, for once awake it looks for ended children
+	// in the kernel, which would show it one that ended on another core
+	// before the child's end in virtual time (and before tcs had read the
+	// child's last CPU, gone once it is reaped).
+	bool waits_on_running_child = false;
 };
 
 struct Decision {

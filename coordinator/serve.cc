@@ -60,7 +60,7 @@ void Coordinator::signal_controller(int id, int signo)
 	// A stopped one gets it when it next runs; a waiting one is looked at
 	// now, where the world is (its handler may end its wait).
 	if (c->state == CtlState::Blocked)
-		kick(*c, std::max(c->v, sim_ns_));
+		c->kick(std::max(c->v, sim_ns_));
 	schedule();
 }
 

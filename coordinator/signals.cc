@@ -37,18 +37,8 @@ void Coordinator::on_kill(Controller &c, const ::tcs_msg &m)
 	int64_t at = std::max(c.v, m.v);
 	for (auto &o : ctls_)
 		if (o.get() != &c && o->state == CtlState::Blocked && reaches(o->pid, m.arg, sender_pgid))
-			kick(*o, at);
+			o->kick(at);
 	reply_now(c, 0);
-}
-
-// c, Blocked, has been sent a signal at virtual time `at`: its waits are
-// re-checked then (an asleep one is looked at then).
-void Coordinator::kick(Controller &c, int64_t at)
-{
-	c.wait.kicked_at = std::min(c.wait.kicked_at, at);
-	for (SideWait &w : c.side)
-		if (w.wake_reason == 0)
-			w.wake_reason = TCS_WAKE_RECHECK;
 }
 
 } // namespace tcs

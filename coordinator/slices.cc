@@ -263,7 +263,8 @@ void Coordinator::preempt(Controller &c, bool held)
 	int64_t overshoot = c.slice_cpu(cpu) - budget; // before account() closes the slice
 	c.account(cpu, cfg_.mode);
 	trace_slice_end(c, "preempted", cpu, budget, overshoot);
-	deliver_due_timers(c); // pending until it continues
+	if (!ending_)
+		c.raise_due_timers(); // pending until it continues
 }
 
 } // namespace tcs

@@ -71,14 +71,6 @@ void Coordinator::thread_gone(Controller &c, ThreadChannel *t)
 			c.threads.end());
 }
 
-ChannelState &Coordinator::channel_state(Controller &c, int fd)
-{
-	for (auto &t : c.threads)
-		if (t->fd.get() == fd)
-			return t->state;
-	return c.main_state;
-}
-
 // A thread's BLOCK while another thread of c can still run: it waits beside
 // the controller, which goes on. False if no other thread can run (the
 // controller then blocks in this wait).
@@ -187,20 +179,6 @@ int Coordinator::runnable_threads(Controller &c, pid_t also)
 	return runnable;
 }
 
-int64_t Coordinator::side_next(const Controller &c) const
-{
-	int64_t next = TCS_NEVER;
-	for (const SideWait &w : c.side)
-		next = std::min(next, w.deadline);
-	return next;
-}
-
-bool Coordinator::side_due(const Controller &c, const SideWait &w, int64_t v) const
-{
-	return w.wake_reason != 0 || w.deadline <= v || ((w.flags & TCS_BLOCK_RECHECK) && w.rechecked_at < sim_ns_) ||
-	       ((w.flags & TCS_BLOCK_DEVICES) && next_record_due(c) <= v);
-}
-
 // The controller's own wait becomes a side wait: it goes on waiting while
 // other threads run.
 void Coordinator::demote_wait(Controller &c)
@@ -226,7 +204,7 @@ bool Coordinator::wake_threads(Controller &c, int64_t at)
 	bool own = c.wait.active && !c.sync_pending &&
 		   (c.wait.deadline <= v || c.wait.kicked_at <= v || (c.wait.recheck && c.wait.rechecked_at < sim_ns_) ||
 		    (c.wait.devices && next_record_due(c) <= v));
-	bool side = std::any_of(c.side.begin(), c.side.end(), [&](const SideWait &w) { return side_due(c, w, v); });
+	bool side = std::any_of(c.side.begin(), c.side.end(), [&](const SideWait &w) { return c.side_due(w, v, sim_ns_); });
 	if (!woke_alone && !timer && !own && !side) {
 		c.wait.kicked_at = TCS_NEVER; // (the thread it reached was asleep: looked at each step)
 		return false;
@@ -240,7 +218,7 @@ bool Coordinator::wake_threads(Controller &c, int64_t at)
 	}
 	if (timer && c.wait.active && !c.sync_pending) {
 		c.v = v;
-		c.wake_arg = (int64_t)due_timer_signals(c);
+		c.wake_arg = (int64_t)c.take_due_timer_signals();
 		wake(c, v, TCS_WAKE_SIGNAL);
 	} else if (own) {
 		bool due = c.wait.deadline <= v;
@@ -261,7 +239,7 @@ bool Coordinator::wake_threads(Controller &c, int64_t at)
 
 void Coordinator::answer_side(Controller &c, const SideWait &w)
 {
-	channel_state(c, w.fd).unanswered = 0;
+	c.channel_state(w.fd).unanswered = 0;
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_WAKE, w.seq);
 	m.kind = w.wake_reason;
 	m.v = c.v;
@@ -276,7 +254,7 @@ void Coordinator::end_side_waits(Controller &c)
 {
 	for (size_t i = 0; i < c.side.size();) {
 		SideWait &w = c.side[i];
-		if (!side_due(c, w, c.v)) {
+		if (!c.side_due(w, c.v, sim_ns_)) {
 			if (w.flags & TCS_BLOCK_RECHECK)
 				w.rechecked_at = sim_ns_;
 			i++;

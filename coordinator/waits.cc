@@ -47,7 +47,7 @@ void Coordinator::send_answer(Controller &c, int fd, const ::tcs_msg &m, int pas
 void Coordinator::send_wake(Controller &c)
 {
 	int fd = c.wait.fd >= 0 ? c.wait.fd : c.channel.get();
-	channel_state(c, fd).unanswered = 0;
+	c.channel_state(fd).unanswered = 0;
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_WAKE, c.wait.seq);
 	m.kind = c.wake_reason;
 	m.flags = TCS_WAKE_STARTS_SLICE;
@@ -67,7 +67,7 @@ void Coordinator::send_wake(Controller &c)
 
 void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 {
-	ChannelState &st = channel_state(c, fd);
+	ChannelState &st = c.channel_state(fd);
 	if (!ending_ && st.early_ahead != 0 && st.early_ahead == m.seq) {
 		// Another thread ended this wait before it began.
 		st.early_ahead = 0;
@@ -101,7 +101,7 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		}
 		// A thread that was asleep outside the hooks woke and waits now.
 		c.side.push_back(side_wait_of(m, fd, tid, c.v, sim_ns_));
-		if (missed_raised_signal(c, m))
+		if (c.missed_raised_signal(m))
 			c.side.back().wake_reason = TCS_WAKE_RECHECK;
 		child_wait_begins(c, m, &c.side.back());
 		c.stats.waits++;
@@ -117,7 +117,7 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 			if (m.deadline <= c.side.back().requested_at)
 				c.stats.reported_misses++;
 		}
-		if (missed_raised_signal(c, m)) {
+		if (c.missed_raised_signal(m)) {
 			// (At the time its process has reached, as on_early's.)
 			if (c.state == CtlState::Running && cfg_.mode == TCS_MODE_CPU)
 				c.account(charge_point(c, m.cpu), cfg_.mode);
@@ -162,7 +162,7 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	// Threads asleep outside the hooks: looked at each step (threads.cc).
 	c.others_asleep = c.multithreaded() && proc_thread_count(c.pid) > 1 + (int)c.side.size();
 	child_wait_begins(c, m, nullptr);
-	if (missed_raised_signal(c, m))
+	if (c.missed_raised_signal(m))
 		wake(c, c.v, TCS_WAKE_RECHECK);
 	hear_threads(c);
 	schedule();
@@ -201,7 +201,7 @@ void Coordinator::on_early(Controller &c, const ::tcs_msg &m, int fd)
 	// or the answer crossed it. Either way it is owed nothing.
 	// (One such is not counted against a flood: a thread may be woken
 	// just as its wait returns without asking.)
-	ChannelState &st = channel_state(c, fd);
+	ChannelState &st = c.channel_state(fd);
 	if (st.early_ahead == 0)
 		st.unanswered = std::max(0, st.unanswered - 1);
 	st.early_ahead = m.seq;

@@ -96,7 +96,7 @@ bool Coordinator::run_best(Controller &best, int64_t at, int64_t until)
 		// A signal timer is due in its wait: send it, and wake it to
 		// re-check (its wait ends with EINTR if a handler ran).
 		best.v = std::max(best.v, at);
-		best.wake_arg = (int64_t)due_timer_signals(best);
+		best.wake_arg = (int64_t)best.take_due_timer_signals();
 		best.wait.rechecked_at = sim_ns_;
 		wake(best, best.v, TCS_WAKE_SIGNAL);
 	} else if (best.state == CtlState::Blocked) {
@@ -124,6 +124,13 @@ Contender Coordinator::contender_of(const Controller &c) const
 		     (c.wait.recheck || c.others_asleep || std::any_of(c.side.begin(), c.side.end(), [](const SideWait &w) {
 			      return (w.flags & TCS_BLOCK_RECHECK) != 0;
 		      }));
+	const bool for_child = c.wait.for_child || std::any_of(c.side.begin(), c.side.end(), [](const SideWait &w) {
+				       return (w.flags & TCS_BLOCK_CHILD) != 0;
+			       });
+	k.waits_on_running_child = c.state == CtlState::Blocked && for_child &&
+				   std::any_of(ctls_.begin(), ctls_.end(), [&c](const auto &o) {
+					   return o->parent_id == c.id && o->state == CtlState::Running;
+				   });
 	return k;
 }
 
@@ -140,7 +147,7 @@ int64_t Coordinator::next_run_at(const Controller &c) const
 	}
 	if (((c.wait.recheck || c.others_asleep) && c.wait.rechecked_at < sim_ns_) || side_recheck)
 		return std::max(c.v, sim_ns_);
-	int64_t until = std::min({ c.wait.deadline, c.next_timer(), side_next(c), c.wait.kicked_at });
+	int64_t until = std::min({ c.wait.deadline, c.next_timer(), c.side_next(), c.wait.kicked_at });
 	if (c.wait.devices || side_devices)
 		until = std::min(until, next_record_due(c));
 	return until == TCS_NEVER ? TCS_NEVER : std::max(c.v, until);

@@ -11,6 +11,8 @@ import os
 import re
 import sys
 
+from source_tree import project_files
+
 # Lowest first. A folder not listed belongs to the nearest listed folder
 # above it. tests/, bench/ and examples/ stand on everything.
 LAYERS = [
@@ -23,7 +25,6 @@ LAYERS = [
 ]
 TOP = ["tests", "bench", "examples"]
 SOURCES = (".c", ".cc", ".h", ".cpp", ".idl")  # (an .idl's header is generated)
-SKIP = {"build", ".git", "node_modules", "subprojects"}
 
 
 def folder_of(path):
@@ -43,16 +44,8 @@ def layer_of(folder):
     return len(LAYERS)  # the top
 
 
-def sources(root):
-    for base, dirs, files in os.walk(root):
-        dirs[:] = sorted(d for d in dirs if d not in SKIP and not d.startswith("build"))
-        for f in sorted(files):
-            if f.endswith(SOURCES):
-                yield os.path.relpath(os.path.join(base, f), root)
-
-
 def main(root):
-    files = list(sources(root))
+    files = list(project_files(root, SOURCES))
     # Where a header named by an include can be: its path from any folder
     # the build puts on the include path (every folder with headers).
     by_name = {}

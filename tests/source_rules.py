@@ -38,18 +38,11 @@ import re
 import subprocess
 import sys
 
+from source_tree import project_files
+
 MAX_LINES = 500
 SOURCES = (".c", ".cc", ".h", ".py")
 HEADERS = (".h",)
-SKIP = {"build", ".git", "node_modules", "subprojects"}
-
-
-def project_files(root, endings):
-    for base, dirs, files in os.walk(root):
-        dirs[:] = sorted(d for d in dirs if d not in SKIP and not d.startswith("build"))
-        for f in sorted(files):
-            if f.endswith(endings):
-                yield os.path.relpath(os.path.join(base, f), root)
 
 
 # ---- (a) length ----

@@ -116,10 +116,13 @@ def test_a_controller_joins_a_running_world_at_its_time():
           (start, attached))
     # It began where the world was, not at 0: at the last step before it
     # (or within the step that follows), which the world reached at the
-    # pace of real time, as the trace's wall clock says: never ahead of it,
-    # and behind by no more than kIdleCatchUp (50 ms: an idle world that
-    # falls behind catches up at once, up to that; scheduler.cc) and what
-    # pauses of the machine took. A pause shows as a step more than a
+    # pace of real time, as the trace's wall clock says: never ahead of it
+    # (each step's time no later than the wall time since the run began:
+    # the pace is anchored where the world began to idle, which is not
+    # before that; not measured from the first step, which may itself have
+    # come late and been caught up), and behind by no more than
+    # kIdleCatchUp (50 ms: an idle world that falls behind catches up at
+    # once, up to that; world_steps.cc) and what pauses of the machine took. A pause shows as a step more than a
     # whole step late (a gap over 2 steps between two; a timer's lateness
     # is caught up at the next step), and loses at most its length beyond
     # the step, when its lateness, alone or with the next ones before the
@@ -130,7 +133,9 @@ def test_a_controller_joins_a_running_world_at_its_time():
     (v0, w0), (vl, wl) = steps[0], steps[-1]
     check(vl <= start <= vl + STEP_NS, "it joins at the world's time: %d ns, the world at %d ns" % (start, vl), r)
     lost = sum(b[1] - a[1] - STEP_NS for a, b in zip(steps, steps[1:]) if b[1] - a[1] > 2 * STEP_NS)
-    check(wl - w0 - 50 * 10**6 - lost <= vl - v0 <= wl - w0 + STEP_NS,
+    ahead = max(v - w for v, w in steps)
+    check(ahead <= 0, "the idle world never ahead of real time: a step %d ns ahead of the run's wall clock" % ahead, r)
+    check(wl - w0 - 50 * 10**6 - lost <= vl - v0,
           "the idle world at real-time pace: %d ns of virtual time in %d ns of wall time (%d ns lost to gaps)" %
           (vl - v0, wl - w0, lost), r)
     check(wl >= 0.5e9, "the world was 0.5 s old when it joined: the step before at %d ns of wall time" % wl, r)

@@ -136,6 +136,25 @@ void idle_when_every_one_waits_on_the_real_world(void **)
 	assert_int_equal(d.kind, Decision::Idle);
 }
 
+void a_parent_waits_while_its_child_runs(void **)
+{
+	// The parent's wait for its child is due (at 0.5 ms), its child runs
+	// on another core: the parent does not run, and the decision is to
+	// wait (the child is stopped at the parent's time, run_until).
+	Contender parent = ready(500000);
+	parent.waits_on_running_child = true;
+	Decision d = decide({ parent, running(300000) });
+	assert_int_equal(d.kind, Decision::Wait);
+	// Another behind the step runs meanwhile.
+	d = decide({ parent, running(300000), ready(700000) });
+	assert_int_equal(d.kind, Decision::Run);
+	assert_int_equal(d.who, 2);
+	std::vector<Contender> cs = { parent, running(300000) };
+	assert_int_equal(tcs::run_until(cs, 1, kMs, -1), kMs);
+	cs = { parent, ready(300000) };
+	assert_int_equal(tcs::run_until(cs, 1, 0, -1), 500000);
+}
+
 void run_until_the_next_turn_of_another(void **)
 {
 	std::vector<Contender> cs = { ready(200000), ready(3500000), exited(), ready(TCS_NEVER) };
@@ -173,6 +192,7 @@ int main(void)
 		cmocka_unit_test(a_recheck_each_step_skips_nothing),
 		cmocka_unit_test(a_barrier_skips_nothing),
 		cmocka_unit_test(idle_when_every_one_waits_on_the_real_world),
+		cmocka_unit_test(a_parent_waits_while_its_child_runs),
 		cmocka_unit_test(run_until_the_next_turn_of_another),
 		cmocka_unit_test(run_until_counts_those_running),
 	};
