@@ -59,7 +59,8 @@ Status Coordinator::init()
 	if (!rt_.warning.empty())
 		warn_once(rt_.warning);
 	// DDS's threads share the coordinator's core: no polling over them.
-	poller_.enable(rt_.mailbox && !cfg_.step_host && !cfg_.step_agent);
+	poller_.enable(rt_.mailbox && !cfg_.step_host && !cfg_.step_agent,
+		       [this](Controller &c) { return take_mailbox(c); });
 	Lanes::Setup lanes;
 	lanes.cores = rt_.cores;
 	lanes.coordinator_cpu = rt_.cpu;
@@ -177,7 +178,7 @@ Result<RunReport> Coordinator::run()
 	// children too, has gone.
 	auto going = [&] { return cfg_.serve ? !ending_ || alive_controllers() > 0 : alive() > 0; };
 	while (going() && fatal_) {
-		if (auto s = poller_.turn(loop_, lanes_, ctls_, [this](Controller &c) { return take_mailbox(c); }); !s)
+		if (auto s = poller_.turn(loop_, lanes_, ctls_); !s)
 			fatal_ = s;
 	}
 	lanes_.disarm_budgets();

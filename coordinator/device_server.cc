@@ -166,20 +166,4 @@ void DeviceServer::take_lazy_commands(Controller &c, int64_t except, Trace &trac
 	}
 }
 
-void DeviceServer::take_due(int64_t boundary, const SimWorld &world,
-			    const std::function<void(int64_t at, size_t signal, const double *values, size_t width)> &each)
-{
-	while (!commands_.empty() && std::get<0>(commands_.front()) <= boundary) {
-		auto &[at, dev, values] = commands_.front();
-		dev->command = values;
-		size_t off = 0;
-		for (size_t i : dev->signals) {
-			const size_t width = world.signal(i).width;
-			each(at, i, dev->command.data() + off, width);
-			off += width;
-		}
-		commands_.pop_front();
-	}
-}
-
 } // namespace tcs

@@ -40,8 +40,21 @@ public:
 	// The commands written by `boundary`, in the order written (the last
 	// one wins), each put in force: per signal of its device, `each` gets
 	// the command's time, the signal's index and its values.
-	void take_due(int64_t boundary, const SimWorld &world,
-		      const std::function<void(int64_t at, size_t signal, const double *values, size_t width)> &each);
+	// (A template: it runs at every world step.)
+	template <class F> void take_due(int64_t boundary, const SimWorld &world, F each)
+	{
+		while (!commands_.empty() && std::get<0>(commands_.front()) <= boundary) {
+			auto &[at, dev, values] = commands_.front();
+			dev->command = values;
+			size_t off = 0;
+			for (size_t i : dev->signals) {
+				const size_t width = world.signal(i).width;
+				each(at, i, dev->command.data() + off, width);
+				off += width;
+			}
+			commands_.pop_front();
+		}
+	}
 
 private:
 	std::vector<BoundDevice> devices_; // (never reallocated once bound: opens point into it)

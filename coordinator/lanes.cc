@@ -24,6 +24,7 @@
 
 #include <algorithm>
 
+#include "clock_ns.h"
 #include "realtime.h"
 
 namespace tcs {
@@ -87,7 +88,7 @@ int Lanes::free_other(const Controller &c) const
 // more than such a turn of the coordinator's core takes. (One there that
 // turns out long is seen by its lane's watchdog, which schedules again:
 // asleep.cc.)
-int Lanes::free_for(const Controller &c, int64_t now) const
+int Lanes::free_for(const Controller &c) const
 {
 	const Lane &home = *lanes_.front();
 	if (setup_.mailboxes) {
@@ -102,7 +103,7 @@ int Lanes::free_for(const Controller &c, int64_t now) const
 		return 0;
 	const Controller &there = *home.running.front();
 	if (c.turn_cpu < kWorthAnotherCore && there.turn_cpu < kWorthAnotherCore &&
-	    now - there.resumed_wall < kWorthAnotherCore)
+	    clock_ns(CLOCK_MONOTONIC) - there.resumed_wall < kWorthAnotherCore)
 		return -1;
 	return free_other(c);
 }

@@ -39,8 +39,8 @@ public:
 	Status init(const Setup &setup, EventLoop &loop, std::function<void(Lane &)> on_budget,
 		    std::function<void(Lane &)> on_watchdog);
 
-	// The lane c would run in now (wall time `now`); -1 if it had better wait.
-	int free_for(const Controller &c, int64_t now) const;
+	// The lane c would run in now; -1 if it had better wait.
+	int free_for(const Controller &c) const;
 	// c runs in lane index from now: pinned to its core, its turn counted.
 	void take(Controller &c, int index);
 	// c no longer runs in its lane (it waits, was stopped, ended): the

@@ -13,13 +13,12 @@
 
 namespace tcs {
 
-bool MailboxPoller::take_all(const std::vector<std::unique_ptr<Controller>> &ctls,
-			     const std::function<bool(Controller &)> &take)
+bool MailboxPoller::take_all(const std::vector<std::unique_ptr<Controller>> &ctls)
 {
 	bool any = false;
 	// Serving one may add controllers (a child): by index.
 	for (size_t i = 0; i < ctls.size(); i++)
-		any |= take(*ctls[i]);
+		any |= take_(*ctls[i]);
 	return any;
 }
 
@@ -42,8 +41,7 @@ void MailboxPoller::set_polling(const std::vector<std::unique_ptr<Controller>> &
 		c->mailbox.set_polling(on);
 }
 
-Status MailboxPoller::turn(EventLoop &loop, const Lanes &lanes, const std::vector<std::unique_ptr<Controller>> &ctls,
-			   const std::function<bool(Controller &)> &take)
+Status MailboxPoller::turn(EventLoop &loop, const Lanes &lanes, const std::vector<std::unique_ptr<Controller>> &ctls)
 {
 	if (worth_polling(lanes)) {
 		const int64_t now = clock_ns(CLOCK_MONOTONIC);
@@ -51,7 +49,7 @@ Status MailboxPoller::turn(EventLoop &loop, const Lanes &lanes, const std::vecto
 			set_polling(ctls, true);
 			polled_at_ = now;
 		}
-		if (take_all(ctls, take))
+		if (take_all(ctls))
 			polled_at_ = now;
 		if (now - polled_at_ < kPollFor) {
 			auto n = loop.dispatch(0);
@@ -66,7 +64,7 @@ Status MailboxPoller::turn(EventLoop &loop, const Lanes &lanes, const std::vecto
 		// Unpromised first, then one more look: a request posted before
 		// the promise was taken back is seen here, one after rings.
 		set_polling(ctls, false);
-		if (take_all(ctls, take))
+		if (take_all(ctls))
 			return Ok{};
 	}
 	auto n = loop.dispatch(-1);

@@ -18,20 +18,25 @@ class MailboxPoller {
 public:
 	// How long it polls after the last request or event.
 	static constexpr int64_t kPollFor = 30 * TCS_NS_PER_US;
-	// Mailboxes are used at all (the machine allows, and no remote peers).
-	void enable(bool on) { enabled_ = on; }
+	using Take = std::function<bool(Controller &)>;
+	// Mailboxes are used at all (the machine allows, and no remote peers);
+	// take serves c's posted request (false: none).
+	void enable(bool on, Take take)
+	{
+		enabled_ = on;
+		take_ = std::move(take);
+	}
 	bool enabled() const { return enabled_; }
-	// One turn of the run's loop: the mailboxes polled (take: c's posted
-	// request served, false if none) and the loop's ready fds served
-	// without sleeping, while worth it; else a sleep in epoll.
-	Status turn(EventLoop &loop, const Lanes &lanes, const std::vector<std::unique_ptr<Controller>> &ctls,
-		    const std::function<bool(Controller &)> &take);
+	// One turn of the run's loop: the mailboxes polled and the loop's
+	// ready fds served without sleeping, while worth it; else a sleep in
+	// epoll.
+	Status turn(EventLoop &loop, const Lanes &lanes, const std::vector<std::unique_ptr<Controller>> &ctls);
 
 private:
 	bool worth_polling(const Lanes &lanes) const;
 	void set_polling(const std::vector<std::unique_ptr<Controller>> &ctls, bool on);
-	static bool take_all(const std::vector<std::unique_ptr<Controller>> &ctls,
-			     const std::function<bool(Controller &)> &take);
+	bool take_all(const std::vector<std::unique_ptr<Controller>> &ctls);
+	Take take_;
 	bool enabled_ = false;
 	bool polling_ = false;
 	int64_t polled_at_ = 0; // wall ns of the last request or event while polling

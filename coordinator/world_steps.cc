@@ -74,7 +74,7 @@ void Coordinator::schedule()
 // `until`. False when every core is taken (the next to leave one goes on).
 bool Coordinator::run_best(Controller &best, int64_t at, int64_t until)
 {
-	const int lane = lanes_.free_for(best, wall_now());
+	const int lane = lanes_.free_for(best);
 	if (lane < 0)
 		return false;
 	if (best.asleep && still_asleep(best, at)) {
