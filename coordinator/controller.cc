@@ -219,6 +219,11 @@ void Controller::account(int64_t cpu, int mode)
 		v = std::max(v, tcs_ns_add(slice_.v_base, used));
 }
 
+bool Controller::returning_from_wait() const
+{
+	return mark_due && page_ && __atomic_load_n(&page_->exit_cpu, __ATOMIC_RELAXED) < slice_.cpu_base;
+}
+
 uint64_t Controller::take_lazy_handles()
 {
 	if (!page_ || __atomic_load_n(&page_->lazy_handles, __ATOMIC_RELAXED) == 0)

@@ -181,6 +181,9 @@ public:
 	int64_t slice_cpu(int64_t cpu) const;
 	// Closes the slice at cpu: v and charged move forward, never back.
 	void account(int64_t cpu, int mode);
+	// The slice began with a WAKE whose hook has not yet marked its return
+	// (the page's exit_cpu): all it has run of the slice is the hook's.
+	bool returning_from_wait() const;
 	// The coordinator ran on the controller's core: its CPU-time estimates
 	// from before are stale (TCS_PAGE_CPU_ESTIMATE).
 	void coordinator_ran();
@@ -196,6 +199,7 @@ public:
 	CtlState state = CtlState::Ready;
 	OwnWait wait; // the request being served, and what ends it when Blocked
 	bool stopped = true;    // held by SIGSTOP
+	bool mark_due = false;  // its slice began with a WAKE, whose hook marks its return
 	bool attached = false;  // the preload said HELLO
 	int64_t hello_nonce = 0; // the current image's HELLO
 	int64_t v = 0;          // virtual time (exact whenever not Running)
@@ -204,7 +208,10 @@ public:
 	// Where the current scheduling slice began, for the trace (a device
 	// request answered at once restarts the accounting slice, not this).
 	int64_t trace_wall_start = 0, trace_v_start = 0, trace_charged_start = 0, trace_cpu_start = 0;
-	int64_t cpu_at_block = -1; // its CPU clock when its running slice ended in a wait (-1: none)
+	// Its CPU where its last slice ended (a wait's charge point, or the
+	// reading that closed a preemption): the next slice begins there, so
+	// that no CPU falls between two slices uncharged (-1: read it then).
+	int64_t cpu_at_end = -1;
 	int64_t resumed_wall = 0;  // wall ns when it was last resumed
 	int64_t slice_wall = 0;    // wall ns when its accounting slice began
 	int64_t checked_used = -1;  // slice CPU at the last budget check (-1: none yet)

@@ -291,7 +291,7 @@ bool Coordinator::block_if_all_waiting(Controller &c)
 	c.account(cpu, cfg_.mode);
 	c.publish_slice(cpu);
 	trace_slice_end(c, "blocked", cpu);
-	c.cpu_at_block = cpu;
+	c.cpu_at_end = cpu;
 	c.state = CtlState::Blocked;
 	c.wait.active = false;
 	demote_wait(c);

@@ -134,7 +134,7 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		int64_t cpu = charge_point(c, m.cpu);
 		c.account(cpu, cfg_.mode);
 		trace_slice_end(c, "blocked", cpu);
-		c.cpu_at_block = cpu;
+		c.cpu_at_end = cpu;
 	}
 	// (Ready: the budget ran out just as it began to wait; SIGSTOP has
 	// already closed its slice.)

@@ -90,13 +90,14 @@ static void tcs_cost_note(struct tcs_least_cost *c, int64_t sample)
 	c->v[c->n++ % TCS_COST_SAMPLES] = sample > 0 ? sample : 0;
 }
 
-/* -1 until there are 8 samples. */
-static int64_t tcs_cost_least(const struct tcs_least_cost *c)
+/* The least sample held; -1 until there are at least `needed`. */
+static int64_t tcs_cost_least(const struct tcs_least_cost *c, unsigned needed)
 {
-	if (c->n < TCS_COST_SAMPLES)
+	if (c->n < needed || c->n == 0)
 		return -1;
+	unsigned held = c->n < TCS_COST_SAMPLES ? c->n : TCS_COST_SAMPLES;
 	int64_t least = c->v[0];
-	for (unsigned i = 1; i < TCS_COST_SAMPLES; i++)
+	for (unsigned i = 1; i < held; i++)
 		if (c->v[i] < least)
 			least = c->v[i];
 	return least;
@@ -128,19 +129,26 @@ int64_t tcs_process_cpu_resync(int own)
 	 * at its end is later by half of what the call took. The whole call
 	 * is the runtime's own (unless the coordinator ran meanwhile, which
 	 * the stale gen makes the next read redo), but no more than a reading
-	 * costs: the ticks are wall time, and a pause of this core within
-	 * the call (the host running another vCPU, an interrupt not charged
-	 * to us) is not CPU of ours. Taken as ours it would make the
-	 * program's CPU go back, seen from the coordinator on another core,
-	 * which saw its CPU before the credit (a preemption's overshoot came
-	 * out negative in 1 of 15 runs). */
+	 * costs, the least one seen: the ticks are wall time, and a pause of
+	 * this core within the call (the host running another vCPU, an
+	 * interrupt not charged to us) is not CPU of ours. Taken as ours it
+	 * would make the program's CPU go back, seen from the coordinator on
+	 * another core, which saw its CPU before the credit (a preemption's
+	 * overshoot came out negative in 1 of 15 runs). A call the
+	 * coordinator ran within (gen moved: it was stopped, or shared its
+	 * core) is no sample: one stopped by a preemption for 600 us, among a
+	 * program's first readings, put its clock 300 us ahead. */
 	int64_t took = tcs_ticks_ns(p, after - before);
-	tcs_cost_note(&tcs_reading_costs, took);
-	int64_t least = tcs_cost_least(&tcs_reading_costs);
-	if (least >= 0 && took > least)
+	const int undisturbed = __atomic_load_n(&p->gen, __ATOMIC_ACQUIRE) == gen;
+	if (undisturbed)
+		tcs_cost_note(&tcs_reading_costs, took);
+	int64_t least = tcs_cost_least(&tcs_reading_costs, 1);
+	if (least < 0)
+		least = 0; /* (none yet: the CPU as read, short by half a call) */
+	if (took > least)
 		took = least;
 	cpu = tcs_ns_add(cpu, took / 2);
-	if (own && __atomic_load_n(&p->gen, __ATOMIC_ACQUIRE) == gen)
+	if (own && undisturbed)
 		__atomic_store_n(&p->own_cpu, tcs_ns_add(__atomic_load_n(&p->own_cpu, __ATOMIC_RELAXED), took),
 				 __ATOMIC_RELAXED);
 	tcs_anchor_set(a, after, cpu, gen);
@@ -167,7 +175,7 @@ int64_t tcs_exit_mark(int64_t claim)
 	struct tcs_anchor *a = &tcs_anchor;
 	if (p->mode != TCS_MODE_LOCKSTEP || claim <= 0 || !(p->flags & TCS_PAGE_CPU_ESTIMATE))
 		return tcs_process_cpu_resync(0);
-	int64_t hook_cost = tcs_cost_least(&tcs_hook_costs);
+	int64_t hook_cost = tcs_cost_least(&tcs_hook_costs, TCS_COST_SAMPLES);
 	if (a->busy || hook_cost < 0 || tcs_hook_marks++ % 64 == 63) {
 		uint64_t before = tcs_ticks(p);
 		int64_t cpu = tcs_process_cpu_resync(0);
