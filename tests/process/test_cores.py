@@ -5,8 +5,8 @@ many cores there are."""
 import os
 import tempfile
 
-from harness import (PYTHON, TCS_RUN, check, main, periodic_on_time, periodic_reports, prog, run, scenario_file, skip,
-                     tcs, trace_rows)
+from harness import (PYTHON, TCS_RUN, calibrate, charged_as_the_kernel_says, check, main, periodic_on_time,
+                     periodic_reports, program_reports, prog, run, scenario_file, skip, tcs, trace_rows)
 
 
 CORES = sorted(os.sched_getaffinity(0))
@@ -191,6 +191,31 @@ def test_cpu_mode_charges_each_controller_its_own_cpu_in_parallel():
         check((100 + 50 * i) * 1000 <= per_loop, "controller %d computed its %d us a cycle: %.1f us" %
               (i, 100 + 50 * i, per_loop / 1e3), r)
 
+
+
+def test_controllers_preempted_at_every_step_are_charged_all_their_cpu():
+    # Two computations of about 150 ms of CPU each, at two scales, beside a
+    # world stepping every millisecond: each is preempted at every step its
+    # time reaches first, on whichever core, and its virtual time is still
+    # the CPU the kernel charged it times its scale. (Seen wrong on the
+    # slow-clock setup, 56 ms each: a clock read whose CPU reading a
+    # preemption interrupted ran 300 us ahead, 6 runs in 60; a
+    # preemption's reading that lacked the end of the stop, lost, 3 in 60.)
+    rounds = calibrate() * 150
+    text = '[sim]\nstep = "1ms"\n\n[[model]]\nname = "pendulum"\ntype = "pendulum"\n' + "".join(
+        '[[controller]]\ncommand = "%s %d x%g"\ncpu_scale = %g\n' % (prog("burn"), rounds, scale, scale)
+        for scale in (3.0, 2.0))
+    with tempfile.TemporaryDirectory(prefix="tcs-test-cores-") as d, scenario_file(text) as world:
+        trace = os.path.join(d, "run.mcap")
+        r = tcs("-m", "cpu", "--trace", trace, "-w", world, timeout=120)
+        check(r.returncode == 0, "the run succeeds", r)
+        preempted = [row["controller"] for row in trace_rows(trace, "/tcs/slice") if row["end"] == "preempted"]
+    burns = {v["name"]: v for v in program_reports(r.stdout, "name")}
+    check(sorted(burns) == ["x2", "x3"], "both computations report", r)
+    for scale in (3.0, 2.0):
+        charged_as_the_kernel_says(burns["x%g" % scale], scale, r)
+    counts = [preempted.count(c) for c in ("1", "2")]
+    check(min(counts) >= 100, "each was preempted at the world's steps: %s times" % counts)
 
 if __name__ == "__main__":
     main(globals())

@@ -1,8 +1,8 @@
-/* burn ROUNDS: does ROUNDS of work() once and prints, as key=value lines,
- * the elapsed time of its monotonic clock and of its process and thread
- * CPU-time clocks (ns), the CPU the kernel charged it meanwhile, read
- * around all three and inside them, and the core it ended on. */
-#define _GNU_SOURCE
+/* burn ROUNDS [NAME]: does ROUNDS of work() once and prints, as key=value
+ * lines in one write (after name=NAME, when given), the elapsed time of its
+ * monotonic clock and of its process and thread CPU-time clocks (ns), the
+ * CPU the kernel charged it meanwhile, read around all three and inside
+ * them, and the core it ended on. */
 #include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,8 +12,8 @@
 
 int main(int argc, char **argv)
 {
-	if (argc != 2) {
-		fprintf(stderr, "usage: burn ROUNDS\n");
+	if (argc != 2 && argc != 3) {
+		fprintf(stderr, "usage: burn ROUNDS [NAME]\n");
 		return 2;
 	}
 	unsigned long long rounds = strtoull(argv[1], NULL, 10);
@@ -35,6 +35,8 @@ int main(int argc, char **argv)
 	long long t1 = clock_ns(CLOCK_THREAD_CPUTIME_ID);
 	long long m1 = clock_ns(CLOCK_MONOTONIC), c1 = clock_ns(CLOCK_PROCESS_CPUTIME_ID);
 	long long k1 = kernel_cpu_ns();
+	if (argc == 3)
+		printf("name=%s\n", argv[2]);
 	printf("monotonic_ns=%lld\ncpu_ns=%lld\nthread_cpu_ns=%lld\nkernel_cpu_ns=%lld\nkernel_inner_cpu_ns=%lld\ncore=%d\n",
 	       m1 - m0, c1 - c0, t1 - t0, k1 - k0, i1 - i0, sched_getcpu());
 	return 0;
