@@ -161,11 +161,28 @@ def test_exit_statuses_environment_and_folder_come_back():
     check("got " in shell.stdout, "stdin is the caller's (here /dev/null: an empty read)", shell)
 
 
+def catches(pid, signo, timeout=10):
+    """Whether process pid has a handler for signo within timeout seconds
+    (its /proc status's SigCgt)."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        with open("/proc/%d/status" % pid) as f:
+            caught = int(re.search(r"^SigCgt:\s*([0-9a-f]+)", f.read(), re.M).group(1), 16)
+        if caught >> (signo - 1) & 1:
+            return True
+        time.sleep(0.02)
+    return False
+
+
 def test_ctrl_c_at_tcs_run_reaches_the_controller():
     with Daemon('[sim]\nmodel = "pendulum"\n') as d:
         p = d.connect(PERIODIC, "--rate", 1000, "--seconds", 1000)
         d.wait_log(r"attached .*periodic_controller")
-        time.sleep(0.5)
+        # Ctrl-C once it runs, its handler in place: attached is said as
+        # the preload starts, before the program's main (0.5 s after it,
+        # on a loaded machine, was once not enough).
+        check(catches(d.controller_pids()[0], signal.SIGINT), "the controller sets its SIGINT handler")
+        time.sleep(0.2)
         p.send_signal(signal.SIGINT)
         r = finish(p, 30, p.t0)
         # periodic_controller ends its loop on SIGINT and reports it.
