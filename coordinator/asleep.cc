@@ -9,17 +9,21 @@
 // watchdog looks at each controller queued in it (lanes.cc). The
 // watchdog is slow (every 2 ms) because each look interrupts the controller
 // on its core.
-#include "coordinator.h"
+#include "asleep.h"
+
 #include "proc_info.h"
+#include "slices.h"
+#include "threads.h"
+#include "world_steps.h"
 
 namespace tcs {
 
-void Coordinator::arm_watchdog(Controller &c)
+void arm_watchdog(Run &run, Controller &c)
 {
 	// Only worth it when someone else may be waiting for the core, or
 	// when its threads may all be waiting.
-	Lane *lane = lanes_.of(c);
-	if (!lane || (alive_controllers() < 2 && c.side.empty()))
+	Lane *lane = run.lanes.of(c);
+	if (!lane || (alive_controllers(run) < 2 && c.side.empty()))
 		return;
 	// A lane's watchdog ticks while it has controllers to look at, rather
 	// than being armed and disarmed with each slice (two system calls a
@@ -30,10 +34,10 @@ void Coordinator::arm_watchdog(Controller &c)
 	}
 }
 
-void Coordinator::on_watchdog(Lane &lane)
+void on_watchdog(Run &run, Lane &lane)
 {
 	lane.watchdog.consume();
-	if (lane.running.empty() || ending_) {
+	if (lane.running.empty() || run.ending) {
 		lane.watchdog.disarm();
 		lane.watching = false;
 		return;
@@ -41,16 +45,16 @@ void Coordinator::on_watchdog(Lane &lane)
 	// A copy: one stepping aside leaves the lane.
 	const std::vector<Controller *> running = lane.running;
 	for (Controller *c : running)
-		if (look_at(*c))
+		if (look_at(run, *c))
 			return; // (it scheduled the others)
 	// A turn long enough to be worth another core: those waiting for this
 	// one may take a free one now (lanes.cc).
-	if (lanes_.is_home(lane) && lanes_.size() > 1)
-		schedule();
+	if (run.lanes.is_home(lane) && run.lanes.size() > 1)
+		schedule(run);
 }
 
 // The watchdog's look at a running controller; true if it stepped aside.
-bool Coordinator::look_at(Controller &c)
+bool look_at(Run &run, Controller &c)
 {
 	if (c.watched_slice != c.slices) {
 		// A slice begun since the last tick: look from its start.
@@ -66,41 +70,41 @@ bool Coordinator::look_at(Controller &c)
 	bool asleep = cpu - c.watch_cpu <= kWatchdog / 100 && c.awaiting_child == 0 && proc_all_threads_asleep(c.pid);
 	c.asleep_looks = asleep ? c.asleep_looks + 1 : 0;
 	c.watch_cpu = cpu;
-	return c.asleep_looks >= 2 && (block_if_all_waiting(c) || step_aside_if_asleep(c));
+	return c.asleep_looks >= 2 && (block_if_all_waiting(run, c) || step_aside_if_asleep(run, c));
 }
 
 // The running controller, found making no progress: if every thread of it
 // sleeps (and others may want the core), its time stands still and others
 // go on. False if it is not asleep after all.
-bool Coordinator::step_aside_if_asleep(Controller &c)
+bool step_aside_if_asleep(Run &run, Controller &c)
 {
-	if (alive_controllers() < 2 || c.awaiting_child != 0 || !proc_all_threads_asleep(c.pid))
+	if (alive_controllers(run) < 2 || c.awaiting_child != 0 || !proc_all_threads_asleep(c.pid))
 		return false;
 	if (!c.outside && !proc_maps_library(c.pid, "libtcs_preload")) {
 		// It has exec'd a program that runs without tcs's hooks: from
 		// now on it is the world's, in real time, till it ends.
 		c.outside = true;
-		warn_once("process " + std::to_string(c.pid) + " (" + proc_name(c.pid, c.name) +
+		warn_once(run, "process " + std::to_string(c.pid) + " (" + proc_name(c.pid, c.name) +
 			  ") runs in real time: it started a program without tcs's preload (a static program, or "
 			  "LD_PRELOAD removed from its environment)");
 	}
-	devices_.take_lazy_commands(c, -1, trace_); // written before it fell asleep, at its time then
+	run.devices.take_lazy_commands(c, -1, run.trace); // written before it fell asleep, at its time then
 	int64_t cpu = c.cpu_now();
 	c.asleep_looks = 0;
-	lanes_.leave(c);
-	c.account(cpu, cfg_.mode);
+	run.lanes.leave(c);
+	c.account(cpu, run.cfg.mode);
 	c.publish_slice(cpu);
-	trace_slice_end(c, "blocked", cpu);
+	trace_slice_end(run, c, "blocked", cpu);
 	c.asleep = true;
 	c.set_page_flag(TCS_PAGE_ASLEEP, true);
 	c.state = CtlState::Blocked;
 	c.wait.deadline = TCS_NEVER;
 	c.wait.recheck = true;
-	c.wait.rechecked_at = sim_ns_;
+	c.wait.rechecked_at = run.sim_ns;
 	c.wait.devices = false;
 	c.wait.for_child = false; // its last wait's: it is in none of ours now
 	c.wait.active = false;
-	schedule();
+	schedule(run);
 	return true;
 }
 
@@ -108,7 +112,7 @@ bool Coordinator::step_aside_if_asleep(Controller &c)
 // runnable again. Its time while asleep is the world's, so its signal
 // timers go off on time: a process in sigsuspend or waitpid waiting for
 // its alarm (coreutils timeout) is woken by the signal as it would be.
-bool Coordinator::still_asleep(Controller &c, int64_t at)
+bool still_asleep(Run &run, Controller &c, int64_t at)
 {
 	if (!c.asleep)
 		return false;
@@ -116,12 +120,12 @@ bool Coordinator::still_asleep(Controller &c, int64_t at)
 		return true; // not ours to run: its end is all that is awaited
 	if (c.next_timer() <= at) {
 		c.v = std::max(c.v, at);
-		if (!ending_)
+		if (!run.ending)
 			c.raise_due_timers();
 	}
 	if (proc_all_threads_asleep(c.pid))
 		return true;
-	wake_from_asleep(c);
+	wake_from_asleep(run, c);
 	return false;
 }
 
@@ -130,11 +134,11 @@ bool Coordinator::still_asleep(Controller &c, int64_t at)
 // any wait: its time is at least the world's now (a reader of a pipe sees
 // the data no earlier than it was written; TCS_PAGE_ASLEEP makes it ask
 // before it looks at its clock).
-void Coordinator::wake_from_asleep(Controller &c)
+void wake_from_asleep(Run &run, Controller &c)
 {
 	int64_t cpu = c.cpu_now();
-	c.account(cpu, cfg_.mode);
-	c.v = std::max(c.v, sim_ns_);
+	c.account(cpu, run.cfg.mode);
+	c.v = std::max(c.v, run.sim_ns);
 	c.publish_slice(cpu);
 	c.asleep = false;
 	c.set_page_flag(TCS_PAGE_ASLEEP, false);

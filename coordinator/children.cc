@@ -2,6 +2,8 @@
 // controller of its own when it registers on its parent's channel; a
 // parent waits for its new child to register, and an exec under way is
 // looked at until the new image says HELLO (docs/DESIGN.md §3).
+#include "children.h"
+
 #include <signal.h>
 #include <sys/signalfd.h>
 #include <sys/socket.h>
@@ -12,11 +14,16 @@
 #include <algorithm>
 #include <cstring>
 
+#include "asleep.h"
 #include "clock_ns.h"
-#include "coordinator.h"
+#include "device_requests.h"
+#include "exits.h"
+#include "messages.h"
 #include "proc_info.h"
+#include "slices.h"
 #include "tcs/msg_io.h"
 #include "tcs/protocol.h"
+#include "waits.h"
 
 namespace tcs {
 
@@ -28,13 +35,13 @@ constexpr int64_t kRegistrationGrace = 200 * TCS_NS_PER_MS;
 constexpr int64_t kExecLook = 200 * TCS_NS_PER_US;
 } // namespace
 
-void Coordinator::on_child(Controller &parent, const ::tcs_msg &m, UniqueFd channel)
+void on_child(Run &run, Controller &parent, const ::tcs_msg &m, UniqueFd channel)
 {
 	pid_t pid = (pid_t)m.arg;
 	auto refuse = [&](const std::string &why) {
-		warn_once("a child of " + parent.name + " runs in real time: " + why);
+		warn_once(run, "a child of " + parent.name + " runs in real time: " + why);
 		if (parent.awaiting_child == pid)
-			child_settled(parent);
+			child_settled(run, parent);
 		if (channel) {
 			struct tcs_msg w = tcs_msg_make(TCS_MSG_WAKE, m.seq);
 			w.arg = -EPERM;
@@ -47,14 +54,14 @@ void Coordinator::on_child(Controller &parent, const ::tcs_msg &m, UniqueFd chan
 	if (pid_t pp = proc_parent(pid); pp != parent.pid)
 		return refuse("pid " + std::to_string(pid) + " is not its child (its parent is " + std::to_string(pp) +
 			      ", not " + std::to_string(parent.pid) + ")");
-	for (auto &o : ctls_)
+	for (auto &o : run.ctls)
 		if (o->pid == pid && o->state != CtlState::Exited)
 			return refuse("pid " + std::to_string(pid) + " is registered already");
 	ControllerSpec spec;
 	spec.cpu_scale = parent.scale;
-	spec.report_misses = trace_.is_open();
-	auto made = Controller::adopt((int)ctls_.size() + 1, parent, pid, std::move(channel), spec, cfg_.mode, origins_,
-				      rt_, devices_.bound());
+	spec.report_misses = run.trace.is_open();
+	auto made = Controller::adopt((int)run.ctls.size() + 1, parent, pid, std::move(channel), spec, run.cfg.mode,
+				      run.origins, run.rt, run.devices.bound());
 	if (!made)
 		return; // its channel is closed: the child sees it and runs in real time
 	Controller &c = **made;
@@ -63,52 +70,52 @@ void Coordinator::on_child(Controller &parent, const ::tcs_msg &m, UniqueFd chan
 	// (its request restarted its slice) is exactly at parent.v; one still
 	// running is settled by that request when it comes (on_forked).
 	int64_t parent_v = parent.v;
-	if (parent.state == CtlState::Running && cfg_.mode == TCS_MODE_CPU && parent.awaiting_child != pid)
+	if (parent.state == CtlState::Running && run.cfg.mode == TCS_MODE_CPU && parent.awaiting_child != pid)
 		parent_v = std::max(parent_v, parent.slice().v_base +
 						       tcs_scale_cpu(parent.slice_cpu(parent.cpu_now()), parent.scale));
-	c.v = std::max((m.flags & TCS_CHILD_V_KNOWN) ? m.v : parent_v, sim_ns_);
+	c.v = std::max((m.flags & TCS_CHILD_V_KNOWN) ? m.v : parent_v, run.sim_ns);
 	c.wait.seq = m.seq;
 	c.state = CtlState::Blocked;
 	c.wait.deadline = c.v;
 	c.wake_fd = c.page_fd_for_child.release();
 	c.wake_arg = 0;
-	ctls_.push_back(std::move(*made));
-	Controller *raw = ctls_.back().get();
-	if (trace_.is_open())
-		trace_.controller(raw->id, raw->name, raw->pid, raw->scale, cfg_.mode, cfg_.step_ns);
-	if (auto s = loop_.add(raw->channel.get(), [this, raw](uint32_t) { on_channel(*raw, nullptr); }); !s) {
-		fatal_ = s;
+	run.ctls.push_back(std::move(*made));
+	Controller *raw = run.ctls.back().get();
+	if (run.trace.is_open())
+		run.trace.controller(raw->id, raw->name, raw->pid, raw->scale, run.cfg.mode, run.cfg.step_ns);
+	if (auto s = run.loop.add(raw->channel.get(), [&run, raw](uint32_t) { on_channel(run, *raw, nullptr); }); !s) {
+		run.fatal = s;
 		return;
 	}
-	if (auto s = loop_.add(raw->pidfd.get(), [this, raw](uint32_t) { on_pidfd(*raw); }); !s)
-		fatal_ = s;
+	if (auto s = run.loop.add(raw->pidfd.get(), [&run, raw](uint32_t) { on_pidfd(run, *raw); }); !s)
+		run.fatal = s;
 	if (parent.awaiting_child == pid)
-		child_settled(parent);
+		child_settled(run, parent);
 	// Someone new waits for a core: is one that has it asleep?
-	lanes_.each_running([this](Controller &r) { arm_watchdog(r); });
+	run.lanes.each_running([&run](Controller &r) { arm_watchdog(run, r); });
 }
 
 // The parent, right after its fork: it waits until its child has
 // registered (or died first).
-void Coordinator::on_forked(Controller &c, const ::tcs_msg &m)
+void on_forked(Run &run, Controller &c, const ::tcs_msg &m)
 {
-	restart_slice(c, m.cpu);
+	restart_slice(run, c, m.cpu);
 	c.wait.seq = m.seq;
 	pid_t pid = (pid_t)m.arg;
-	for (auto &o : ctls_)
+	for (auto &o : run.ctls)
 		if (o->pid == pid && o->parent_id == c.id) {
 			// It registered first, while this parent ran on (on a core of
 			// its own): at the time of its CPU clock then, which counted
 			// the parent's hooks too. Not yet run, it starts here instead,
 			// where the spawn's request put its parent.
 			if (o->slices == 0 && o->state == CtlState::Blocked && o->wait.deadline == o->v && o->v > c.v)
-				o->v = o->wait.deadline = std::max(c.v, sim_ns_);
-			reply_now(c, 0);
+				o->v = o->wait.deadline = std::max(c.v, run.sim_ns);
+			reply_now(run, c, 0);
 			return;
 		}
 	UniqueFd fd((int)syscall(SYS_pidfd_open, pid, 0));
 	if (!fd || proc_parent(pid) != c.pid) {
-		reply_now(c, -ESRCH);
+		reply_now(run, c, -ESRCH);
 		return;
 	}
 	// Started by vfork or posix_spawn, it has exec'd already: a program
@@ -116,48 +123,48 @@ void Coordinator::on_forked(Controller &c, const ::tcs_msg &m)
 	// time, said once when its parent waits for it).
 	WillLoad will = proc_will_load(pid, "libtcs_preload");
 	if (will == WillLoad::No) {
-		reply_now(c, 0);
+		reply_now(run, c, 0);
 		return;
 	}
 	c.awaiting_child = pid;
 	c.awaiting_since = wall_now();
 	c.awaiting_exec = will == WillLoad::Unknown;
 	if (c.awaiting_exec)
-		exec_timer_.arm(kExecLook, kExecLook);
+		run.exec_timer.arm(kExecLook, kExecLook);
 	c.awaiting_child_fd = std::move(fd);
 	Controller *raw = &c;
-	if (auto s = loop_.add(c.awaiting_child_fd.get(), [this, raw](uint32_t) { child_settled(*raw); }); !s)
-		fatal_ = s;
+	if (auto s = run.loop.add(c.awaiting_child_fd.get(), [&run, raw](uint32_t) { child_settled(run, *raw); }); !s)
+		run.fatal = s;
 }
 
 // Children whose exec was still under way when their parent asked: looked
 // at until they can be seen to load the preload or not.
-void Coordinator::on_exec_look()
+void on_exec_look(Run &run)
 {
-	exec_timer_.consume();
+	run.exec_timer.consume();
 	bool again = false;
-	for (auto &c : ctls_) {
+	for (auto &c : run.ctls) {
 		if (c->awaiting_child == 0 || !c->awaiting_exec)
 			continue;
 		WillLoad will = proc_will_load(c->awaiting_child, "libtcs_preload");
 		c->awaiting_exec = will == WillLoad::Unknown;
 		if (will == WillLoad::No)
-			child_settled(*c);
+			child_settled(run, *c);
 		again = again || c->awaiting_exec;
 	}
 	if (!again)
-		exec_timer_.disarm();
+		run.exec_timer.disarm();
 }
 
-void Coordinator::child_settled(Controller &parent)
+void child_settled(Run &run, Controller &parent)
 {
 	if (parent.awaiting_child == 0)
 		return;
-	loop_.remove(parent.awaiting_child_fd.get());
+	run.loop.remove(parent.awaiting_child_fd.get());
 	parent.awaiting_child_fd.reset();
 	parent.awaiting_child = 0;
 	if (parent.state != CtlState::Exited)
-		reply_now(parent, 0);
+		reply_now(run, parent, 0);
 }
 
 // Whether c has a child that runs in real time, outside tcs: a static
@@ -166,21 +173,21 @@ void Coordinator::child_settled(Controller &parent)
 // child then passes in real time, as that child's time does: each step is
 // a re-check. Said once per child, once it has gone unregistered for long
 // enough not to be one still loading.
-bool Coordinator::has_real_time_child(Controller &c)
+bool has_real_time_child(Run &run, Controller &c)
 {
 	bool any = false;
 	int64_t now = wall_now();
-	for (const auto &o : ctls_)
+	for (const auto &o : run.ctls)
 		if (o->parent_id == c.id && o->outside && o->state != CtlState::Exited)
 			any = true;
 	for (pid_t child : proc_children(c.pid)) {
-		if (std::any_of(ctls_.begin(), ctls_.end(), [child](const auto &o) { return o->pid == child; }))
+		if (std::any_of(run.ctls.begin(), run.ctls.end(), [child](const auto &o) { return o->pid == child; }))
 			continue;
 		any = true;
 		auto [it, fresh] = c.unregistered_children.try_emplace(child, now);
 		if (!fresh && it->second >= 0 && now - it->second > kRegistrationGrace) {
 			it->second = -1; // said
-			warn_once("process " + std::to_string(child) + " (" + proc_name(child, "?") + "), started by " + c.name +
+			warn_once(run, "process " + std::to_string(child) + " (" + proc_name(child, "?") + "), started by " + c.name +
 				  ", runs in real time: it did not load tcs's preload (a static program, or LD_PRELOAD removed "
 				  "from its environment)");
 		}
@@ -195,11 +202,11 @@ bool Coordinator::has_real_time_child(Controller &c)
 // of real time meanwhile). After a child ended unseen (the program looked
 // for it just before, and the exit came between its look and its wait), it
 // re-checks at once.
-void Coordinator::child_wait_begins(Controller &c, const ::tcs_msg &m, SideWait *side)
+void child_wait_begins(Run &run, Controller &c, const ::tcs_msg &m, SideWait *side)
 {
 	if (!(m.flags & TCS_BLOCK_CHILD))
 		return;
-	if (has_real_time_child(c)) {
+	if (has_real_time_child(run, c)) {
 		if (side) {
 			side->flags |= TCS_BLOCK_RECHECK;
 		} else {
@@ -213,7 +220,7 @@ void Coordinator::child_wait_begins(Controller &c, const ::tcs_msg &m, SideWait 
 	if (side)
 		side->wake_reason = TCS_WAKE_RECHECK;
 	else
-		wake(c, c.v, TCS_WAKE_RECHECK);
+		wake(run, c, c.v, TCS_WAKE_RECHECK);
 }
 
 } // namespace tcs

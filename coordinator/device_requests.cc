@@ -3,6 +3,8 @@
 // needs the coordinator (DEV_SYNC). A controller asking for what the world
 // has not computed yet waits for it. The devices themselves are
 // device_server.h's.
+#include "device_requests.h"
+
 #include <fcntl.h>
 #include <poll.h>
 #include <sys/socket.h>
@@ -10,8 +12,11 @@
 #include <algorithm>
 #include <cerrno>
 
-#include "coordinator.h"
+#include "exits.h"
+#include "slices.h"
 #include "tcs/protocol.h"
+#include "waits.h"
+#include "world_steps.h"
 
 namespace tcs {
 
@@ -20,35 +25,35 @@ namespace {
 constexpr size_t kMaxOpens = 1024;
 } // namespace
 
-void Coordinator::reply_now(Controller &c, int64_t arg)
+void reply_now(Run &run, Controller &c, int64_t arg)
 {
 	c.wake_arg = arg;
 	c.wake_reason = TCS_WAKE_DEADLINE;
-	send_wake(c);
+	send_wake(run, c);
 }
 
 // A request answered while the controller's slice goes on: the hook's cost
 // from the request on must not be charged, so the slice restarts at the
 // request (its budget less what it has used), as after any wait.
-void Coordinator::restart_slice(Controller &c, int64_t request_cpu)
+void restart_slice(Run &run, Controller &c, int64_t request_cpu)
 {
 	if (c.state != CtlState::Running)
 		return;
-	int64_t at = charge_point(c, request_cpu);
+	int64_t at = charge_point(run, c, request_cpu);
 	int64_t used = c.slice_cpu(at);
-	c.account(at, cfg_.mode);
+	c.account(at, run.cfg.mode);
 	c.publish_slice(at);
 	c.slice_wall = wall_now();
 	c.budget = std::max<int64_t>(c.budget - used, 1);
 	c.checked_used = 0;
 }
 
-void Coordinator::on_dev_open(Controller &c, const ::tcs_msg &m)
+void on_dev_open(Run &run, Controller &c, const ::tcs_msg &m)
 {
-	restart_slice(c, m.cpu);
+	restart_slice(run, c, m.cpu);
 	c.wait.seq = m.seq;
-	if ((size_t)m.arg >= devices_.bound().size()) {
-		reply_now(c, -ENOENT);
+	if ((size_t)m.arg >= run.devices.bound().size()) {
+		reply_now(run, c, -ENOENT);
 		return;
 	}
 	// A slot whose fd the controller has closed is free again.
@@ -61,18 +66,18 @@ void Coordinator::on_dev_open(Controller &c, const ::tcs_msg &m)
 		}
 	}
 	if (slot == kMaxOpens) {
-		reply_now(c, -EMFILE);
+		reply_now(run, c, -EMFILE);
 		return;
 	}
-	BoundDevice &dev = devices_.bound()[(size_t)m.arg];
+	BoundDevice &dev = run.devices.bound()[(size_t)m.arg];
 	bool reads = m.flags & TCS_DEV_READ, writes = m.flags & TCS_DEV_WRITE;
 	if ((dev.cfg.kind == TCS_DEVICE_SENSOR && writes) || (dev.cfg.kind == TCS_DEVICE_ACTUATOR && reads)) {
-		reply_now(c, -EACCES);
+		reply_now(run, c, -EACCES);
 		return;
 	}
 	int sv[2];
 	if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) < 0) {
-		reply_now(c, -errno);
+		reply_now(run, c, -errno);
 		return;
 	}
 	auto d = std::make_unique<OpenDevice>();
@@ -82,68 +87,68 @@ void Coordinator::on_dev_open(Controller &c, const ::tcs_msg &m)
 	fcntl(sv[0], F_SETFL, fl | O_NONBLOCK);
 	if (dev.cfg.kind == TCS_DEVICE_SENSOR && !dev.cfg.latest && dev.cfg.period_ns > 0) {
 		// A stream runs at its rate from the start of the run, whoever reads.
-		d->next_due = (std::max(c.v, sim_ns_) + dev.cfg.period_ns - 1) / dev.cfg.period_ns * dev.cfg.period_ns;
-		devices_.make_records(*d, sim_ns_ + cfg_.step_ns, world_.get());
+		d->next_due = (std::max(c.v, run.sim_ns) + dev.cfg.period_ns - 1) / dev.cfg.period_ns * dev.cfg.period_ns;
+		run.devices.make_records(*d, run.sim_ns + run.cfg.step_ns, run.world.get());
 	}
 	if (slot == c.devices.size())
 		c.devices.push_back(std::move(d));
 	else
 		c.devices[slot] = std::move(d);
 	c.wake_fd = sv[1];
-	reply_now(c, (int64_t)slot);
+	reply_now(run, c, (int64_t)slot);
 }
 
-void Coordinator::on_dev_sync(Controller &c, const ::tcs_msg &m)
+void on_dev_sync(Run &run, Controller &c, const ::tcs_msg &m)
 {
 	if (c.state == CtlState::Blocked) {
-		drop(c, "it made a device request while waiting");
+		drop(run, c, "it made a device request while waiting");
 		return;
 	}
-	restart_slice(c, m.cpu);
+	restart_slice(run, c, m.cpu);
 	c.wait.seq = m.seq;
 	c.wake_arg = 0;
 	if (m.kind != TCS_SYNC_POLL && (m.arg < 0 || (size_t)m.arg >= c.devices.size())) {
-		reply_now(c, -EBADF);
+		reply_now(run, c, -EBADF);
 		return;
 	}
 	if (m.kind == TCS_SYNC_WRITE) {
 		OpenDevice &d = *c.devices[(size_t)m.arg];
-		if (d.dev->cfg.kind == TCS_DEVICE_ACTUATOR && !devices_.take_commands(c, d, false, trace_))
+		if (d.dev->cfg.kind == TCS_DEVICE_ACTUATOR && !run.devices.take_commands(c, d, false, run.trace))
 			c.wake_arg = -EINVAL;
-		reply_now(c, c.wake_arg);
+		reply_now(run, c, c.wake_arg);
 		return;
 	}
 	c.sync_pending = true;
 	c.sync_kind = m.kind;
 	c.sync_handle = m.arg;
 	c.sync_nonblock = m.flags & TCS_DEV_NONBLOCK;
-	if (!ending_ && c.v >= sim_ns_ + cfg_.step_ns) {
+	if (!run.ending && c.v >= run.sim_ns + run.cfg.step_ns) {
 		// It is ahead of the world: it waits until the world catches up.
 		if (c.lane >= 0) {
-			lanes_.leave(c);
-			trace_slice_end(c, "blocked", c.cpu_now());
+			run.lanes.leave(c);
+			trace_slice_end(run, c, "blocked", c.cpu_now());
 		}
 		c.state = CtlState::Ready;
-		schedule();
+		schedule(run);
 		return;
 	}
 	bool was_running = c.state == CtlState::Running;
-	if (complete_sync(c)) {
+	if (complete_sync(run, c)) {
 		c.wake_pending = false;
-		send_wake(c);
+		send_wake(run, c);
 		return;
 	}
 	// A blocking read with nothing due: it waits for the next record.
 	if (was_running && c.lane >= 0) {
-		lanes_.leave(c);
-		trace_slice_end(c, "blocked", c.cpu_now());
+		run.lanes.leave(c);
+		trace_slice_end(run, c, "blocked", c.cpu_now());
 	}
-	schedule();
+	schedule(run);
 }
 
 // The world is at or past the controller's step: do what it asked. False
 // when it must wait for the next record (then it is Blocked until then).
-bool Coordinator::complete_sync(Controller &c)
+bool complete_sync(Run &run, Controller &c)
 {
 	deliver(c);
 	c.sync_pending = false;
@@ -159,10 +164,10 @@ bool Coordinator::complete_sync(Controller &c)
 	}
 	// A 'latest' sensor answers with the world now; so does a stream once
 	// the run is ending (the world has stopped; its last state stands).
-	if ((d.dev->cfg.latest || (ending_ && d.queue.empty())) && world_) {
+	if ((d.dev->cfg.latest || (run.ending && d.queue.empty())) && run.world) {
 		std::vector<double> values;
 		for (size_t i : d.dev->signals)
-			world_->read(i, values);
+			run.world->read(i, values);
 		std::string rec = format_record(d.dev->cfg.format, values);
 		(void)!send(d.sock.get(), rec.data(), rec.size(), MSG_DONTWAIT | MSG_NOSIGNAL);
 		c.wake_pending = true;

@@ -1,6 +1,8 @@
 // A controller's end: its pidfd readable (all its threads gone, or only
 // its main one), its exit accounted (its CPU to the last), or tcs dropping
 // it for what it sent.
+#include "exits.h"
+
 #include <signal.h>
 #include <sys/signalfd.h>
 #include <sys/socket.h>
@@ -12,10 +14,14 @@
 #include <cstring>
 
 #include "clock_ns.h"
-#include "coordinator.h"
 #include "proc_info.h"
+#include "remote.h"
+#include "serve.h"
+#include "slices.h"
 #include "tcs/msg_io.h"
 #include "tcs/protocol.h"
+#include "waits.h"
+#include "world_steps.h"
 
 namespace tcs {
 
@@ -24,15 +30,15 @@ namespace tcs {
 // may have preempted on our core: at SCHED_FIFO we would spin in that
 // clock_gettime forever (seen with every multi-threaded controller), so we
 // step down to let it finish.
-int64_t Coordinator::exited_cpu(const Controller &c)
+int64_t exited_cpu(Run &run, const Controller &c)
 {
-	coordinator_fifo(rt_, false);
+	coordinator_fifo(run.rt, false);
 	int64_t cpu = c.cpu_now();
-	coordinator_fifo(rt_, true);
+	coordinator_fifo(run.rt, true);
 	return cpu;
 }
 
-void Coordinator::on_pidfd(Controller &c)
+void on_pidfd(Run &run, Controller &c)
 {
 	if (c.state == CtlState::Exited)
 		return;
@@ -40,12 +46,12 @@ void Coordinator::on_pidfd(Controller &c)
 		// A child of a controller: its parent reaps it, not us. Its pidfd
 		// being readable says it has ended; its zombie (if the parent has
 		// not reaped it yet) still tells its CPU and exit status.
-		int64_t cpu = exited_cpu(c);
+		int64_t cpu = exited_cpu(run, c);
 		if (cpu > 0)
-			c.account(cpu, cfg_.mode);
+			c.account(cpu, run.cfg.mode);
 		if (c.lane >= 0)
-			trace_slice_end(c, "exited", std::max<int64_t>(cpu, 0));
-		on_exit(c, proc_exit_status(c.pid));
+			trace_slice_end(run, c, "exited", std::max<int64_t>(cpu, 0));
+		on_exit(run, c, proc_exit_status(c.pid));
 		return;
 	}
 	siginfo_t si = {};
@@ -54,17 +60,17 @@ void Coordinator::on_pidfd(Controller &c)
 		return;
 	// Its main thread has ended, not yet all of it: look again soon.
 	auto later = [&] {
-		loop_.remove(c.pidfd.get());
-		if (std::find(exiting_.begin(), exiting_.end(), &c) == exiting_.end())
-			exiting_.push_back(&c);
-		exit_timer_.arm(100 * TCS_NS_PER_US);
+		run.loop.remove(c.pidfd.get());
+		if (std::find(run.exiting.begin(), run.exiting.end(), &c) == run.exiting.end())
+			run.exiting.push_back(&c);
+		run.exit_timer.arm(100 * TCS_NS_PER_US);
 	};
 	if (si.si_pid == 0)
 		return later();
-	int64_t cpu = exited_cpu(c);
-	c.account(cpu, cfg_.mode);
+	int64_t cpu = exited_cpu(run, c);
+	c.account(cpu, run.cfg.mode);
 	if (c.lane >= 0)
-		trace_slice_end(c, "exited", cpu);
+		trace_slice_end(run, c, "exited", cpu);
 	si = {};
 	if (waitid(P_PIDFD, (id_t)c.pidfd.get(), &si, WEXITED | WNOHANG) < 0)
 		return;
@@ -73,18 +79,18 @@ void Coordinator::on_pidfd(Controller &c)
 	int status = si.si_code == CLD_EXITED ? W_EXITCODE(si.si_status, 0) : si.si_status & 0x7f;
 	if (si.si_code == CLD_DUMPED)
 		status |= WCOREFLAG;
-	on_exit(c, status);
+	on_exit(run, c, status);
 }
 
-void Coordinator::on_exit(Controller &c, int wait_status)
+void on_exit(Run &run, Controller &c, int wait_status)
 {
-	devices_.take_lazy_commands(c, -1, trace_); // its last commands count
+	run.devices.take_lazy_commands(c, -1, run.trace); // its last commands count
 	c.state = CtlState::Exited;
 	c.exit_status = wait_status;
 	// A parent waiting for its children learns of it at the child's
 	// virtual time; one waiting for something else was sent SIGCHLD then
 	// (a handler of it may end its wait, as in coreutils timeout).
-	for (auto &p : ctls_) {
+	for (auto &p : run.ctls) {
 		if (p->id != c.parent_id)
 			continue;
 		bool seen = false;
@@ -94,7 +100,7 @@ void Coordinator::on_exit(Controller &c, int wait_status)
 				seen = true;
 			}
 		if (p->state == CtlState::Blocked && p->wait.for_child && !p->sync_pending) {
-			wake(*p, std::max(p->v, c.v), TCS_WAKE_RECHECK);
+			wake(run, *p, std::max(p->v, c.v), TCS_WAKE_RECHECK);
 			seen = true;
 		} else if (p->state == CtlState::Blocked) {
 			p->kick(std::max(p->v, c.v));
@@ -102,38 +108,38 @@ void Coordinator::on_exit(Controller &c, int wait_status)
 		// Not waiting for it now: its next wait for a child re-checks.
 		p->child_ended = !seen;
 	}
-	loop_.remove(c.channel.get());
+	run.loop.remove(c.channel.get());
 	for (auto &t : c.threads)
-		loop_.remove(t->fd.get());
+		run.loop.remove(t->fd.get());
 	c.threads.clear();
 	c.side.clear();
-	loop_.remove(c.pidfd.get());
-	lanes_.leave(c);
-	c.ended_by_tcs = ending_;
-	if (c.parent_id == 0 && cfg_.serve) {
+	run.loop.remove(c.pidfd.get());
+	run.lanes.leave(c);
+	c.ended_by_tcs = run.ending;
+	if (c.parent_id == 0 && run.cfg.serve) {
 		// Served: its children go with it, as they do at the end of a run.
-		for (auto &o : ctls_)
-			if (o->state != CtlState::Exited && descends_from(*o, c.id))
+		for (auto &o : run.ctls)
+			if (o->state != CtlState::Exited && descends_from(run, *o, c.id))
 				kill(o->pid, SIGKILL);
-		if (cfg_.on_controller_end)
-			cfg_.on_controller_end(report_of(c));
-		word_of_controllers();
+		if (run.cfg.on_controller_end)
+			run.cfg.on_controller_end(report_of(run, c));
+		word_of_controllers(run);
 	}
-	if (cfg_.serve)
+	if (run.cfg.serve)
 		c.release(); // served for long: its fds and memory go back now
-	schedule();
+	schedule(run);
 }
 
-void Coordinator::drop(Controller &c, const std::string &why)
+void drop(Run &run, Controller &c, const std::string &why)
 {
 	c.dropped = why;
 	c.mailbox.attach(nullptr); // nothing more of it is looked at
 	kill(c.pid, SIGKILL);
 	// Its pidfd reports the death; until then it must not be scheduled.
-	lanes_.leave(c);
-	loop_.remove(c.channel.get());
+	run.lanes.leave(c);
+	run.loop.remove(c.channel.get());
 	for (auto &t : c.threads)
-		loop_.remove(t->fd.get());
+		run.loop.remove(t->fd.get());
 	c.threads.clear();
 	c.side.clear();
 	c.state = CtlState::Blocked;
@@ -142,7 +148,7 @@ void Coordinator::drop(Controller &c, const std::string &why)
 	c.wait.devices = false;
 	c.sync_pending = false;
 	c.wake_pending = false;
-	schedule();
+	schedule(run);
 }
 
 } // namespace tcs

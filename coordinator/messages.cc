@@ -1,6 +1,8 @@
 // A controller's messages: read from its channels (the main one, a
 // thread's) or its mailbox, checked (a controller is untrusted), and each
 // handed to the part that serves it.
+#include "messages.h"
+
 #include <signal.h>
 #include <sys/signalfd.h>
 #include <sys/socket.h>
@@ -11,11 +13,18 @@
 #include <algorithm>
 #include <cstring>
 
+#include "asleep.h"
+#include "children.h"
 #include "clock_ns.h"
-#include "coordinator.h"
+#include "device_requests.h"
+#include "exits.h"
 #include "proc_info.h"
+#include "signal_timers.h"
+#include "signals.h"
 #include "tcs/msg_io.h"
 #include "tcs/protocol.h"
+#include "threads.h"
+#include "waits.h"
 
 namespace tcs {
 
@@ -30,7 +39,7 @@ constexpr int kMaxUnanswered = 4;
 // answered (the coordinator paused in a system call, under load) kept the
 // coordinator from ever going back to epoll, and another thread's wait went
 // unread for hundreds of virtual ms.
-void Coordinator::on_channel(Controller &c, ThreadChannel *t)
+void on_channel(Run &run, Controller &c, ThreadChannel *t)
 {
 	const int fd = t ? t->fd.get() : c.channel.get();
 	ChannelState &st = t ? t->state : c.main_state;
@@ -44,38 +53,38 @@ void Coordinator::on_channel(Controller &c, ThreadChannel *t)
 		return;
 	UniqueFd passed(n > 0 ? tcs_msg_io_fd(&io) : -1);
 	if (n == 0 || (n < 0 && errno == ECONNRESET)) {
-		devices_.take_lazy_commands(c, -1, trace_);
+		run.devices.take_lazy_commands(c, -1, run.trace);
 		// Every copy of this end is closed: the thread has ended, or the
 		// controller is exiting (its pidfd tells when).
 		if (t)
-			thread_gone(c, t);
+			thread_gone(run, c, t);
 		else
-			loop_.remove(c.channel.get());
+			run.loop.remove(c.channel.get());
 		return;
 	}
 	struct tcs_msg m;
 	if (const char *why = tcs_msg_check(buf, (long)n, &m)) {
-		devices_.take_lazy_commands(c, -1, trace_);
-		drop(c, std::string("bad message on its channel: ") + why);
+		run.devices.take_lazy_commands(c, -1, run.trace);
+		drop(run, c, std::string("bad message on its channel: ") + why);
 		return;
 	}
 	// What it posted in its mailbox came before anything that followed on
 	// the channel (an EARLY from its parked wait, say).
-	const bool took = !t && take_mailbox(c);
+	const bool took = !t && take_mailbox(run, c);
 	if (!c.dropped.empty())
 		return;
 	if (m.type == TCS_MSG_DOORBELL) {
 		// Rung for a request already taken while polling, or now.
 		if (t)
-			drop(c, "a DOORBELL on a thread's channel");
+			drop(run, c, "a DOORBELL on a thread's channel");
 		else if (!took && ++st.unanswered > kMaxUnanswered)
-			drop(c, "it rings without a request in its mailbox");
+			drop(run, c, "it rings without a request in its mailbox");
 		return;
 	}
-	on_request(c, t, m, std::move(passed));
+	on_request(run, c, t, m, std::move(passed));
 }
 
-void Coordinator::on_request(Controller &c, ThreadChannel *t, const ::tcs_msg &m, UniqueFd passed)
+void on_request(Run &run, Controller &c, ThreadChannel *t, const ::tcs_msg &m, UniqueFd passed)
 {
 	const int fd = t ? t->fd.get() : c.channel.get();
 	const pid_t tid = t ? t->tid : c.pid;
@@ -83,14 +92,14 @@ void Coordinator::on_request(Controller &c, ThreadChannel *t, const ::tcs_msg &m
 	// Records it wrote since its last request carry the time it has now,
 	// before anything it asks moves that. (A device it asks to take what
 	// it wrote: that request takes them, and judges them with its write.)
-	devices_.take_lazy_commands(c, m.type == TCS_MSG_DEV_SYNC && m.kind == TCS_SYNC_WRITE ? m.arg : -1, trace_);
+	run.devices.take_lazy_commands(c, m.type == TCS_MSG_DEV_SYNC && m.kind == TCS_SYNC_WRITE ? m.arg : -1, run.trace);
 	if (!t && m.type == TCS_MSG_CHILD && !(m.flags & TCS_CHILD_PARENT)) {
 		// From a new child, not from c: it waits on its own channel.
-		on_child(c, m, std::move(passed));
+		on_child(run, c, m, std::move(passed));
 		return;
 	}
 	if (!t && m.type == TCS_MSG_THREAD) {
-		on_thread(c, m, std::move(passed));
+		on_thread(run, c, m, std::move(passed));
 		return;
 	}
 	// The preload waits for the answer to each request: its HELLO, one
@@ -98,31 +107,31 @@ void Coordinator::on_request(Controller &c, ThreadChannel *t, const ::tcs_msg &m
 	// thread ending its wait) are all it can have outstanding. More is a
 	// flood.
 	if (++st.unanswered > kMaxUnanswered) {
-		drop(c, "it floods its channel (" + std::to_string(st.unanswered) + " messages without waiting for an answer)");
+		drop(run, c, "it floods its channel (" + std::to_string(st.unanswered) + " messages without waiting for an answer)");
 		return;
 	}
-	on_message(c, m, fd, tid);
+	on_message(run, c, m, fd, tid);
 }
 
-void Coordinator::on_message(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
+void on_message(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 {
 	if (c.asleep)
-		wake_from_asleep(c); // it woke by itself and asks something
+		wake_from_asleep(run, c); // it woke by itself and asks something
 	if (m.type != TCS_MSG_BLOCK && m.type != TCS_MSG_EARLY)
 		c.wait.fd = fd; // a request answered at once, on its thread's channel
 	switch (m.type) {
 	case TCS_MSG_HELLO:
 		if (fd != c.channel.get()) {
-			drop(c, "HELLO on a thread's channel");
+			drop(run, c, "HELLO on a thread's channel");
 			return;
 		}
 		if (m.arg != c.pid) {
-			drop(c, "HELLO from pid " + std::to_string(m.arg) + " on pid " + std::to_string(c.pid) + "'s channel");
+			drop(run, c, "HELLO from pid " + std::to_string(m.arg) + " on pid " + std::to_string(c.pid) + "'s channel");
 			return;
 		}
 		// Again after an exec (a new image, a new nonce): welcome.
 		if (c.attached && m.v == c.hello_nonce) {
-			drop(c, "it said HELLO twice");
+			drop(run, c, "it said HELLO twice");
 			return;
 		}
 		c.attached = true;
@@ -132,34 +141,34 @@ void Coordinator::on_message(Controller &c, const ::tcs_msg &m, int fd, pid_t ti
 		c.main_state = ChannelState{}; // a new image owes nothing yet
 		return;
 	case TCS_MSG_BLOCK:
-		on_block(c, m, fd, tid);
+		on_block(run, c, m, fd, tid);
 		return;
 	case TCS_MSG_EARLY:
-		on_early(c, m, fd);
+		on_early(run, c, m, fd);
 		return;
 	case TCS_MSG_DEV_OPEN:
-		on_dev_open(c, m);
+		on_dev_open(run, c, m);
 		return;
 	case TCS_MSG_DEV_SYNC:
-		on_dev_sync(c, m);
+		on_dev_sync(run, c, m);
 		return;
 	case TCS_MSG_TIMER:
-		on_timer(c, m);
+		on_timer(run, c, m);
 		return;
 	case TCS_MSG_CHILD:
-		on_forked(c, m);
+		on_forked(run, c, m);
 		return;
 	case TCS_MSG_THREAD:
-		drop(c, "THREAD on a thread's channel");
+		drop(run, c, "THREAD on a thread's channel");
 		return;
 	case TCS_MSG_KILL:
-		on_kill(c, m);
+		on_kill(run, c, m);
 		return;
 	}
 }
 
 // c's request posted in its mailbox, served; false if none.
-bool Coordinator::take_mailbox(Controller &c)
+bool take_mailbox(Run &run, Controller &c)
 {
 	alignas(8) unsigned char buf[sizeof(struct tcs_msg)];
 	if (!c.mailbox.take(buf))
@@ -169,11 +178,11 @@ bool Coordinator::take_mailbox(Controller &c)
 	if (!why && !tcs_mailbox_carries(m.type))
 		why = "a request the mailbox does not carry";
 	if (why) {
-		devices_.take_lazy_commands(c, -1, trace_);
-		drop(c, std::string("bad request in its mailbox: ") + why);
+		run.devices.take_lazy_commands(c, -1, run.trace);
+		drop(run, c, std::string("bad request in its mailbox: ") + why);
 		return true;
 	}
-	on_request(c, nullptr, m, UniqueFd{});
+	on_request(run, c, nullptr, m, UniqueFd{});
 	// Not answered at once: it waits on its channel, off its core, which
 	// the coordinator may give to another controller meanwhile.
 	c.mailbox.park();

@@ -3,99 +3,103 @@
 // agent's: its coordinator schedules its controllers as usual against a
 // mirror of the world; where it would step the world it answers the grant
 // (with what its controllers commanded) and waits for the next.
+#include "remote.h"
+
 #include <algorithm>
 #include <utility>
 
-#include "coordinator.h"
+#include "world_steps.h"
 
 namespace tcs {
 
 // ---- The host's end ----
 
-void Coordinator::on_step_host()
+void on_step_host(Run &run)
 {
-	for (const Agents::Event &e : agents_.hear(*cfg_.step_host, world_.get(), (uint64_t)steps_, sim_ns_, cfg_.step_ns)) {
+	const auto events =
+		run.agents.hear(*run.cfg.step_host, run.world.get(), (uint64_t)run.steps, run.sim_ns, run.cfg.step_ns);
+	for (const Agents::Event &e : events) {
 		switch (e.kind) {
 		case Agents::Event::Joined:
-			if (cfg_.on_info)
-				cfg_.on_info("agent " + e.agent + " has joined");
-			grant_now(); // where the world is now, which it may have missed
+			if (run.cfg.on_info)
+				run.cfg.on_info("agent " + e.agent + " has joined");
+			grant_now(run); // where the world is now, which it may have missed
 			break;
 		case Agents::Event::Left:
-			if (cfg_.on_info)
-				cfg_.on_info("agent " + e.agent + " has left");
+			if (run.cfg.on_info)
+				run.cfg.on_info("agent " + e.agent + " has left");
 			break;
 		case Agents::Event::Programs:
-			if (cfg_.on_agent_controllers)
-				cfg_.on_agent_controllers(e.agent, e.programs);
+			if (run.cfg.on_agent_controllers)
+				run.cfg.on_agent_controllers(e.agent, e.programs);
 			break;
 		case Agents::Event::Refused:
-			warn_once(e.what);
+			warn_once(run, e.what);
 			break;
 		case Agents::Event::Lost:
-			return lose(e.what);
+			return lose(run, e.what);
 		}
 	}
-	schedule();
+	schedule(run);
 }
 
-bool Coordinator::agents_answered() const
+bool agents_answered(const Run &run)
 {
-	return agents_.answered((uint64_t)steps_);
+	return run.agents.answered((uint64_t)run.steps);
 }
 
 // The world as it is now, to every agent: after each step, when the world
 // starts, and when an agent joins (it may have missed the last). Without
 // agents, none: a DDS write per step would slow the world for nobody.
-void Coordinator::grant_now()
+void grant_now(Run &run)
 {
-	if (!cfg_.step_host || !world_ || held_ || agents_.empty())
+	if (!run.cfg.step_host || !run.world || run.held || run.agents.empty())
 		return;
-	agents_.grant(*cfg_.step_host, *world_, (uint64_t)steps_, sim_ns_);
+	run.agents.grant(*run.cfg.step_host, *run.world, (uint64_t)run.steps, run.sim_ns);
 }
 
-void Coordinator::lose(const std::string &why)
+void lose(Run &run, const std::string &why)
 {
-	lost_ = why;
-	if (cfg_.on_info)
-		cfg_.on_info(why);
-	begin_end(EndReason::Lost);
+	run.lost = why;
+	if (run.cfg.on_info)
+		run.cfg.on_info(why);
+	begin_end(run, EndReason::Lost);
 }
 
 // ---- An agent's end ----
 
-void Coordinator::on_step_agent()
+void on_step_agent(Run &run)
 {
 	std::vector<Grant> grants;
 	bool host_lost = false;
-	cfg_.step_agent->take(grants, host_lost);
-	if (host_lost && granted_)
-		return lose("the world's host is gone (no sign of life for " + std::to_string(kStepLeaseNs / 1000000) +
+	run.cfg.step_agent->take(grants, host_lost);
+	if (host_lost && run.granted)
+		return lose(run, "the world's host is gone (no sign of life for " + std::to_string(kStepLeaseNs / 1000000) +
 			    " ms): its controllers here are ended");
 	for (Grant &g : grants) {
 		// Only the next: a grant read twice (an agent joining reads the
 		// last one kept) or one from before our answer is not news.
-		if (granted_ && (!awaiting_grant_ || g.step <= (uint64_t)steps_))
+		if (run.granted && (!run.awaiting_grant || g.step <= (uint64_t)run.steps))
 			continue;
-		if (!world_ || g.signals.size() != world_->value_count())
-			return lose("the host's grants do not fit its world (" + std::to_string(g.signals.size()) +
+		if (!run.world || g.signals.size() != run.world->value_count())
+			return lose(run, "the host's grants do not fit its world (" + std::to_string(g.signals.size()) +
 				    " values): the world stops");
-		world_->mirror(std::move(g.signals));
-		sim_ns_ = g.sim_ns;
-		steps_ = (int64_t)g.step;
-		if (!granted_) {
+		run.world->mirror(std::move(g.signals));
+		run.sim_ns = g.sim_ns;
+		run.steps = (int64_t)g.step;
+		if (!run.granted) {
 			// Joined late: controllers that have waited for the world
 			// start where it is.
-			for (auto &c : ctls_)
-				c->v = std::max(c->v, sim_ns_);
-			granted_ = true;
-			if (cfg_.on_info)
-				cfg_.on_info("joined the world at " + std::to_string(sim_ns_) + " ns");
+			for (auto &c : run.ctls)
+				c->v = std::max(c->v, run.sim_ns);
+			run.granted = true;
+			if (run.cfg.on_info)
+				run.cfg.on_info("joined the world at " + std::to_string(run.sim_ns) + " ns");
 		}
-		devices_.fill_streams(ctls_, sim_ns_ + cfg_.step_ns, world_.get());
-		awaiting_grant_ = false;
+		run.devices.fill_streams(run.ctls, run.sim_ns + run.cfg.step_ns, run.world.get());
+		run.awaiting_grant = false;
 	}
-	schedule();
+	schedule(run);
 }
 
 // All our controllers have reached the step's end: what they commanded
@@ -103,37 +107,37 @@ void Coordinator::on_step_agent()
 // ran on past the step's end (nobody else needed the core) keeps what it
 // commanded later for the answers to come, as the world would apply it
 // only then.
-void Coordinator::answer_grant()
+void answer_grant(Run &run)
 {
 	Done d;
-	d.step = (uint64_t)steps_;
-	d.controllers = programs_;
-	const int64_t end = sim_ns_ + cfg_.step_ns;
+	d.step = (uint64_t)run.steps;
+	d.controllers = run.programs;
+	const int64_t end = run.sim_ns + run.cfg.step_ns;
 	auto answer = [&d](int64_t at, size_t i, const double *values, size_t width) {
 		for (size_t k = 0; k < width; k++)
 			d.commands.push_back({ at, (uint32_t)i, values[k] });
 	};
-	if (world_)
-		devices_.take_due(end, *world_, answer);
-	cfg_.step_agent->answer(d);
-	awaiting_grant_ = true;
+	if (run.world)
+		run.devices.take_due(end, *run.world, answer);
+	run.cfg.step_agent->answer(d);
+	run.awaiting_grant = true;
 }
 
 // Word of our controllers, before the first grant (the host may wait for
 // them) and when they come or go: the list every answer then carries, made
 // here rather than once a step.
-void Coordinator::word_of_controllers()
+void word_of_controllers(Run &run)
 {
-	if (!cfg_.step_agent)
+	if (!run.cfg.step_agent)
 		return;
-	programs_.clear();
-	for (const auto &c : ctls_)
+	run.programs.clear();
+	for (const auto &c : run.ctls)
 		if (c->parent_id == 0 && c->state != CtlState::Exited)
-			programs_.push_back(c->name.substr(c->name.find_last_of('/') + 1));
+			run.programs.push_back(c->name.substr(c->name.find_last_of('/') + 1));
 	Done d;
 	d.step = Done::kNoStep;
-	d.controllers = programs_;
-	cfg_.step_agent->answer(d);
+	d.controllers = run.programs;
+	run.cfg.step_agent->answer(d);
 }
 
 } // namespace tcs

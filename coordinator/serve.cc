@@ -1,72 +1,76 @@
 // Serving (coordinatord): controllers that attach to a running world and
 // leave it, a world held until those it expects are there, and the fds of
 // the daemon's socket and clients in the run's one event loop.
+#include "serve.h"
+
 #include <signal.h>
 
 #include <algorithm>
 
-#include "coordinator.h"
+#include "remote.h"
+#include "slices.h"
+#include "world_steps.h"
 
 namespace tcs {
 
-Result<Coordinator::Attached> Coordinator::attach(const ControllerSpec &spec)
+Result<AttachedController> attach(Run &run, const ControllerSpec &spec)
 {
-	if (ending_)
+	if (run.ending)
 		return Error{ "the world is shutting down" };
-	if (auto s = add_controller(spec); !s)
+	if (auto s = add_controller(run, spec); !s)
 		return s.error();
-	Controller &c = *ctls_.back();
+	Controller &c = *run.ctls.back();
 	// It joins the world where it is: virtual time never runs ahead of it
 	// from here, since it is behind the next step until it has run.
-	c.v = sim_ns_;
-	idle_timer_.disarm();
-	word_of_controllers();
-	schedule();
-	return Attached{ c.id, c.pid };
+	c.v = run.sim_ns;
+	run.idle_timer.disarm();
+	word_of_controllers(run);
+	schedule(run);
+	return AttachedController{ c.id, c.pid };
 }
 
-void Coordinator::hold(bool on)
+void hold_world(Run &run, bool on)
 {
-	held_ = on;
+	run.held = on;
 	if (!on) {
-		grant_now(); // agents start with the world
-		schedule();
+		grant_now(run); // agents start with the world
+		schedule(run);
 	}
 }
 
-Controller *Coordinator::top_level(int id)
+Controller *top_level(Run &run, int id)
 {
-	if (id < 1 || id > (int)ctls_.size() || ctls_[id - 1]->parent_id != 0)
+	if (id < 1 || id > (int)run.ctls.size() || run.ctls[id - 1]->parent_id != 0)
 		return nullptr;
-	return ctls_[id - 1].get();
+	return run.ctls[id - 1].get();
 }
 
 // Controllers are numbered from 1 in the order they came, and never leave
-// ctls_: a parent's id finds it.
-bool Coordinator::descends_from(const Controller &o, int root) const
+// run.ctls: a parent's id finds it.
+bool descends_from(const Run &run, const Controller &o, int root)
 {
-	for (int p = o.parent_id; p > 0 && p <= (int)ctls_.size(); p = ctls_[p - 1]->parent_id)
+	for (int p = o.parent_id; p > 0 && p <= (int)run.ctls.size(); p = run.ctls[p - 1]->parent_id)
 		if (p == root)
 			return true;
 	return false;
 }
 
-void Coordinator::signal_controller(int id, int signo)
+void signal_controller(Run &run, int id, int signo)
 {
-	Controller *c = top_level(id);
+	Controller *c = top_level(run, id);
 	if (!c || c->state == CtlState::Exited)
 		return;
 	kill(c->pid, signo);
 	// A stopped one gets it when it next runs; a waiting one is looked at
 	// now, where the world is (its handler may end its wait).
 	if (c->state == CtlState::Blocked)
-		c->kick(std::max(c->v, sim_ns_));
-	schedule();
+		c->kick(std::max(c->v, run.sim_ns));
+	schedule(run);
 }
 
-void Coordinator::end_controller(int id)
+void end_controller(Run &run, int id)
 {
-	Controller *c = top_level(id);
+	Controller *c = top_level(run, id);
 	if (!c || c->state == CtlState::Exited)
 		return;
 	// One that has not begun (held before its exec) has nothing to tidy.
@@ -75,17 +79,17 @@ void Coordinator::end_controller(int id)
 		return;
 	}
 	c->kill_after = wall_now() + kEndGrace;
-	signal_controller(id, SIGTERM);
+	signal_controller(run, id, SIGTERM);
 }
 
-Status Coordinator::watch(int fd, std::function<void()> on_ready)
+Status watch(Run &run, int fd, std::function<void()> on_ready)
 {
-	return loop_.add(fd, [f = std::move(on_ready)](uint32_t) { f(); });
+	return run.loop.add(fd, [f = std::move(on_ready)](uint32_t) { f(); });
 }
 
-void Coordinator::unwatch(int fd)
+void unwatch(Run &run, int fd)
 {
-	loop_.remove(fd);
+	run.loop.remove(fd);
 }
 
 } // namespace tcs

@@ -6,16 +6,19 @@
 // between its request and its wait, where its handler would run unseen);
 // its wait then returns EINTR if a handler ran. (Which timers are due, and
 // raising them: the Controller's own, controller.cc.)
+#include "signal_timers.h"
+
 #include <algorithm>
 #include <cmath>
 
-#include "coordinator.h"
+#include "device_requests.h"
+#include "slices.h"
 
 namespace tcs {
 
-void Coordinator::on_timer(Controller &c, const ::tcs_msg &m)
+void on_timer(Run &run, Controller &c, const ::tcs_msg &m)
 {
-	restart_slice(c, m.cpu);
+	restart_slice(run, c, m.cpu);
 	c.wait.seq = m.seq;
 	SignalTimer &t = c.timers[m.flags];
 	t.signo = m.kind;
@@ -23,11 +26,11 @@ void Coordinator::on_timer(Controller &c, const ::tcs_msg &m)
 	t.next = m.deadline;
 	t.interval = m.arg;
 	c.timers_changed();
-	if (!ending_)
+	if (!run.ending)
 		c.raise_due_timers();
-	reply_now(c, 0);
+	reply_now(run, c, 0);
 	if (c.state == CtlState::Running)
-		budget_to_next_timer(c);
+		budget_to_next_timer(run, c);
 }
 
 // A running controller's budget ends no later than its next timer (cpu mode:
@@ -35,11 +38,11 @@ void Coordinator::on_timer(Controller &c, const ::tcs_msg &m)
 // slice's start, and so does the check's timer: armed from now for the
 // whole budget, it came as late as the slice was old (a thread's 10 ms
 // sleep beside a computing thread ended at 14 ms).
-void Coordinator::budget_to_next_timer(Controller &c)
+void budget_to_next_timer(Run &run, Controller &c)
 {
 	int64_t at = std::min(c.next_timer(), c.side_next());
-	Lane *lane = lanes_.of(c);
-	if (cfg_.mode != TCS_MODE_CPU || at == TCS_NEVER || !lane)
+	Lane *lane = run.lanes.of(c);
+	if (run.cfg.mode != TCS_MODE_CPU || at == TCS_NEVER || !lane)
 		return;
 	int64_t need = std::max<int64_t>((int64_t)std::ceil((double)(at - c.slice().v_base) / c.scale), 1);
 	if (c.budgeted && need >= c.budget)

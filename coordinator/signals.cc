@@ -6,11 +6,13 @@
 // and each receiver waiting in a hooked wait is woken to re-check at the
 // sender's time: it dies there, or runs its handler (its wait ends with
 // EINTR), or, if it blocks or ignores the signal, waits on.
+#include "signals.h"
+
 #include <unistd.h>
 
 #include <algorithm>
 
-#include "coordinator.h"
+#include "device_requests.h"
 
 namespace tcs {
 
@@ -29,16 +31,16 @@ bool reaches(pid_t pid, int64_t target, pid_t sender_pgid)
 
 } // namespace
 
-void Coordinator::on_kill(Controller &c, const ::tcs_msg &m)
+void on_kill(Run &run, Controller &c, const ::tcs_msg &m)
 {
-	restart_slice(c, m.cpu);
+	restart_slice(run, c, m.cpu);
 	c.wait.seq = m.seq;
 	pid_t sender_pgid = getpgid(c.pid);
 	int64_t at = std::max(c.v, m.v);
-	for (auto &o : ctls_)
+	for (auto &o : run.ctls)
 		if (o.get() != &c && o->state == CtlState::Blocked && reaches(o->pid, m.arg, sender_pgid))
 			o->kick(at);
-	reply_now(c, 0);
+	reply_now(run, c, 0);
 }
 
 } // namespace tcs

@@ -10,19 +10,25 @@
 // re-armed for the rest; past it, SIGSTOP, and the overshoot simply stays in
 // its virtual time, so the next budget is that much shorter and no error
 // accumulates (the TCS paper's §3.8 correction, with exact accounting).
+#include "slices.h"
+
 #include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
-
 #include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 
+#include "asleep.h"
 #include "clock_ns.h"
-#include "coordinator.h"
+#include "exits.h"
 #include "proc_info.h"
+#include "signal_timers.h"
 #include "tcs/protocol.h"
+#include "threads.h"
+#include "waits.h"
+#include "world_steps.h"
 
 namespace tcs {
 
@@ -46,27 +52,27 @@ constexpr int64_t kMostWaitReturn = TCS_NS_PER_MS;
 constexpr int64_t kStaleSlack = 50 * TCS_NS_PER_US;
 } // namespace
 
-int64_t Coordinator::wall_now()
+int64_t wall_now()
 {
 	return clock_ns(CLOCK_MONOTONIC);
 }
 
-void Coordinator::trace_slice_end(Controller &c, const char *why, int64_t cpu, int64_t budget, int64_t overshoot)
+void trace_slice_end(Run &run, Controller &c, const char *why, int64_t cpu, int64_t budget, int64_t overshoot)
 {
-	if (!trace_.is_open())
+	if (!run.trace.is_open())
 		return;
 	Trace::Slice s;
 	s.v_start = c.trace_v_start;
 	s.v_end = c.v;
 	s.charged_ns = c.charged - c.trace_charged_start;
 	s.cpu_ns = std::max<int64_t>(cpu - c.trace_cpu_start, 0);
-	s.wall_start = c.trace_wall_start - wall_start_;
-	s.wall_end = wall_now() - wall_start_;
+	s.wall_start = c.trace_wall_start - run.wall_start;
+	s.wall_end = wall_now() - run.wall_start;
 	s.budget_ns = budget;
 	s.overshoot_ns = overshoot;
-	s.sim_ns = sim_ns_;
+	s.sim_ns = run.sim_ns;
 	s.why = why;
-	trace_.slice(c.id, s);
+	run.trace.slice(c.id, s);
 }
 
 // The CPU a request from c charges it up to. With one thread, its hook's
@@ -85,14 +91,14 @@ void Coordinator::trace_slice_end(Controller &c, const char *why, int64_t cpu, i
 // claim is held to those bounds instead: short of the slice's start it
 // charges nothing, and the slices after make it good; beyond the wall time
 // it charges that. No system call either way.
-int64_t Coordinator::charge_point(Controller &c, int64_t claimed)
+int64_t charge_point(Run &run, Controller &c, int64_t claimed)
 {
 	const int64_t base = c.slice().cpu_base;
 	const bool one_thread = !c.multithreaded();
 	const int64_t most = tcs_ns_add(base, wall_now() - c.resumed_wall + kClaimSlack);
 	if (one_thread && claimed >= base && claimed <= most)
 		return claimed;
-	if (one_thread && cfg_.mode == TCS_MODE_LOCKSTEP)
+	if (one_thread && run.cfg.mode == TCS_MODE_LOCKSTEP)
 		return std::clamp(claimed, base, most);
 	const int64_t now = std::max(base, c.cpu_now());
 	if (one_thread)
@@ -104,18 +110,18 @@ int64_t Coordinator::charge_point(Controller &c, int64_t claimed)
 	return std::max(now, std::clamp(claimed, base, most));
 }
 
-int64_t Coordinator::request_v(Controller &c, const ::tcs_msg &m)
+int64_t request_v(Run &run, Controller &c, const ::tcs_msg &m)
 {
-	if (c.state != CtlState::Running || cfg_.mode != TCS_MODE_CPU)
+	if (c.state != CtlState::Running || run.cfg.mode != TCS_MODE_CPU)
 		return c.v;
-	int64_t heard = tcs_ns_add(c.slice().v_base, tcs_scale_cpu(c.slice_cpu(charge_point(c, m.cpu)), c.scale));
+	int64_t heard = tcs_ns_add(c.slice().v_base, tcs_scale_cpu(c.slice_cpu(charge_point(run, c, m.cpu)), c.scale));
 	return std::clamp(m.v, c.v, std::max(c.v, heard));
 }
 
-void Coordinator::resume(Controller &c, int64_t target, int lane)
+void resume(Run &run, Controller &c, int64_t target, int lane)
 {
-	lanes_.take(c, lane);
-	idle_timer_.disarm();
+	run.lanes.take(c, lane);
+	run.idle_timer.disarm();
 	// c is held by SIGSTOP or waiting for its WAKE: its CPU clock is still.
 	// Waking from a wait: its CPU clock has stood still since the BLOCK
 	// (but for the hook's own tail, which the hook's mark excludes anyway).
@@ -125,7 +131,7 @@ void Coordinator::resume(Controller &c, int64_t target, int lane)
 	c.cpu_at_end = -1;
 	c.publish_slice(cpu);
 	c.resumed_wall = c.slice_wall = wall_now();
-	if (trace_.is_open()) {
+	if (run.trace.is_open()) {
 		c.trace_cpu_start = cpu;
 		c.trace_wall_start = c.resumed_wall;
 		c.trace_v_start = c.v;
@@ -134,15 +140,15 @@ void Coordinator::resume(Controller &c, int64_t target, int lane)
 	deliver(c); // what its sensors have due by now is in their fds
 	c.mark_due = c.wake_pending && !c.multithreaded(); // (roundtrip.c)
 	if (c.wake_pending)
-		send_wake(c);
-	end_side_waits(c); // other threads' waits due by now
+		send_wake(run, c);
+	end_side_waits(run, c); // other threads' waits due by now
 	if (c.stopped) {
 		kill(c.pid, SIGCONT);
 		c.stopped = false;
 	}
 	c.state = CtlState::Running;
 	c.budgeted = false;
-	if (cfg_.mode == TCS_MODE_CPU && target != TCS_NEVER) {
+	if (run.cfg.mode == TCS_MODE_CPU && target != TCS_NEVER) {
 		double need = std::ceil((double)(target - c.v) / c.scale);
 		c.budget = std::max<int64_t>((int64_t)need, 1);
 		c.budgeted = true;
@@ -151,16 +157,16 @@ void Coordinator::resume(Controller &c, int64_t target, int lane)
 		// work on its core); arm that much later, as learnt so far, so one
 		// timer usually ends the slice (the TCS paper's ε correction).
 		c.check_interval = std::max(c.budget + c.lag_ns, kMinSlice);
-		lanes_[(size_t)lane].budget.arm(c.check_interval);
+		run.lanes[(size_t)lane].budget.arm(c.check_interval);
 	}
-	budget_to_next_timer(c); // and no further than its own next signal
+	budget_to_next_timer(run, c); // and no further than its own next signal
 	if (!c.budgeted)
-		arm_watchdog(c); // (a budget's own checks look for sleep)
+		arm_watchdog(run, c); // (a budget's own checks look for sleep)
 	// Lockstep: computation is free, so no budget; it runs until it waits.
 	// Nor is there one when nothing else will ever need the core.
 }
 
-void Coordinator::on_budget(Lane &lane)
+void on_budget(Run &run, Lane &lane)
 {
 	if (!lane.budget.consume() || lane.running.size() != 1)
 		return; // (budgets are cpu mode's, where a lane runs one at most)
@@ -177,9 +183,9 @@ void Coordinator::on_budget(Lane &lane)
 		// read 0 after 1.8 ms and overran its budget by 3.4 ms. Held
 		// still, its clock is exact. (Not on every check: the stop's own
 		// work in the kernel is charged to the thread it stops.)
-		if (!hold(c)) {
-			lanes_.leave(c);
-			on_pidfd(c); // it died before it could stop
+		if (!hold_still(run, c)) {
+			run.lanes.leave(c);
+			on_pidfd(run, c); // it died before it could stop
 			return;
 		}
 		held = true;
@@ -205,8 +211,8 @@ void Coordinator::on_budget(Lane &lane)
 		c.lag_ns = std::clamp<int64_t>(c.lag_ns + (c.budget - used) / 4, 0, kMaxLag);
 	}
 	if (used >= c.budget) {
-		preempt(c, held);
-		schedule();
+		preempt(run, c, held);
+		schedule(run);
 		return;
 	}
 	if (held) {
@@ -216,7 +222,7 @@ void Coordinator::on_budget(Lane &lane)
 	// Short of its budget: it was asleep in the kernel, or the core was
 	// busy with something else. If it made no progress at all and sleeps
 	// still, others may have the core meanwhile (asleep.cc).
-	if (used == c.checked_used && (block_if_all_waiting(c) || step_aside_if_asleep(c)))
+	if (used == c.checked_used && (block_if_all_waiting(run, c) || step_aside_if_asleep(run, c)))
 		return;
 	// Else give it the rest.
 	int64_t rest = std::max(c.budget - used, kMinSlice);
@@ -229,7 +235,7 @@ void Coordinator::on_budget(Lane &lane)
 
 // After its SIGSTOP: true once c has stopped, false if it died first. It
 // stops when it next runs, which is once we let go of its core.
-bool Coordinator::wait_until_stopped(Controller &c)
+bool wait_until_stopped(Run &run, Controller &c)
 {
 	if (c.parent_id == 0) {
 		siginfo_t si = {};
@@ -258,22 +264,22 @@ bool Coordinator::wait_until_stopped(Controller &c)
 	return true; // (asleep uninterruptibly for a second: it stops on waking)
 }
 
-bool Coordinator::hold(Controller &c)
+bool hold_still(Run &run, Controller &c)
 {
-	if (cfg_.realtime.stop_delay_ns > 0) {
+	if (run.cfg.realtime.stop_delay_ns > 0) {
 		// (At most 100 ms: TCS_STOP_DELAY_US.)
-		struct timespec late = { 0, (long)cfg_.realtime.stop_delay_ns };
+		struct timespec late = { 0, (long)run.cfg.realtime.stop_delay_ns };
 		nanosleep(&late, nullptr);
 	}
 	kill(c.pid, SIGSTOP);
-	return wait_until_stopped(c);
+	return wait_until_stopped(run, c);
 }
 
-void Coordinator::preempt(Controller &c, bool held)
+void preempt(Run &run, Controller &c, bool held)
 {
-	lanes_.leave(c);
-	if (!held && !hold(c)) {
-		on_pidfd(c); // it died before it could stop
+	run.lanes.leave(c);
+	if (!held && !hold_still(run, c)) {
+		on_pidfd(run, c); // it died before it could stop
 		return;
 	}
 	c.stopped = true;
@@ -290,10 +296,10 @@ void Coordinator::preempt(Controller &c, bool held)
 	int64_t cpu = c.cpu_now();
 	int64_t budget = c.budget;
 	int64_t overshoot = c.slice_cpu(cpu) - budget; // before account() closes the slice
-	c.account(cpu, cfg_.mode);
+	c.account(cpu, run.cfg.mode);
 	c.cpu_at_end = cpu;
-	trace_slice_end(c, "preempted", cpu, budget, overshoot);
-	if (!ending_)
+	trace_slice_end(run, c, "preempted", cpu, budget, overshoot);
+	if (!run.ending)
 		c.raise_due_timers(); // pending until it continues
 }
 

@@ -9,13 +9,21 @@
 // outside tcs's hooks (a mutex, a pipe) count as waiting for something
 // only another thread (or the outside world) can end: a Blocked controller
 // with such threads is looked at each step, and runs again when one wakes.
+#include "threads.h"
+
 #include <sys/socket.h>
 
 #include <algorithm>
 
-#include "coordinator.h"
+#include "asleep.h"
+#include "exits.h"
+#include "messages.h"
 #include "proc_info.h"
+#include "signal_timers.h"
+#include "slices.h"
 #include "tcs/msg_io.h"
+#include "waits.h"
+#include "world_steps.h"
 
 namespace tcs {
 
@@ -26,24 +34,24 @@ constexpr size_t kMaxThreads = 1024;
 constexpr int64_t kThreadStartGrace = 50 * TCS_NS_PER_MS;
 } // namespace
 
-void Coordinator::on_thread(Controller &c, const ::tcs_msg &m, UniqueFd channel)
+void on_thread(Run &run, Controller &c, const ::tcs_msg &m, UniqueFd channel)
 {
 	pid_t tid = (pid_t)m.arg;
 	if (!channel) {
-		drop(c, "THREAD without a channel");
+		drop(run, c, "THREAD without a channel");
 		return;
 	}
 	if (!proc_has_thread(c.pid, tid)) {
-		drop(c, "THREAD for " + std::to_string(tid) + ", not one of its threads");
+		drop(run, c, "THREAD for " + std::to_string(tid) + ", not one of its threads");
 		return;
 	}
 	for (auto &t : c.threads)
 		if (t->tid == tid) {
-			thread_gone(c, t.get()); // a tid used again: the old one has ended
+			thread_gone(run, c, t.get()); // a tid used again: the old one has ended
 			break;
 		}
 	if (c.threads.size() >= kMaxThreads) {
-		drop(c, "more than " + std::to_string(kMaxThreads) + " of its threads wait at once");
+		drop(run, c, "more than " + std::to_string(kMaxThreads) + " of its threads wait at once");
 		return;
 	}
 	c.thread_first_seen.erase(tid);
@@ -53,14 +61,14 @@ void Coordinator::on_thread(Controller &c, const ::tcs_msg &m, UniqueFd channel)
 	ThreadChannel *raw = t.get();
 	Controller *cp = &c;
 	c.threads.push_back(std::move(t));
-	if (auto s = loop_.add(raw->fd.get(), [this, cp, raw](uint32_t) { on_channel(*cp, raw); }); !s)
-		fatal_ = s;
+	if (auto s = run.loop.add(raw->fd.get(), [&run, cp, raw](uint32_t) { on_channel(run, *cp, raw); }); !s)
+		run.fatal = s;
 }
 
-void Coordinator::thread_gone(Controller &c, ThreadChannel *t)
+void thread_gone(Run &run, Controller &c, ThreadChannel *t)
 {
 	int fd = t->fd.get();
-	loop_.remove(fd);
+	run.loop.remove(fd);
 	c.side.erase(std::remove_if(c.side.begin(), c.side.end(), [fd](const SideWait &w) { return w.fd == fd; }),
 		     c.side.end());
 	if (c.wait.fd == fd) {
@@ -74,20 +82,20 @@ void Coordinator::thread_gone(Controller &c, ThreadChannel *t)
 // A thread's BLOCK while another thread of c can still run: it waits beside
 // the controller, which goes on. False if no other thread can run (the
 // controller then blocks in this wait).
-bool Coordinator::side_wait(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
+bool side_wait(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 {
 	// Stopped (preempted as this thread began its wait), its threads cannot
 	// be told apart: assume the others run; if they do not, its budget's
 	// check finds them all waiting (block_if_all_waiting).
-	if (c.state == CtlState::Running && runnable_threads(c, tid) == 0)
+	if (c.state == CtlState::Running && runnable_threads(run, c, tid) == 0)
 		return false;
 	// (Its time may be past c.v: a running controller's is settled only as
 	// its slice ends.)
-	c.side.push_back(side_wait_of(m, fd, tid, request_v(c, m), sim_ns_));
+	c.side.push_back(side_wait_of(m, fd, tid, request_v(run, c, m), run.sim_ns));
 	if (c.state == CtlState::Running) {
-		budget_to_next_timer(c); // (and to the earliest side wait)
+		budget_to_next_timer(run, c); // (and to the earliest side wait)
 		if (!c.budgeted)
-			arm_watchdog(c);
+			arm_watchdog(run, c);
 	}
 	return true;
 }
@@ -106,28 +114,28 @@ static bool has_unread_message(int fd)
 // then its own BLOCK, may be read BLOCK first, and time would pass to that
 // BLOCK's deadline before the EARLY was heard. The handlers' scheduling
 // waits for the last of them (schedule() then decides once).
-void Coordinator::hear_threads(Controller &c)
+void hear_threads(Run &run, Controller &c)
 {
-	if (hearing_ || !c.multithreaded())
+	if (run.hearing || !c.multithreaded())
 		return;
-	hearing_ = true;
+	run.hearing = true;
 	for (int round = 0; round < 8 && c.state != CtlState::Exited && c.dropped.empty(); round++) {
 		bool any = false;
 		if (c.channel && has_unread_message(c.channel.get())) {
-			on_channel(c, nullptr);
+			on_channel(run, c, nullptr);
 			any = true;
 		}
 		// (Serving one may end a thread: by index, looked up again.)
 		for (size_t i = 0; i < c.threads.size() && c.dropped.empty(); i++) {
 			if (!has_unread_message(c.threads[i]->fd.get()))
 				continue;
-			on_channel(c, c.threads[i].get());
+			on_channel(run, c, c.threads[i].get());
 			any = true;
 		}
 		if (!any)
 			break;
 	}
-	hearing_ = false;
+	run.hearing = false;
 }
 
 // How many threads of c could run now, leaving out `also` and those that
@@ -143,7 +151,7 @@ void Coordinator::hear_threads(Controller &c)
 // as runnable for this long after it is first seen (wall time), so that no
 // virtual time passes before it is counted. One that stays asleep outside
 // tcs's hooks (a real read, say) is taken for asleep after that.
-int Coordinator::runnable_threads(Controller &c, pid_t also)
+int runnable_threads(Run &run, Controller &c, pid_t also)
 {
 	std::vector<pid_t> waiting;
 	waiting.reserve(c.side.size() + 2);
@@ -181,7 +189,7 @@ int Coordinator::runnable_threads(Controller &c, pid_t also)
 
 // The controller's own wait becomes a side wait: it goes on waiting while
 // other threads run.
-void Coordinator::demote_wait(Controller &c)
+void demote_wait(Run &run, Controller &c)
 {
 	if (c.wait.active) {
 		c.side.push_back(c.own_wait());
@@ -196,15 +204,15 @@ void Coordinator::demote_wait(Controller &c)
 // c is Blocked with several waiting threads (or threads asleep outside the
 // hooks): ends what is due at `at`, after which it is Ready. False when
 // nothing is due and no thread woke by itself: it stays Blocked.
-bool Coordinator::wake_threads(Controller &c, int64_t at)
+bool wake_threads(Run &run, Controller &c, int64_t at)
 {
 	int64_t v = std::max(c.v, at);
-	bool woke_alone = c.others_asleep && runnable_threads(c, 0) > 0;
+	bool woke_alone = c.others_asleep && runnable_threads(run, c, 0) > 0;
 	bool timer = c.next_timer() <= v;
 	bool own = c.wait.active && !c.sync_pending &&
-		   (c.wait.deadline <= v || c.wait.kicked_at <= v || (c.wait.recheck && c.wait.rechecked_at < sim_ns_) ||
+		   (c.wait.deadline <= v || c.wait.kicked_at <= v || (c.wait.recheck && c.wait.rechecked_at < run.sim_ns) ||
 		    (c.wait.devices && next_record_due(c) <= v));
-	bool side = std::any_of(c.side.begin(), c.side.end(), [&](const SideWait &w) { return c.side_due(w, v, sim_ns_); });
+	bool side = std::any_of(c.side.begin(), c.side.end(), [&](const SideWait &w) { return c.side_due(w, v, run.sim_ns); });
 	if (!woke_alone && !timer && !own && !side) {
 		c.wait.kicked_at = TCS_NEVER; // (the thread it reached was asleep: looked at each step)
 		return false;
@@ -219,12 +227,12 @@ bool Coordinator::wake_threads(Controller &c, int64_t at)
 	if (timer && c.wait.active && !c.sync_pending) {
 		c.v = v;
 		c.wake_arg = (int64_t)c.take_due_timer_signals();
-		wake(c, v, TCS_WAKE_SIGNAL);
+		wake(run, c, v, TCS_WAKE_SIGNAL);
 	} else if (own) {
 		bool due = c.wait.deadline <= v;
-		wake(c, v, due || c.wait.devices ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK);
+		wake(run, c, v, due || c.wait.devices ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK);
 	} else if (!c.sync_pending) {
-		demote_wait(c);
+		demote_wait(run, c);
 		c.v = v;
 		c.state = CtlState::Ready;
 		c.wake_pending = false;
@@ -232,31 +240,31 @@ bool Coordinator::wake_threads(Controller &c, int64_t at)
 		c.v = v;
 		c.state = CtlState::Ready; // a device read: complete_sync decides
 	}
-	c.wait.rechecked_at = sim_ns_;
+	c.wait.rechecked_at = run.sim_ns;
 	c.wait.kicked_at = TCS_NEVER;
 	return true;
 }
 
-void Coordinator::answer_side(Controller &c, const SideWait &w)
+void answer_side(Run &run, Controller &c, const SideWait &w)
 {
 	c.channel_state(w.fd).unanswered = 0;
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_WAKE, w.seq);
 	m.kind = w.wake_reason;
 	m.v = c.v;
-	send_answer(c, w.fd, m, -1);
-	if (trace_.is_open())
-		trace_.wait(c.id, w.kind, w.requested_at, w.deadline, c.v, (w.flags & TCS_BLOCK_ABSOLUTE) != 0);
+	send_answer(run, c, w.fd, m, -1);
+	if (run.trace.is_open())
+		run.trace.wait(c.id, w.kind, w.requested_at, w.deadline, c.v, (w.flags & TCS_BLOCK_ABSOLUTE) != 0);
 }
 
 // Ends the side waits due at c's time (as it is resumed, its sensors'
 // records delivered).
-void Coordinator::end_side_waits(Controller &c)
+void end_side_waits(Run &run, Controller &c)
 {
 	for (size_t i = 0; i < c.side.size();) {
 		SideWait &w = c.side[i];
-		if (!c.side_due(w, c.v, sim_ns_)) {
+		if (!c.side_due(w, c.v, run.sim_ns)) {
 			if (w.flags & TCS_BLOCK_RECHECK)
-				w.rechecked_at = sim_ns_;
+				w.rechecked_at = run.sim_ns;
 			i++;
 			continue;
 		}
@@ -266,38 +274,38 @@ void Coordinator::end_side_waits(Controller &c)
 			w.wake_reason = TCS_WAKE_DEADLINE;
 		SideWait done = w;
 		c.side.erase(c.side.begin() + (long)i);
-		answer_side(c, done);
+		answer_side(run, c, done);
 	}
 }
 
 // At the end of the run every wait ends at once.
-void Coordinator::end_all_side_waits(Controller &c)
+void end_all_side_waits(Run &run, Controller &c)
 {
 	for (SideWait &w : c.side) {
 		w.wake_reason = TCS_WAKE_DEADLINE;
-		answer_side(c, w);
+		answer_side(run, c, w);
 	}
 	c.side.clear();
 }
 
 // A running controller with waiting threads, found making no progress: if
 // none of its threads can run, it is Blocked beside their waits.
-bool Coordinator::block_if_all_waiting(Controller &c)
+bool block_if_all_waiting(Run &run, Controller &c)
 {
-	if (c.side.empty() || c.awaiting_child != 0 || runnable_threads(c, 0) > 0)
+	if (c.side.empty() || c.awaiting_child != 0 || runnable_threads(run, c, 0) > 0)
 		return false;
 	int64_t cpu = c.cpu_now();
-	lanes_.leave(c);
-	c.account(cpu, cfg_.mode);
+	run.lanes.leave(c);
+	c.account(cpu, run.cfg.mode);
 	c.publish_slice(cpu);
-	trace_slice_end(c, "blocked", cpu);
+	trace_slice_end(run, c, "blocked", cpu);
 	c.cpu_at_end = cpu;
 	c.state = CtlState::Blocked;
 	c.wait.active = false;
-	demote_wait(c);
+	demote_wait(run, c);
 	c.others_asleep = proc_thread_count(c.pid) > (int)c.side.size();
-	c.wait.rechecked_at = sim_ns_;
-	schedule();
+	c.wait.rechecked_at = run.sim_ns;
+	schedule(run);
 	return true;
 }
 

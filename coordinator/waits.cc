@@ -1,22 +1,27 @@
 // A controller's waits: a BLOCK taken (on_block), ended before it began
 // (on_early), and the WAKE that ends it (wake, send_wake, send_answer).
+#include "waits.h"
+
 #include <signal.h>
 #include <sys/socket.h>
-
 #include <unistd.h>
 
 #include <algorithm>
 #include <cstring>
 
+#include "children.h"
 #include "clock_ns.h"
-#include "coordinator.h"
+#include "exits.h"
 #include "proc_info.h"
+#include "slices.h"
 #include "tcs/msg_io.h"
 #include "tcs/protocol.h"
+#include "threads.h"
+#include "world_steps.h"
 
 namespace tcs {
 
-void Coordinator::wake(Controller &c, int64_t v, uint16_t reason)
+void wake(Run &run, Controller &c, int64_t v, uint16_t reason)
 {
 	c.v = std::max(c.v, v);
 	c.state = CtlState::Ready;
@@ -31,7 +36,7 @@ void Coordinator::wake(Controller &c, int64_t v, uint16_t reason)
 // way and c still spins for it, else on channel fd (with pass_fd, if not
 // -1). A full or closed channel means the controller is gone or hostile;
 // its pidfd or its next message will tell.
-void Coordinator::send_answer(Controller &c, int fd, const ::tcs_msg &m, int pass_fd)
+void send_answer(Run &run, Controller &c, int fd, const ::tcs_msg &m, int pass_fd)
 {
 	if (fd == c.channel.get()) {
 		if (pass_fd >= 0)
@@ -44,7 +49,7 @@ void Coordinator::send_answer(Controller &c, int fd, const ::tcs_msg &m, int pas
 	(void)sendmsg(fd, &io.mh, MSG_DONTWAIT | MSG_NOSIGNAL);
 }
 
-void Coordinator::send_wake(Controller &c)
+void send_wake(Run &run, Controller &c)
 {
 	int fd = c.wait.fd >= 0 ? c.wait.fd : c.channel.get();
 	c.channel_state(fd).unanswered = 0;
@@ -53,64 +58,64 @@ void Coordinator::send_wake(Controller &c)
 	m.flags = TCS_WAKE_STARTS_SLICE;
 	m.v = c.v;
 	m.arg = c.wake_arg;
-	send_answer(c, fd, m, c.wake_fd);
+	send_answer(run, c, fd, m, c.wake_fd);
 	if (c.wake_fd >= 0) {
 		close(c.wake_fd);
 		c.wake_fd = -1;
 	}
-	if (c.wait.active && trace_.is_open())
-		trace_.wait(c.id, c.wait.kind, c.wait.requested_at, c.wait.deadline, c.v, c.wait.absolute);
+	if (c.wait.active && run.trace.is_open())
+		run.trace.wait(c.id, c.wait.kind, c.wait.requested_at, c.wait.deadline, c.v, c.wait.absolute);
 	c.wait.active = false;
 	c.wake_arg = 0;
 	c.wake_pending = false;
 }
 
-void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
+void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 {
 	ChannelState &st = c.channel_state(fd);
-	if (!ending_ && st.early_ahead != 0 && st.early_ahead == m.seq) {
+	if (!run.ending && st.early_ahead != 0 && st.early_ahead == m.seq) {
 		// Another thread ended this wait before it began.
 		st.early_ahead = 0;
 		c.stats.waits++;
-		SideWait w = side_wait_of(m, fd, tid, c.v, sim_ns_);
+		SideWait w = side_wait_of(m, fd, tid, c.v, run.sim_ns);
 		w.wake_reason = TCS_WAKE_EARLY;
-		answer_side(c, w);
+		answer_side(run, c, w);
 		if (c.state == CtlState::Blocked) {
 			// (It was asleep outside the hooks: it runs again.)
-			demote_wait(c);
+			demote_wait(run, c);
 			c.state = CtlState::Ready;
 			c.wake_pending = false;
-			schedule();
+			schedule(run);
 		}
 		return;
 	}
-	if (ending_) {
+	if (run.ending) {
 		// The run is over: every wait ends at once so SIGTERM can act.
 		c.wait.fd = fd;
 		c.wait.seq = m.seq;
 		if (m.deadline != TCS_NEVER)
 			c.v = std::max(c.v, m.deadline);
 		c.wake_reason = TCS_WAKE_DEADLINE;
-		send_wake(c);
+		send_wake(run, c);
 		return;
 	}
 	if (c.state == CtlState::Blocked) {
 		if (c.wait.active && fd == (c.wait.fd >= 0 ? c.wait.fd : c.channel.get())) {
-			drop(c, "it asked to wait while already waiting");
+			drop(run, c, "it asked to wait while already waiting");
 			return;
 		}
 		// A thread that was asleep outside the hooks woke and waits now.
-		c.side.push_back(side_wait_of(m, fd, tid, c.v, sim_ns_));
+		c.side.push_back(side_wait_of(m, fd, tid, c.v, run.sim_ns));
 		if (c.missed_raised_signal(m))
 			c.side.back().wake_reason = TCS_WAKE_RECHECK;
-		child_wait_begins(c, m, &c.side.back());
+		child_wait_begins(run, c, m, &c.side.back());
 		c.stats.waits++;
-		hear_threads(c);
-		schedule();
+		hear_threads(run, c);
+		schedule(run);
 		return;
 	}
-	if (c.multithreaded() && side_wait(c, m, fd, tid)) {
-		child_wait_begins(c, m, &c.side.back());
+	if (c.multithreaded() && side_wait(run, c, m, fd, tid)) {
+		child_wait_begins(run, c, m, &c.side.back());
 		c.stats.waits++;
 		if (m.flags & TCS_BLOCK_ABSOLUTE) {
 			c.stats.absolute_waits++;
@@ -119,21 +124,21 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		}
 		if (c.missed_raised_signal(m)) {
 			// (At the time its process has reached, as on_early's.)
-			if (c.state == CtlState::Running && cfg_.mode == TCS_MODE_CPU)
-				c.account(charge_point(c, m.cpu), cfg_.mode);
+			if (c.state == CtlState::Running && run.cfg.mode == TCS_MODE_CPU)
+				c.account(charge_point(run, c, m.cpu), run.cfg.mode);
 			SideWait w = c.side.back();
 			c.side.pop_back();
 			w.wake_reason = TCS_WAKE_RECHECK;
-			answer_side(c, w);
+			answer_side(run, c, w);
 		}
 		return;
 	}
 	if (c.state == CtlState::Running) {
-		lanes_.leave(c);
+		run.lanes.leave(c);
 		// Charged up to the hook's entry (see charge_point).
-		int64_t cpu = charge_point(c, m.cpu);
-		c.account(cpu, cfg_.mode);
-		trace_slice_end(c, "blocked", cpu);
+		int64_t cpu = charge_point(run, c, m.cpu);
+		c.account(cpu, run.cfg.mode);
+		trace_slice_end(run, c, "blocked", cpu);
 		c.cpu_at_end = cpu;
 	}
 	// (Ready: the budget ran out just as it began to wait; SIGSTOP has
@@ -156,26 +161,26 @@ void Coordinator::on_block(Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	c.wait.recheck = (m.flags & TCS_BLOCK_RECHECK) != 0;
 	c.wait.for_child = (m.flags & TCS_BLOCK_CHILD) != 0;
 	c.wait.devices = (m.flags & TCS_BLOCK_DEVICES) != 0;
-	c.wait.rechecked_at = sim_ns_;
+	c.wait.rechecked_at = run.sim_ns;
 	c.wake_pending = false;
 	c.state = CtlState::Blocked;
 	// Threads asleep outside the hooks: looked at each step (threads.cc).
 	c.others_asleep = c.multithreaded() && proc_thread_count(c.pid) > 1 + (int)c.side.size();
-	child_wait_begins(c, m, nullptr);
+	child_wait_begins(run, c, m, nullptr);
 	if (c.missed_raised_signal(m))
-		wake(c, c.v, TCS_WAKE_RECHECK);
-	hear_threads(c);
-	schedule();
+		wake(run, c, c.v, TCS_WAKE_RECHECK);
+	hear_threads(run, c);
+	schedule(run);
 }
 
-void Coordinator::on_early(Controller &c, const ::tcs_msg &m, int fd)
+void on_early(Run &run, Controller &c, const ::tcs_msg &m, int fd)
 {
-	if (ending_)
+	if (run.ending)
 		return;
 	if (c.state == CtlState::Blocked && c.wait.active && m.seq == c.wait.seq &&
 	    fd == (c.wait.fd >= 0 ? c.wait.fd : c.channel.get())) {
-		wake(c, std::max(c.v, sim_ns_), TCS_WAKE_EARLY);
-		schedule();
+		wake(run, c, std::max(c.v, run.sim_ns), TCS_WAKE_EARLY);
+		schedule(run);
 		return;
 	}
 	for (size_t i = 0; i < c.side.size(); i++) {
@@ -187,13 +192,13 @@ void Coordinator::on_early(Controller &c, const ::tcs_msg &m, int fd)
 			// Ended by a thread that runs: at that thread's time now (in
 			// cpu mode past the slice's start by what it has computed), so
 			// that what it did is never seen as done before it was.
-			if (cfg_.mode == TCS_MODE_CPU)
-				c.account(charge_point(c, m.cpu), cfg_.mode);
+			if (run.cfg.mode == TCS_MODE_CPU)
+				c.account(charge_point(run, c, m.cpu), run.cfg.mode);
 			SideWait done = w;
 			c.side.erase(c.side.begin() + (long)i);
-			answer_side(c, done);
-		} else if (c.state == CtlState::Blocked && wake_threads(c, std::max(c.v, sim_ns_))) {
-			schedule();
+			answer_side(run, c, done);
+		} else if (c.state == CtlState::Blocked && wake_threads(run, c, std::max(c.v, run.sim_ns))) {
+			schedule(run);
 		}
 		return; // (Ready: answered as it resumes)
 	}

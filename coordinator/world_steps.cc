@@ -5,11 +5,18 @@
 // each with a CPU budget that ends exactly at S+dt (slices.cc). Who runs
 // next and how far, or how far the world steps, is decided by decide()
 // (scheduler.h); this carries it out.
+#include "world_steps.h"
+
 #include <algorithm>
 
-#include "coordinator.h"
+#include "asleep.h"
+#include "device_requests.h"
+#include "remote.h"
 #include "scheduler.h"
+#include "slices.h"
 #include "tcs/protocol.h"
+#include "threads.h"
+#include "waits.h"
 
 namespace tcs {
 
@@ -22,34 +29,34 @@ constexpr int64_t kHeavyStep = 100 * TCS_NS_PER_US;
 constexpr int64_t kIdleCatchUp = 50 * TCS_NS_PER_MS;
 } // namespace
 
-void Coordinator::schedule()
+void schedule(Run &run)
 {
-	if (ending_ || held_ || awaiting_grant_ || !fatal_ || hearing_)
+	if (run.ending || run.held || run.awaiting_grant || !run.fatal || run.hearing)
 		return;
-	const bool barrier = !agents_.empty() || cfg_.step_agent;
+	const bool barrier = !run.agents.empty() || run.cfg.step_agent;
 	for (;;) {
-		const int64_t target = sim_ns_ + cfg_.step_ns;
-		contenders_.resize(ctls_.size());
-		for (size_t i = 0; i < ctls_.size(); i++)
-			contenders_[i] = contender_of(*ctls_[i]);
-		const Decision d = decide(contenders_, sim_ns_, cfg_.step_ns, barrier);
+		const int64_t target = run.sim_ns + run.cfg.step_ns;
+		run.contenders.resize(run.ctls.size());
+		for (size_t i = 0; i < run.ctls.size(); i++)
+			run.contenders[i] = contender_of(run, *run.ctls[i]);
+		const Decision d = decide(run.contenders, run.sim_ns, run.cfg.step_ns, barrier);
 		switch (d.kind) {
 		case Decision::Nobody: {
 			// Everyone has exited: run() notices; served, the world goes
 			// on at real-time speed until someone attaches, here or at an
 			// agent; with controllers at an agent, at the step protocol's
 			// pace (an agent answers at once: its host sets the pace).
-			if (cfg_.step_agent || agents_.any_programs()) {
-				if (!advance_to(target))
+			if (run.cfg.step_agent || run.agents.any_programs()) {
+				if (!advance_to(run, target))
 					return;
 				continue;
 			}
-			if (cfg_.serve)
-				arm_idle_step();
+			if (run.cfg.serve)
+				arm_idle_step(run);
 			return;
 		}
 		case Decision::Run:
-			if (!run_best(*ctls_[d.who], d.at, run_until(contenders_, d.who, target, cfg_.duration_ns)))
+			if (!run_best(run, *run.ctls[d.who], d.at, run_until(run.contenders, d.who, target, run.cfg.duration_ns)))
 				return;
 			continue;
 		case Decision::Wait:
@@ -59,10 +66,10 @@ void Coordinator::schedule()
 			// can end (some looked at each step: asleep outside the hooks,
 			// or in a wait only a re-check can see end): let virtual time
 			// pass at real-time speed, and hear their channels meanwhile.
-			arm_idle_step();
+			arm_idle_step(run);
 			return;
 		case Decision::Step:
-			if (!advance_to(d.to))
+			if (!advance_to(run, d.to))
 				return;
 			continue;
 		}
@@ -72,24 +79,24 @@ void Coordinator::schedule()
 // The contender best is behind the step, its turn due at `at`: it takes a
 // free core (the next one the next: none waits for another) and runs to
 // `until`. False when every core is taken (the next to leave one goes on).
-bool Coordinator::run_best(Controller &best, int64_t at, int64_t until)
+bool run_best(Run &run, Controller &best, int64_t at, int64_t until)
 {
-	const int lane = lanes_.free_for(best);
+	const int lane = run.lanes.free_for(best);
 	if (lane < 0)
 		return false;
-	if (best.asleep && still_asleep(best, at)) {
+	if (best.asleep && still_asleep(run, best, at)) {
 		// Looked at: still asleep, its turn passes for this step.
-		best.wait.rechecked_at = sim_ns_;
+		best.wait.rechecked_at = run.sim_ns;
 		best.wait.kicked_at = TCS_NEVER;
 		return true;
 	}
-	const int64_t target = sim_ns_ + cfg_.step_ns;
+	const int64_t target = run.sim_ns + run.cfg.step_ns;
 	if (best.state == CtlState::Blocked && (!best.side.empty() || best.others_asleep)) {
 		// Several threads wait: end those due (threads.cc).
-		if (!wake_threads(best, at)) {
-			best.wait.rechecked_at = sim_ns_;
+		if (!wake_threads(run, best, at)) {
+			best.wait.rechecked_at = run.sim_ns;
 			for (SideWait &w : best.side)
-				w.rechecked_at = sim_ns_;
+				w.rechecked_at = run.sim_ns;
 			return true;
 		}
 	} else if (best.state == CtlState::Blocked && best.next_timer() <= at && best.next_timer() < best.wait.deadline) {
@@ -97,29 +104,29 @@ bool Coordinator::run_best(Controller &best, int64_t at, int64_t until)
 		// re-check (its wait ends with EINTR if a handler ran).
 		best.v = std::max(best.v, at);
 		best.wake_arg = (int64_t)best.take_due_timer_signals();
-		best.wait.rechecked_at = sim_ns_;
-		wake(best, best.v, TCS_WAKE_SIGNAL);
+		best.wait.rechecked_at = run.sim_ns;
+		wake(run, best, best.v, TCS_WAKE_SIGNAL);
 	} else if (best.state == CtlState::Blocked) {
 		bool due = best.wait.deadline < target;
-		best.wait.rechecked_at = sim_ns_;
-		wake(best, due ? std::max(best.v, best.wait.deadline) : at,
+		best.wait.rechecked_at = run.sim_ns;
+		wake(run, best, due ? std::max(best.v, best.wait.deadline) : at,
 		     due || best.wait.devices ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK);
 	}
-	if (best.sync_pending && !complete_sync(best))
+	if (best.sync_pending && !complete_sync(run, best))
 		return true; // a read that must wait for its next record
-	resume(best, until, lane);
+	resume(run, best, until, lane);
 	return true;
 }
 
 // What the decision needs of c (scheduler.h).
-Contender Coordinator::contender_of(const Controller &c) const
+Contender contender_of(const Run &run, const Controller &c)
 {
 	Contender k;
 	k.exited = c.state == CtlState::Exited;
 	if (k.exited)
 		return k;
 	k.running = c.state == CtlState::Running;
-	k.at = next_run_at(c);
+	k.at = next_run_at(run, c);
 	k.rechecks = c.state == CtlState::Blocked &&
 		     (c.wait.recheck || c.others_asleep || std::any_of(c.side.begin(), c.side.end(), [](const SideWait &w) {
 			      return (w.flags & TCS_BLOCK_RECHECK) != 0;
@@ -128,136 +135,136 @@ Contender Coordinator::contender_of(const Controller &c) const
 				       return (w.flags & TCS_BLOCK_CHILD) != 0;
 			       });
 	k.waits_on_running_child = c.state == CtlState::Blocked && for_child &&
-				   std::any_of(ctls_.begin(), ctls_.end(), [&c](const auto &o) {
+				   std::any_of(run.ctls.begin(), run.ctls.end(), [&c](const auto &o) {
 					   return o->parent_id == c.id && o->state == CtlState::Running;
 				   });
 	return k;
 }
 
-int64_t Coordinator::next_run_at(const Controller &c) const
+int64_t next_run_at(const Run &run, const Controller &c)
 {
 	if (c.state == CtlState::Ready || c.state == CtlState::Running)
 		return c.v;
 	bool side_recheck = false, side_devices = false;
 	for (const SideWait &w : c.side) {
-		side_recheck |= (w.flags & TCS_BLOCK_RECHECK) && w.rechecked_at < sim_ns_;
+		side_recheck |= (w.flags & TCS_BLOCK_RECHECK) && w.rechecked_at < run.sim_ns;
 		side_devices |= (w.flags & TCS_BLOCK_DEVICES) != 0;
 		if (w.wake_reason)
 			return c.v;
 	}
-	if (((c.wait.recheck || c.others_asleep) && c.wait.rechecked_at < sim_ns_) || side_recheck)
-		return std::max(c.v, sim_ns_);
+	if (((c.wait.recheck || c.others_asleep) && c.wait.rechecked_at < run.sim_ns) || side_recheck)
+		return std::max(c.v, run.sim_ns);
 	int64_t until = std::min({ c.wait.deadline, c.next_timer(), c.side_next(), c.wait.kicked_at });
 	if (c.wait.devices || side_devices)
 		until = std::min(until, next_record_due(c));
 	return until == TCS_NEVER ? TCS_NEVER : std::max(c.v, until);
 }
 
-bool Coordinator::advance_to(int64_t next)
+bool advance_to(Run &run, int64_t next)
 {
 	// An agent's world is stepped by its host: answer its grant instead.
-	if (cfg_.step_agent) {
-		answer_grant();
+	if (run.cfg.step_agent) {
+		answer_grant(run);
 		return false;
 	}
 	// A host steps only when every agent has answered (on_step_host goes on).
-	if (!agents_answered())
+	if (!agents_answered(run))
 		return false;
-	if (cfg_.duration_ns >= 0 && next >= cfg_.duration_ns)
-		next = std::max(cfg_.duration_ns, sim_ns_);
-	if (!world_) {
+	if (run.cfg.duration_ns >= 0 && next >= run.cfg.duration_ns)
+		next = std::max(run.cfg.duration_ns, run.sim_ns);
+	if (!run.world) {
 		// An empty world: nothing to compute on the way.
-		steps_ += (next - sim_ns_ + cfg_.step_ns - 1) / cfg_.step_ns;
-		sim_ns_ = next;
+		run.steps += (next - run.sim_ns + run.cfg.step_ns - 1) / run.cfg.step_ns;
+		run.sim_ns = next;
 	}
 	// A heavy world (a step costing more than a budget timer's slack) is
 	// computed at normal priority; see coordinator_fifo().
-	bool heavy = world_ && world_->last_step_wall_ns() > kHeavyStep && sim_ns_ < next;
+	bool heavy = run.world && run.world->last_step_wall_ns() > kHeavyStep && run.sim_ns < next;
 	if (heavy)
-		coordinator_fifo(rt_, false);
+		coordinator_fifo(run.rt, false);
 	// At most a slice of wall time here: the rest after the event loop has
 	// had its turn (a controller asleep for hours must not make tcs deaf to
 	// Ctrl-C or to a controller's death while the world computes them).
 	const int64_t yield_at = wall_now() + kAdvanceSlice;
 	bool yielded = false;
-	while (sim_ns_ < next) {
-		if (auto s = step_world(); !s) {
-			fatal_ = s;
+	while (run.sim_ns < next) {
+		if (auto s = step_world(run); !s) {
+			run.fatal = s;
 			break;
 		}
-		if (!agents_answered())
+		if (!agents_answered(run))
 			break; // the next step waits for the agents' answers
-		if (sim_ns_ < next && wall_now() >= yield_at) {
-			continue_timer_.arm(1);
+		if (run.sim_ns < next && wall_now() >= yield_at) {
+			run.continue_timer.arm(1);
 			yielded = true;
 			break;
 		}
 	}
 	if (heavy)
-		coordinator_fifo(rt_, true);
-	if (!fatal_ || yielded)
+		coordinator_fifo(run.rt, true);
+	if (!run.fatal || yielded)
 		return false;
-	if (cfg_.duration_ns >= 0 && sim_ns_ >= cfg_.duration_ns) {
-		begin_end(EndReason::Duration);
+	if (run.cfg.duration_ns >= 0 && run.sim_ns >= run.cfg.duration_ns) {
+		begin_end(run, EndReason::Duration);
 		return false;
 	}
-	return agents_answered();
+	return agents_answered(run);
 }
 
 // The next step of a world that runs at real-time speed, on a wall clock
 // anchored where it began to, so that the time steps take (and this
 // coordinator waiting for its core, under load) is not lost from it. Far
 // behind (the machine paused), it starts again from now.
-void Coordinator::arm_idle_step()
+void arm_idle_step(Run &run)
 {
 	int64_t now = wall_now();
-	if (sim_ns_ != idle_.next_sim || now - idle_.wall_for(sim_ns_) > kIdleCatchUp)
-		idle_ = IdlePace{ now, sim_ns_, 0 };
-	idle_.next_sim = sim_ns_ + cfg_.step_ns;
-	idle_timer_.arm(std::max<int64_t>(idle_.wall_for(idle_.next_sim) - now, 1));
+	if (run.sim_ns != run.idle.next_sim || now - run.idle.wall_for(run.sim_ns) > kIdleCatchUp)
+		run.idle = Run::IdlePace{ now, run.sim_ns, 0 };
+	run.idle.next_sim = run.sim_ns + run.cfg.step_ns;
+	run.idle_timer.arm(std::max<int64_t>(run.idle.wall_for(run.idle.next_sim) - now, 1));
 }
 
-void Coordinator::on_idle()
+void on_idle(Run &run)
 {
-	idle_timer_.consume();
-	if (lanes_.any_running() || ending_ || held_)
+	run.idle_timer.consume();
+	if (run.lanes.any_running() || run.ending || run.held)
 		return;
-	if (advance_to(sim_ns_ + cfg_.step_ns))
-		schedule();
+	if (advance_to(run, run.sim_ns + run.cfg.step_ns))
+		schedule(run);
 }
 
-void Coordinator::apply_commands(int64_t boundary)
+void apply_commands(Run &run, int64_t boundary)
 {
 	// Ours in the order written (the last one before the boundary wins),
 	// then the agents' (agents.cc checked them).
-	devices_.take_due(boundary, *world_, [this](int64_t, size_t i, const double *values, size_t) {
-		world_->write(i, values);
+	run.devices.take_due(boundary, *run.world, [&run](int64_t, size_t i, const double *values, size_t) {
+		run.world->write(i, values);
 	});
-	agents_.apply(*world_, boundary);
+	run.agents.apply(*run.world, boundary);
 }
 
-Status Coordinator::step_world()
+Status step_world(Run &run)
 {
-	if (world_) {
-		apply_commands(sim_ns_);
-		if (auto s = world_->step(); !s)
+	if (run.world) {
+		apply_commands(run, run.sim_ns);
+		if (auto s = run.world->step(); !s)
 			return s;
-		step_walls_.add(world_->last_step_wall_ns());
-		if (trace_.is_open()) {
+		run.step_walls.add(run.world->last_step_wall_ns());
+		if (run.trace.is_open()) {
 			std::vector<double> joints;
-			joints.reserve(joint_signals_.size());
-			for (size_t i : joint_signals_)
-				world_->read(i, joints);
-			trace_.step(sim_ns_ + cfg_.step_ns, wall_now() - wall_start_, world_->last_step_wall_ns(),
+			joints.reserve(run.joint_signals.size());
+			for (size_t i : run.joint_signals)
+				run.world->read(i, joints);
+			run.trace.step(run.sim_ns + run.cfg.step_ns, wall_now() - run.wall_start, run.world->last_step_wall_ns(),
 				    std::move(joints));
 		}
-		if (cfg_.on_step)
-			cfg_.on_step(sim_ns_ + cfg_.step_ns, *world_);
+		if (run.cfg.on_step)
+			run.cfg.on_step(run.sim_ns + run.cfg.step_ns, *run.world);
 	}
-	sim_ns_ += cfg_.step_ns;
-	steps_++;
-	devices_.fill_streams(ctls_, sim_ns_ + cfg_.step_ns, world_.get());
-	grant_now();
+	run.sim_ns += run.cfg.step_ns;
+	run.steps++;
+	run.devices.fill_streams(run.ctls, run.sim_ns + run.cfg.step_ns, run.world.get());
+	grant_now(run);
 	return Ok{};
 }
 

@@ -28,7 +28,7 @@ fuzz target implements, or a test's stand-in for a library function).
 
     source_rules.py [--rule lines|headers] SOURCE_ROOT BUILD_DIR
 
-(both rules without --rule; the suite runs (a) as `source_lines`.)
+(both rules without --rule, as the suite runs them: test `source_rules`.)
 """
 
 import collections

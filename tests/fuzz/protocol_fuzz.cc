@@ -1,7 +1,7 @@
 // The fuzz target for the wire protocol's decoder: an input is a datagram
-// a controller sent, received as Coordinator::on_channel receives it (into
-// a buffer one byte longer than a message, so a longer one arrives cut to
-// that) and passed through tcs_msg_check(). What it accepts must hold every
+// a controller sent, received as on_channel (coordinator/messages.cc)
+// receives it (into a buffer one byte longer than a message, so a longer
+// one arrives cut to that) and passed through tcs_msg_check(). What it accepts must hold every
 // promise the coordinator's handlers rely on; what it rejects must come
 // with a reason fit for "bad message on its channel: <reason>". A new
 // message type needs its case in check_accepted() and a seed.

@@ -1,0 +1,180 @@
+// What every part asks of the run as a whole (run.h): a new controller,
+// the count of the living, warnings, the end and the report, and what the
+// run's loop hears besides controllers (signals, progress).
+#include "run.h"
+
+#include <signal.h>
+#include <sys/signalfd.h>
+#include <sys/socket.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
+#include <time.h>
+
+#include <algorithm>
+#include <cstring>
+
+#include "asleep.h"
+#include "children.h"
+#include "clock_ns.h"
+#include "device_requests.h"
+#include "exits.h"
+#include "messages.h"
+#include "proc_info.h"
+#include "remote.h"
+#include "serve.h"
+#include "slices.h"
+#include "tcs/msg_io.h"
+#include "tcs/protocol.h"
+#include "threads.h"
+#include "waits.h"
+#include "world_steps.h"
+
+namespace tcs {
+
+Status add_controller(Run &run, const ControllerSpec &spec)
+{
+	ControllerSpec traced = spec;
+	traced.report_misses = run.trace.is_open();
+	auto c = Controller::start((int)run.ctls.size() + 1, traced, run.cfg.mode, run.origins, run.rt, run.cfg.preload,
+				   run.devices.bound());
+	if (!c)
+		return c.error();
+	Controller *raw = c->get();
+	if (run.trace.is_open())
+		run.trace.controller(raw->id, raw->name, raw->pid, raw->scale, run.cfg.mode, run.cfg.step_ns);
+	run.ctls.push_back(std::move(*c));
+	if (auto s = run.loop.add(raw->channel.get(), [&run, raw](uint32_t) { on_channel(run, *raw, nullptr); }); !s)
+		return s;
+	return run.loop.add(raw->pidfd.get(), [&run, raw](uint32_t) { on_pidfd(run, *raw); });
+}
+
+ControllerReport report_of(const Run &run, const Controller &c)
+{
+	ControllerReport cr;
+	cr.id = c.id;
+	cr.pid = c.pid;
+	cr.name = c.name;
+	cr.wait_status = c.exit_status;
+	cr.attached = c.attached;
+	cr.virtual_ns = c.v;
+	cr.charged_ns = c.charged;
+	cr.waits = c.stats.waits + c.quick_waits();
+	cr.periodic_waits = c.stats.absolute_waits + c.past_deadlines();
+	cr.deadline_misses = c.past_deadlines() + c.stats.reported_misses;
+	cr.preemptions = c.stats.preemptions;
+	cr.ended_by_tcs = c.ended_by_tcs;
+	cr.child = c.parent_id != 0;
+	cr.dropped = c.dropped;
+	return cr;
+}
+
+// The run lasts while a controller tcs started lives (children left behind
+// are ended with it).
+int64_t alive(const Run &run)
+{
+	return std::count_if(run.ctls.begin(), run.ctls.end(),
+			     [](auto &c) { return c->parent_id == 0 && c->state != CtlState::Exited; });
+}
+
+int64_t alive_controllers(const Run &run)
+{
+	return std::count_if(run.ctls.begin(), run.ctls.end(), [](auto &c) { return c->state != CtlState::Exited; });
+}
+
+void on_signal(Run &run)
+{
+	struct signalfd_siginfo si;
+	while (read(run.signal_fd.get(), &si, sizeof si) == (ssize_t)sizeof si) {
+		if (run.ending && run.end_reason == EndReason::Signal) {
+			// Asked twice: no more grace.
+			for (auto &c : run.ctls)
+				if (c->state != CtlState::Exited)
+					kill(c->pid, SIGKILL);
+			continue;
+		}
+		begin_end(run, EndReason::Signal, (int)si.ssi_signo);
+	}
+}
+
+void on_progress(Run &run)
+{
+	run.progress_timer.consume();
+	// A parent waits for its new child's registration no longer than this
+	// (its program, say, hangs in a constructor before ours runs).
+	int64_t now = wall_now();
+	for (auto &c : run.ctls) {
+		if (c->awaiting_child != 0 && now - c->awaiting_since > kRegistrationWait)
+			child_settled(run, *c);
+		if (c->kill_after != 0 && now > c->kill_after && c->state != CtlState::Exited)
+			kill(c->pid, SIGKILL);
+	}
+	if (run.cfg.step_agent && !run.granted && !run.ending)
+		word_of_controllers(run); // the host may not have heard the last
+	if (run.cfg.on_progress && !run.ending)
+		run.cfg.on_progress(run.sim_ns, clock_ns(CLOCK_MONOTONIC) - run.wall_start);
+	if (run.cfg.mode == TCS_MODE_LOCKSTEP)
+		run.lanes.each_running([&run](Controller &c) {
+			if (c.slice_cpu(c.cpu_now()) > 10 * TCS_NS_PER_S)
+				warn_once(run, "in lockstep mode virtual time advances only when controllers wait, and '" +
+					  c.name + "' has computed for 10 s without waiting");
+		});
+}
+
+void warn_once(Run &run, const std::string &what)
+{
+	if (std::find(run.warned.begin(), run.warned.end(), what) != run.warned.end())
+		return;
+	run.warned.push_back(what);
+	if (run.cfg.on_warning)
+		run.cfg.on_warning(what);
+}
+
+void begin_end(Run &run, EndReason reason, int signo)
+{
+	if (!run.ending) {
+		run.end_reason = reason;
+		run.end_signal = signo;
+	} else if (reason == EndReason::Signal && run.end_reason != EndReason::Signal) {
+		run.end_reason = reason;
+		run.end_signal = signo;
+	}
+	if (run.ending)
+		return;
+	run.ending = true;
+	if (run.cfg.on_ending)
+		run.cfg.on_ending();
+	run.lanes.each_running([&run](Controller &c) {
+		// Its slice ends with the run (what it does after is not traced).
+		int64_t cpu = c.cpu_now();
+		c.account(cpu, run.cfg.mode);
+		c.publish_slice(cpu);
+		trace_slice_end(run, c, "ended", cpu);
+		run.lanes.leave(c);
+	});
+	// Let every controller act on SIGTERM: running, with its waits answered
+	// at once, then SIGKILL after the grace period.
+	for (auto &c : run.ctls) {
+		if (c->state == CtlState::Exited)
+			continue;
+		kill(c->pid, SIGTERM);
+		if (c->state == CtlState::Blocked) {
+			// It waited through to the end: that is where it stands now.
+			c->v = std::max(c->v, std::min(c->wait.deadline, run.sim_ns));
+			c->wake_pending = true;
+			c->wake_reason = TCS_WAKE_DEADLINE;
+		}
+		if (c->sync_pending)
+			complete_sync(run, *c); // the world has stopped: a read gets its last state
+		if (c->wake_pending)
+			send_wake(run, *c);
+		end_all_side_waits(run, *c);
+		if (c->stopped) {
+			kill(c->pid, SIGCONT);
+			c->stopped = false;
+		}
+		c->state = CtlState::Running;
+	}
+	run.kill_timer.arm(kEndGrace);
+}
+
+} // namespace tcs

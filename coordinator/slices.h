@@ -1,0 +1,29 @@
+// Slices: budgets, checks, preemption, accounting (slices.cc), as functions
+// over the run's state (run.h).
+#pragma once
+
+#include "run.h"
+
+namespace tcs {
+
+void resume(Run &run, Controller &c, int64_t target, int lane);
+void on_budget(Run &run, Lane &lane);
+// SIGSTOP, and wait till it has stopped: false if it died first.
+bool hold_still(Run &run, Controller &c);
+// Ends c's slice, stopping it unless held already (by hold()).
+void preempt(Run &run, Controller &c, bool held = false);
+bool wait_until_stopped(Run &run, Controller &c);
+// cpu: the process's CPU clock at the end; budget and overshoot: of a
+// preempted slice (real CPU).
+void trace_slice_end(Run &run, Controller &c, const char *why, int64_t cpu, int64_t budget = -1, int64_t overshoot = 0);
+int64_t wall_now();
+// The CPU a request charges up to; a claim may exceed the wall time
+// since the slice began by this much (the hook's part before we ran).
+int64_t charge_point(Run &run, Controller &c, int64_t claimed);
+// When a request of a running controller's thread was made: its own
+// claim, no earlier than c.v nor later than its process's time as the
+// request is heard (other threads may have run since). c.v unless
+// running in cpu mode.
+int64_t request_v(Run &run, Controller &c, const ::tcs_msg &m);
+
+} // namespace tcs
