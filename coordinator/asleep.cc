@@ -56,21 +56,21 @@ void on_watchdog(Run &run, Lane &lane)
 // The watchdog's look at a running controller; true if it stepped aside.
 bool look_at(Run &run, Controller &c)
 {
-	if (c.watched_slice != c.slices) {
+	if (c.look.slice != c.slices) {
 		// A slice begun since the last tick: look from its start.
-		c.watched_slice = c.slices;
-		c.watch_cpu = c.slice().cpu_base; // read as it began: no system call
-		c.asleep_looks = 0;
+		c.look.slice = c.slices;
+		c.look.cpu = c.slice().cpu_base; // read as it began: no system call
+		c.look.asleep_times = 0;
 		return false;
 	}
 	int64_t cpu = c.cpu_now();
 	// Asleep twice in a row, and not in a request of ours (waiting for its
 	// child to register after a fork, it is asleep in our hands). (One
 	// queued behind others on its core is runnable, not asleep.)
-	bool asleep = cpu - c.watch_cpu <= kWatchdog / 100 && c.awaiting_child == 0 && proc_all_threads_asleep(c.pid);
-	c.asleep_looks = asleep ? c.asleep_looks + 1 : 0;
-	c.watch_cpu = cpu;
-	return c.asleep_looks >= 2 && (block_if_all_waiting(run, c) || step_aside_if_asleep(run, c));
+	bool asleep = cpu - c.look.cpu <= kWatchdog / 100 && c.awaiting.pid == 0 && proc_all_threads_asleep(c.pid);
+	c.look.asleep_times = asleep ? c.look.asleep_times + 1 : 0;
+	c.look.cpu = cpu;
+	return c.look.asleep_times >= 2 && (block_if_all_waiting(run, c) || step_aside_if_asleep(run, c));
 }
 
 // The running controller, found making no progress: if every thread of it
@@ -78,7 +78,7 @@ bool look_at(Run &run, Controller &c)
 // go on. False if it is not asleep after all.
 bool step_aside_if_asleep(Run &run, Controller &c)
 {
-	if (alive_controllers(run) < 2 || c.awaiting_child != 0 || !proc_all_threads_asleep(c.pid))
+	if (alive_controllers(run) < 2 || c.awaiting.pid != 0 || !proc_all_threads_asleep(c.pid))
 		return false;
 	if (!c.outside && !proc_maps_library(c.pid, "libtcs_preload")) {
 		// It has exec'd a program that runs without tcs's hooks: from
@@ -90,7 +90,7 @@ bool step_aside_if_asleep(Run &run, Controller &c)
 	}
 	run.devices.take_lazy_commands(c, -1, run.trace); // written before it fell asleep, at its time then
 	int64_t cpu = c.cpu_now();
-	c.asleep_looks = 0;
+	c.look.asleep_times = 0;
 	run.lanes.leave(c);
 	c.account(cpu, run.cfg.mode);
 	c.publish_slice(cpu);

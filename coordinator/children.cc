@@ -40,7 +40,7 @@ void on_child(Run &run, Controller &parent, const ::tcs_msg &m, UniqueFd channel
 	pid_t pid = (pid_t)m.arg;
 	auto refuse = [&](const std::string &why) {
 		warn_once(run, "a child of " + parent.name + " runs in real time: " + why);
-		if (parent.awaiting_child == pid)
+		if (parent.awaiting.pid == pid)
 			child_settled(run, parent);
 		if (channel) {
 			struct tcs_msg w = tcs_msg_make(TCS_MSG_WAKE, m.seq);
@@ -69,10 +69,18 @@ void on_child(Run &run, Controller &parent, const ::tcs_msg &m, UniqueFd channel
 	// know), never behind the world. A parent waiting for this very child
 	// (its request restarted its slice) is exactly at parent.v; one still
 	// running is settled by that request when it comes (on_forked).
+	// Still running, its request's claim bounds where it is: past it, what
+	// its CPU clock counts is the hook's (a child that had run before the
+	// request came, at the parent's clock as it registered, began 26 us
+	// ahead of the parent's time, under load).
 	int64_t parent_v = parent.v;
-	if (parent.state == CtlState::Running && run.cfg.mode == TCS_MODE_CPU && parent.awaiting_child != pid)
+	if (parent.state == CtlState::Running && run.cfg.mode == TCS_MODE_CPU && parent.awaiting.pid != pid) {
+		int64_t cpu = parent.cpu_now(), claim = parent.fork_claim();
+		if (claim >= 0)
+			cpu = std::min(cpu, claim);
 		parent_v = std::max(parent_v, parent.slice().v_base +
-						       tcs_scale_cpu(parent.slice_cpu(parent.cpu_now()), parent.scale));
+						      tcs_scale_cpu(parent.slice_cpu(cpu), parent.scale));
+	}
 	c.v = std::max((m.flags & TCS_CHILD_V_KNOWN) ? m.v : parent_v, run.sim_ns);
 	c.wait.seq = m.seq;
 	c.state = CtlState::Blocked;
@@ -89,7 +97,7 @@ void on_child(Run &run, Controller &parent, const ::tcs_msg &m, UniqueFd channel
 	}
 	if (auto s = run.loop.add(raw->pidfd.get(), [&run, raw](uint32_t) { on_pidfd(run, *raw); }); !s)
 		run.fatal = s;
-	if (parent.awaiting_child == pid)
+	if (parent.awaiting.pid == pid)
 		child_settled(run, parent);
 	// Someone new waits for a core: is one that has it asleep?
 	run.lanes.each_running([&run](Controller &r) { arm_watchdog(run, r); });
@@ -126,14 +134,14 @@ void on_forked(Run &run, Controller &c, const ::tcs_msg &m)
 		reply_now(run, c, 0);
 		return;
 	}
-	c.awaiting_child = pid;
-	c.awaiting_since = wall_now();
-	c.awaiting_exec = will == WillLoad::Unknown;
-	if (c.awaiting_exec)
+	c.awaiting.pid = pid;
+	c.awaiting.since = wall_now();
+	c.awaiting.exec = will == WillLoad::Unknown;
+	if (c.awaiting.exec)
 		run.exec_timer.arm(kExecLook, kExecLook);
-	c.awaiting_child_fd = std::move(fd);
+	c.awaiting.pidfd = std::move(fd);
 	Controller *raw = &c;
-	if (auto s = run.loop.add(c.awaiting_child_fd.get(), [&run, raw](uint32_t) { child_settled(run, *raw); }); !s)
+	if (auto s = run.loop.add(c.awaiting.pidfd.get(), [&run, raw](uint32_t) { child_settled(run, *raw); }); !s)
 		run.fatal = s;
 }
 
@@ -144,13 +152,13 @@ void on_exec_look(Run &run)
 	run.exec_timer.consume();
 	bool again = false;
 	for (auto &c : run.ctls) {
-		if (c->awaiting_child == 0 || !c->awaiting_exec)
+		if (c->awaiting.pid == 0 || !c->awaiting.exec)
 			continue;
-		WillLoad will = proc_will_load(c->awaiting_child, "libtcs_preload");
-		c->awaiting_exec = will == WillLoad::Unknown;
+		WillLoad will = proc_will_load(c->awaiting.pid, "libtcs_preload");
+		c->awaiting.exec = will == WillLoad::Unknown;
 		if (will == WillLoad::No)
 			child_settled(run, *c);
-		again = again || c->awaiting_exec;
+		again = again || c->awaiting.exec;
 	}
 	if (!again)
 		run.exec_timer.disarm();
@@ -158,11 +166,11 @@ void on_exec_look(Run &run)
 
 void child_settled(Run &run, Controller &parent)
 {
-	if (parent.awaiting_child == 0)
+	if (parent.awaiting.pid == 0)
 		return;
-	run.loop.remove(parent.awaiting_child_fd.get());
-	parent.awaiting_child_fd.reset();
-	parent.awaiting_child = 0;
+	run.loop.remove(parent.awaiting.pidfd.get());
+	parent.awaiting.pidfd.reset();
+	parent.awaiting.pid = 0;
 	if (parent.state != CtlState::Exited)
 		reply_now(run, parent, 0);
 }

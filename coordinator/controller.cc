@@ -219,6 +219,12 @@ void Controller::account(int64_t cpu, int mode)
 		v = std::max(v, tcs_ns_add(slice_.v_base, used));
 }
 
+int64_t Controller::fork_claim() const
+{
+	int64_t claim = page_ ? __atomic_load_n(&page_->fork_claim, __ATOMIC_RELAXED) : -1;
+	return claim > slice_.cpu_base ? claim : -1;
+}
+
 bool Controller::returning_from_wait() const
 {
 	return mark_due && page_ && __atomic_load_n(&page_->exit_cpu, __ATOMIC_RELAXED) < slice_.cpu_base;
@@ -265,7 +271,7 @@ void Controller::release()
 	final_past_deadlines_ = past_deadlines();
 	channel.reset();
 	pidfd.reset();
-	awaiting_child_fd.reset();
+	awaiting.pidfd.reset();
 	page_fd_for_child.reset();
 	threads.clear();
 	devices.clear();

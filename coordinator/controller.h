@@ -50,6 +50,14 @@ enum class CtlState {
 	Exited,
 };
 
+// A device request a controller waits on (TCS_MSG_DEV_SYNC): for the
+// world to reach its step, or for a record of the sensor it reads.
+struct DeviceSync {
+	uint16_t kind = 0;   // TCS_SYNC_READ, TCS_SYNC_POLL
+	int64_t handle = 0;  // the device (an index of Controller::devices)
+	bool nonblock = false; // a read that returns -EAGAIN rather than wait
+};
+
 // A signal timer of the controller (alarm, setitimer, timer_create): the
 // coordinator sends signo at each expiry of its virtual time.
 struct SignalTimer {
@@ -181,6 +189,9 @@ public:
 	int64_t slice_cpu(int64_t cpu) const;
 	// Closes the slice at cpu: v and charged move forward, never back.
 	void account(int64_t cpu, int mode);
+	// The CPU up to which its request after its last fork charges it (the
+	// page's fork_claim), if that is in the current slice; else -1.
+	int64_t fork_claim() const;
 	// The slice began with a WAKE whose hook has not yet marked its return
 	// (the page's exit_cpu): all it has run of the slice is the hook's.
 	bool returning_from_wait() const;
@@ -244,10 +255,7 @@ public:
 	// Devices: what this controller has open (handle = index), and a
 	// device request it is waiting on (for the world, or for a record).
 	std::vector<std::unique_ptr<OpenDevice>> devices;
-	bool sync_pending = false;
-	uint16_t sync_kind = 0;
-	int64_t sync_handle = 0;
-	bool sync_nonblock = false;
+	std::optional<DeviceSync> sync;
 	int64_t wake_arg = 0;       // the result the next WAKE carries
 	int wake_fd = -1;           // an fd the next WAKE passes (owned until sent)
 
@@ -288,13 +296,19 @@ public:
 	UniqueFd page_fd_for_child; // adopted: its page, until sent
 	int64_t next_timer_ = TCS_NEVER;
 	bool asleep = false;        // stepped aside, asleep in the kernel (asleep.cc)
-	int64_t watch_cpu = 0;      // its CPU at the watchdog's last look
-	uint64_t watched_slice = 0; // the slice it was in then
-	int asleep_looks = 0;       // looks in a row that found it asleep
-	pid_t awaiting_child = 0;   // right after a fork: the child not yet registered
-	UniqueFd awaiting_child_fd; // its pidfd (it may die before it registers)
-	int64_t awaiting_since = 0; // wall time
-	bool awaiting_exec = false; // its exec not yet done: looked at
+	// Its lane watchdog's last look at it, running (asleep.cc).
+	struct Look {
+		int64_t cpu = 0;      // its CPU then
+		uint64_t slice = 0;   // the slice it was in
+		int asleep_times = 0; // looks in a row that found it asleep
+	} look;
+	// Right after a fork: the child not yet registered (children.cc).
+	struct NewChild {
+		pid_t pid = 0;      // (0: none)
+		UniqueFd pidfd;     // it may die before it registers
+		int64_t since = 0;  // wall time
+		bool exec = false;  // its exec not yet done: looked at
+	} awaiting;
 
 private:
 	template <class F> void advance_due(F f);

@@ -118,10 +118,7 @@ void on_dev_sync(Run &run, Controller &c, const ::tcs_msg &m)
 		reply_now(run, c, c.wake_arg);
 		return;
 	}
-	c.sync_pending = true;
-	c.sync_kind = m.kind;
-	c.sync_handle = m.arg;
-	c.sync_nonblock = m.flags & TCS_DEV_NONBLOCK;
+	c.sync = DeviceSync{ m.kind, m.arg, (m.flags & TCS_DEV_NONBLOCK) != 0 };
 	if (!run.ending && c.v >= run.sim_ns + run.cfg.step_ns) {
 		// It is ahead of the world: it waits until the world catches up.
 		if (c.lane >= 0) {
@@ -151,13 +148,14 @@ void on_dev_sync(Run &run, Controller &c, const ::tcs_msg &m)
 bool complete_sync(Run &run, Controller &c)
 {
 	deliver(c);
-	c.sync_pending = false;
+	const DeviceSync sync = *c.sync;
+	c.sync.reset();
 	c.wake_arg = 0;
-	if (c.sync_kind != TCS_SYNC_READ) {
+	if (sync.kind != TCS_SYNC_READ) {
 		c.wake_pending = true;
 		return true;
 	}
-	OpenDevice &d = *c.devices[(size_t)c.sync_handle];
+	OpenDevice &d = *c.devices[(size_t)sync.handle];
 	if (!drained(d) || d.gone) {
 		c.wake_pending = true;
 		return true;
@@ -173,12 +171,12 @@ bool complete_sync(Run &run, Controller &c)
 		c.wake_pending = true;
 		return true;
 	}
-	if (c.sync_nonblock || next_record_due(c) == TCS_NEVER) {
-		c.wake_arg = c.sync_nonblock ? -EAGAIN : 0;
+	if (sync.nonblock || next_record_due(c) == TCS_NEVER) {
+		c.wake_arg = sync.nonblock ? -EAGAIN : 0;
 		c.wake_pending = true;
 		return true;
 	}
-	c.sync_pending = true;
+	c.sync = sync; // (still waiting, for the record)
 	c.state = CtlState::Blocked;
 	c.wait.deadline = d.queue.empty() ? d.next_due : d.queue.front().first;
 	c.wait.recheck = false;

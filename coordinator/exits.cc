@@ -99,7 +99,7 @@ void on_exit(Run &run, Controller &c, int wait_status)
 				w.wake_reason = TCS_WAKE_RECHECK;
 				seen = true;
 			}
-		if (p->state == CtlState::Blocked && p->wait.for_child && !p->sync_pending) {
+		if (p->state == CtlState::Blocked && p->wait.for_child && !p->sync) {
 			wake(run, *p, std::max(p->v, c.v), TCS_WAKE_RECHECK);
 			seen = true;
 		} else if (p->state == CtlState::Blocked) {
@@ -146,7 +146,7 @@ void drop(Run &run, Controller &c, const std::string &why)
 	c.wait.deadline = TCS_NEVER;
 	c.wait.recheck = false;
 	c.wait.devices = false;
-	c.sync_pending = false;
+	c.sync.reset();
 	c.wake_pending = false;
 	schedule(run);
 }

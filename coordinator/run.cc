@@ -103,7 +103,7 @@ void on_progress(Run &run)
 	// (its program, say, hangs in a constructor before ours runs).
 	int64_t now = wall_now();
 	for (auto &c : run.ctls) {
-		if (c->awaiting_child != 0 && now - c->awaiting_since > kRegistrationWait)
+		if (c->awaiting.pid != 0 && now - c->awaiting.since > kRegistrationWait)
 			child_settled(run, *c);
 		if (c->kill_after != 0 && now > c->kill_after && c->state != CtlState::Exited)
 			kill(c->pid, SIGKILL);
@@ -163,7 +163,7 @@ void begin_end(Run &run, EndReason reason, int signo)
 			c->wake_pending = true;
 			c->wake_reason = TCS_WAKE_DEADLINE;
 		}
-		if (c->sync_pending)
+		if (c->sync)
 			complete_sync(run, *c); // the world has stopped: a read gets its last state
 		if (c->wake_pending)
 			send_wake(run, *c);

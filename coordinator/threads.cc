@@ -209,7 +209,7 @@ bool wake_threads(Run &run, Controller &c, int64_t at)
 	int64_t v = std::max(c.v, at);
 	bool woke_alone = c.others_asleep && runnable_threads(run, c, 0) > 0;
 	bool timer = c.next_timer() <= v;
-	bool own = c.wait.active && !c.sync_pending &&
+	bool own = c.wait.active && !c.sync &&
 		   (c.wait.deadline <= v || c.wait.kicked_at <= v || (c.wait.recheck && c.wait.rechecked_at < run.sim_ns) ||
 		    (c.wait.devices && next_record_due(c) <= v));
 	bool side = std::any_of(c.side.begin(), c.side.end(), [&](const SideWait &w) { return c.side_due(w, v, run.sim_ns); });
@@ -218,20 +218,20 @@ bool wake_threads(Run &run, Controller &c, int64_t at)
 		return false;
 	}
 	c.others_asleep = false;
-	if (timer && !c.wait.active && !c.sync_pending && !c.side.empty()) {
+	if (timer && !c.wait.active && !c.sync && !c.side.empty()) {
 		// Someone must raise the timer's signals inside a wait: the first
 		// waiting thread.
 		c.take_wait(c.side.front());
 		c.side.erase(c.side.begin());
 	}
-	if (timer && c.wait.active && !c.sync_pending) {
+	if (timer && c.wait.active && !c.sync) {
 		c.v = v;
 		c.wake_arg = (int64_t)c.take_due_timer_signals();
 		wake(run, c, v, TCS_WAKE_SIGNAL);
 	} else if (own) {
 		bool due = c.wait.deadline <= v;
 		wake(run, c, v, due || c.wait.devices ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK);
-	} else if (!c.sync_pending) {
+	} else if (!c.sync) {
 		demote_wait(run, c);
 		c.v = v;
 		c.state = CtlState::Ready;
@@ -292,7 +292,7 @@ void end_all_side_waits(Run &run, Controller &c)
 // none of its threads can run, it is Blocked beside their waits.
 bool block_if_all_waiting(Run &run, Controller &c)
 {
-	if (c.side.empty() || c.awaiting_child != 0 || runnable_threads(run, c, 0) > 0)
+	if (c.side.empty() || c.awaiting.pid != 0 || runnable_threads(run, c, 0) > 0)
 		return false;
 	int64_t cpu = c.cpu_now();
 	run.lanes.leave(c);

@@ -112,7 +112,7 @@ bool run_best(Run &run, Controller &best, int64_t at, int64_t until)
 		wake(run, best, due ? std::max(best.v, best.wait.deadline) : at,
 		     due || best.wait.devices ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK);
 	}
-	if (best.sync_pending && !complete_sync(run, best))
+	if (best.sync && !complete_sync(run, best))
 		return true; // a read that must wait for its next record
 	resume(run, best, until, lane);
 	return true;

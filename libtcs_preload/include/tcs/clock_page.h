@@ -21,7 +21,7 @@ extern "C" {
 #endif
 
 #define TCS_PAGE_MAGIC 0x70736374u /* "tcsp" */
-#define TCS_PAGE_VERSION 9u
+#define TCS_PAGE_VERSION 10u
 #define TCS_PAGE_SIZE 4096
 
 enum tcs_mode {
@@ -117,6 +117,11 @@ struct tcs_clock_page {
 				  * read the CPU clock between hooks (a system call,
 				  * 50x a native clock read on some machines): not
 				  * the program's, not charged (cpu_estimate.c) */
+	int64_t fork_claim;      /* the claim of its request after a fork, vfork or
+				  * spawn, stored before the request goes: a child
+				  * that registers first starts no later, not at
+				  * the CPU of the hook since (on_child,
+				  * coordinator/children.cc) */
 
 	/* Both sides, by its own rules (tcs/mailbox.h). */
 	struct tcs_mailbox mailbox __attribute__((aligned(64)));
