@@ -1,6 +1,7 @@
 """bench/run.py's figures of single operations, each against a baseline
 measured in the same rounds: a clock read, a virtual sleep's round trip, a
-step barrier over DDS, and a step of the 1000-box world."""
+step barrier over DDS, the CPU a preemption's stop costs, and a step of the
+1000-box world."""
 
 import os
 import statistics
@@ -51,6 +52,25 @@ def sleep_round_trip(b):
             row("same, against the ping-pong with tcs's system calls", m["tcs"], "ns", m["event_loop"],
                 "ping-pong + epoll_wait", m["tcs"] / m["event_loop"], "\u2014", None,
                 "what tcs's own code costs beyond the system calls it needs")]
+
+
+def stop_cost(b):
+    """The CPU a stop charges the process it stops (bench/stop_cost.c): the
+    kernel counts it as the process's, so tcs charges it to the controller
+    at each preemption (docs/DESIGN.md, "Preemption and accounting"). Against
+    the turn of the stopped program's loop, a CPU-clock system call."""
+    rounds = 500 if b.quick else 2000
+    medians, p99s, reads, other = [], [], [], 0.0
+    for _ in range(b.rounds):
+        v = b.values([b.path("bench", "stop_cost"), rounds])
+        medians.append(v["stop_cost_median_ns"] / 1e3)
+        p99s.append(v["stop_cost_p99_ns"] / 1e3)
+        reads.append(v["read_ns"] / 1e3)
+        other = v["other_core"]
+    median, read = statistics.median(medians), statistics.median(reads)
+    return [row("CPU a preemption's stop charges the stopped process", median, "us", read,
+                "a CPU-clock read (system call)", median / read, "\u2014", None,
+                "p99 %.0f us; stopped from %s" % (statistics.median(p99s), "another core" if other else "its core"))]
 
 
 def dds_barrier(b):

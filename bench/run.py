@@ -21,11 +21,12 @@ import sys
 import time
 
 from bench_core import Bench, row
-from bench_costs import box_world, clock_reads, dds_barrier, sleep_round_trip
+from bench_costs import box_world, clock_reads, dds_barrier, sleep_round_trip, stop_cost
 from bench_runs import (compute_cost, peak_memory, pendulum_speed, pendulum_through_agent, preemption_overshoot,
                         scaling, timing_error, trace_cost)
 
-BENCHES = [("clock", clock_reads), ("sleep", sleep_round_trip), ("dds", dds_barrier), ("agent", pendulum_through_agent),
+BENCHES = [("clock", clock_reads), ("sleep", sleep_round_trip), ("stop", stop_cost), ("dds", dds_barrier),
+           ("agent", pendulum_through_agent),
            ("pendulum", pendulum_speed),
            ("overshoot", preemption_overshoot), ("compute", compute_cost), ("error", timing_error), ("boxes", box_world),
            ("memory", peak_memory), ("trace", trace_cost), ("scaling", scaling)]
