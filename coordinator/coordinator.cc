@@ -24,6 +24,9 @@ namespace tcs {
 
 namespace {
 constexpr int64_t kProgressPeriod = 250 * TCS_NS_PER_MS;
+// CLOCK_MONOTONIC and CLOCK_BOOTTIME at virtual time 0 under --epoch
+// (docs/DESIGN.md §2): a machine up for a day and a few hours.
+constexpr int64_t kFixedMonotonicOrigin = 100000 * TCS_NS_PER_S;
 } // namespace
 
 Result<std::unique_ptr<Coordinator>> Coordinator::create(CoordinatorConfig config)
@@ -106,7 +109,9 @@ Status Coordinator::init()
 		run.trace.set_joint_names(std::move(names));
 	}
 
-	run.origins.mono_ns = clock_ns(CLOCK_MONOTONIC);
+	// With an epoch the monotonic clocks start at a fixed value too, so
+	// that a run repeats their values, not only their differences.
+	run.origins.mono_ns = run.cfg.epoch_ns ? kFixedMonotonicOrigin : clock_ns(CLOCK_MONOTONIC);
 	run.origins.real_ns = run.cfg.epoch_ns ? *run.cfg.epoch_ns : clock_ns(CLOCK_REALTIME);
 	// TAI - UTC is a whole number of seconds; two reads differ by a few ns.
 	int64_t tai_offset = clock_ns(CLOCK_TAI) - clock_ns(CLOCK_REALTIME);

@@ -108,11 +108,14 @@ def test_a_round_trip_reads_no_cpu_clock():
 
 
 def test_same_epoch_same_timestamps():
-    script = "import time\nfor i in range(3):\n    time.sleep(0.25)\n    print('t=%d' % time.time_ns())\n"
+    script = ("import time\nfor i in range(3):\n    time.sleep(0.25)\n"
+              "    print('t=%d m=%d' % (time.time_ns(), time.monotonic_ns()))\n")
     runs = [tcs("-q", "-m", "lockstep", "--epoch", "2024-05-01T12:00:00Z", "--", PYTHON, "-c", script)
             for _ in range(2)]
     check(runs[0].stdout == runs[1].stdout, "two runs with one epoch print the same", runs[1])
     check(runs[0].stdout.split()[0] == "t=1714564800250000000", "time.time() starts at the epoch", runs[0])
+    # The monotonic clock too starts at a fixed value: 100000 s.
+    check(runs[0].stdout.split()[1] == "m=100000250000000", "time.monotonic() starts at 100000 s", runs[0])
     c = [tcs("-q", "-m", "lockstep", "--epoch", "1714564800", prog("clocks")) for _ in range(2)]
     steps = [[line for line in x.stdout.splitlines() if line.startswith("step")] for x in c]
     check(len(steps[0]) == 4 and steps[0] == steps[1], "every clock identical across runs", c[1])
