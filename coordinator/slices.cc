@@ -166,14 +166,30 @@ void resume(Run &run, Controller &c, int64_t target, int lane)
 	// Nor is there one when nothing else will ever need the core.
 }
 
+// It ended before it could stop: its slice ends with it, traced as its
+// exit (on_pidfd does so while it is in its lane: leaving first, the last
+// slice of a controller that exited as a check held it went unrecorded).
+static void died_in_slice(Run &run, Controller &c)
+{
+	on_pidfd(run, c);
+	run.lanes.leave(c); // (gone by now unless some thread of it lingers)
+}
+
 void on_budget(Run &run, Lane &lane)
 {
 	if (!lane.budget.consume() || lane.running.size() != 1)
 		return; // (budgets are cpu mode's, where a lane runs one at most)
 	Controller &c = *lane.running.front();
-	int64_t used = c.slice_cpu(c.cpu_now());
+	int64_t cpu = c.cpu_now();
+	int64_t used = c.slice_cpu(cpu);
+	// All it ran in the slice, the hooks' too: what wall time is set
+	// against. (Against its own CPU alone, a slice that began in a wake's
+	// hook looked stale just after the hook's mark and was held: a stop
+	// charges ~85 us of kernel work to the stopped thread, there where
+	// the program's loop had read its clock, so it ran that much late.)
+	int64_t ran = std::max<int64_t>(cpu - c.slice().cpu_base, 0);
 	bool held = false;
-	if (used < c.budget && wall_now() - c.slice_wall - c.lag_ns - used > kStaleSlack &&
+	if (used < c.budget && wall_now() - c.slice_wall - c.lag_ns - ran > kStaleSlack &&
 	    !proc_all_threads_asleep(c.pid)) {
 		// Short of the wall time the slice has had, and a thread of it is
 		// on its core: read from here, its CPU clock is behind by what it
@@ -184,8 +200,7 @@ void on_budget(Run &run, Lane &lane)
 		// still, its clock is exact. (Not on every check: the stop's own
 		// work in the kernel is charged to the thread it stops.)
 		if (!hold_still(run, c)) {
-			run.lanes.leave(c);
-			on_pidfd(run, c); // it died before it could stop
+			died_in_slice(run, c);
 			return;
 		}
 		held = true;
@@ -277,11 +292,11 @@ bool hold_still(Run &run, Controller &c)
 
 void preempt(Run &run, Controller &c, bool held)
 {
-	run.lanes.leave(c);
 	if (!held && !hold_still(run, c)) {
-		on_pidfd(run, c); // it died before it could stop
+		died_in_slice(run, c);
 		return;
 	}
+	run.lanes.leave(c);
 	c.stopped = true;
 	c.state = CtlState::Ready;
 	c.stats.preemptions++;
