@@ -225,6 +225,7 @@ public:
 	int64_t cpu_at_end = -1;
 	int64_t resumed_wall = 0;  // wall ns when it was last resumed
 	int64_t slice_wall = 0;    // wall ns when its accounting slice began
+	int64_t slice_host_cpu = -1; // in the home lane: our own CPU then (slices.cc)
 	int64_t checked_used = -1;  // slice CPU at the last budget check (-1: none yet)
 	int64_t lag_ns = 0;         // learnt wall-versus-CPU lag of a slice
 	int64_t check_interval = 0; // wall time until the next check

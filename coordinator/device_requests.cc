@@ -43,7 +43,7 @@ void restart_slice(Run &run, Controller &c, int64_t request_cpu)
 	int64_t used = c.slice_cpu(at);
 	c.account(at, run.cfg.mode);
 	c.publish_slice(at);
-	c.slice_wall = wall_now();
+	start_slice_clock(run, c);
 	c.budget = std::max<int64_t>(c.budget - used, 1);
 	c.checked_used = 0;
 }

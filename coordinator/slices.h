@@ -17,6 +17,9 @@ bool wait_until_stopped(Run &run, Controller &c);
 // preempted slice (real CPU).
 void trace_slice_end(Run &run, Controller &c, const char *why, int64_t cpu, int64_t budget = -1, int64_t overshoot = 0);
 int64_t wall_now();
+// c's accounting slice begins now, in its lane: the wall time (and, sharing
+// our core, our own CPU) that its checks set its CPU against.
+void start_slice_clock(Run &run, Controller &c);
 // The CPU a request charges up to; a claim may exceed the wall time
 // since the slice began by this much (the hook's part before we ran).
 int64_t charge_point(Run &run, Controller &c, int64_t claimed);
