@@ -84,7 +84,7 @@ void on_child(Run &run, Controller &parent, const ::tcs_msg &m, UniqueFd channel
 	c.v = std::max((m.flags & TCS_CHILD_V_KNOWN) ? m.v : parent_v, run.sim_ns);
 	c.wait.seq = m.seq;
 	c.state = CtlState::Blocked;
-	c.wait.deadline = c.v;
+	c.wait.deadline = c.wait.asked = c.v;
 	c.wake_fd = c.page_fd_for_child.release();
 	c.wake_arg = 0;
 	run.ctls.push_back(std::move(*made));

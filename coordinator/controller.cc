@@ -157,6 +157,7 @@ SideWait Controller::own_wait() const
 	w.tid = wait.tid;
 	w.seq = wait.seq;
 	w.deadline = wait.deadline;
+	w.asked = wait.asked;
 	w.flags = wait.flags;
 	w.kind = wait.kind;
 	w.requested_at = wait.requested_at;
@@ -170,6 +171,7 @@ void Controller::take_wait(const SideWait &w)
 	wait.tid = w.tid;
 	wait.seq = w.seq;
 	wait.deadline = w.deadline;
+	wait.asked = w.asked;
 	wait.flags = w.flags;
 	wait.kind = w.kind;
 	wait.requested_at = w.requested_at;

@@ -90,7 +90,8 @@ struct SideWait {
 	int fd = -1; // the channel to answer on
 	pid_t tid = 0; // the thread waiting
 	uint32_t seq = 0;
-	int64_t deadline = TCS_NEVER;
+	int64_t deadline = TCS_NEVER; // when it ends by its timeout
+	int64_t asked = TCS_NEVER;    // the deadline asked for (deadline less its slack)
 	uint16_t flags = 0; // TCS_BLOCK_*
 	const char *kind = "";
 	int64_t requested_at = 0;
@@ -104,15 +105,28 @@ inline const char *block_kind_name(uint16_t kind)
 	return kind == TCS_BLOCK_SLEEP ? "sleep" : kind == TCS_BLOCK_POLL ? "poll" : "sync";
 }
 
+// The most timer slack a wait may ask for: its controller's to say, so
+// bounded (Linux takes any; a second covers every use seen).
+constexpr int64_t kMostSlack = TCS_NS_PER_S;
+
+// When BLOCK m's wait ends by its timeout: at its deadline plus the timer
+// slack its thread has (timer_slack.h), or exactly without slack.
+inline int64_t timeout_end(const ::tcs_msg &m, bool slack)
+{
+	return slack ? tcs_ns_add(m.deadline, std::min(m.slack, kMostSlack)) : m.deadline;
+}
+
 // A thread's BLOCK m on channel fd, waiting beside the controller, asked at
-// virtual time v and last looked at when the world was at `now`.
-inline SideWait side_wait_of(const ::tcs_msg &m, int fd, pid_t tid, int64_t v, int64_t now)
+// virtual time v and last looked at when the world was at `now`; slack as
+// timeout_end's.
+inline SideWait side_wait_of(const ::tcs_msg &m, int fd, pid_t tid, int64_t v, int64_t now, bool slack)
 {
 	SideWait w;
 	w.fd = fd;
 	w.tid = tid;
 	w.seq = m.seq;
-	w.deadline = m.deadline;
+	w.deadline = timeout_end(m, slack);
+	w.asked = m.deadline;
 	w.flags = m.flags;
 	w.kind = block_kind_name(m.kind);
 	w.requested_at = v;
@@ -132,7 +146,8 @@ struct OwnWait {
 	const char *kind = "";    // the trace's name for it
 	int64_t requested_at = 0; // the virtual time it was asked at
 	bool absolute = false;    // an absolute deadline (a periodic loop's)
-	int64_t deadline = 0;     // when Blocked
+	int64_t deadline = 0;     // when Blocked: when its timeout ends it
+	int64_t asked = 0;        // the deadline asked for (deadline less its slack)
 	bool recheck = false;     // Blocked with per-step re-checks
 	bool for_child = false;   // Blocked in wait/waitpid: a child's end wakes it
 	bool devices = false;     // Blocked, and a record due on a sensor ends it

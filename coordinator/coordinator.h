@@ -32,6 +32,7 @@ struct CoordinatorConfig {
 	std::string trace_path;             // write an MCAP trace there (empty: none)
 	int64_t duration_ns = -1;           // stop at this virtual time; < 0: when all exit
 	std::optional<int64_t> epoch_ns;    // CLOCK_REALTIME at V = 0; default: now
+	bool slack = true; // a timed wait ends its thread's timer slack late (--no-slack: exactly)
 	std::string preload;                // absolute path of libtcs_preload.so
 	RealtimeWish realtime; // SCHED_FIFO and the TSC, where the machine allows
 	// Called about every 250 ms of wall time while running (may be empty).

@@ -178,7 +178,7 @@ bool complete_sync(Run &run, Controller &c)
 	}
 	c.sync = sync; // (still waiting, for the record)
 	c.state = CtlState::Blocked;
-	c.wait.deadline = d.queue.empty() ? d.next_due : d.queue.front().first;
+	c.wait.deadline = c.wait.asked = d.queue.empty() ? d.next_due : d.queue.front().first;
 	c.wait.recheck = false;
 	c.wait.devices = false;
 	c.wake_pending = false;

@@ -91,7 +91,7 @@ bool side_wait(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		return false;
 	// (Its time may be past c.v: a running controller's is settled only as
 	// its slice ends.)
-	c.side.push_back(side_wait_of(m, fd, tid, request_v(run, c, m), run.sim_ns));
+	c.side.push_back(side_wait_of(m, fd, tid, request_v(run, c, m), run.sim_ns, run.cfg.slack));
 	if (c.state == CtlState::Running) {
 		budget_to_next_timer(run, c); // (and to the earliest side wait)
 		if (!c.budgeted)
@@ -253,7 +253,7 @@ void answer_side(Run &run, Controller &c, const SideWait &w)
 	m.v = c.v;
 	send_answer(run, c, w.fd, m, -1);
 	if (run.trace.is_open())
-		run.trace.wait(c.id, w.kind, w.requested_at, w.deadline, c.v, (w.flags & TCS_BLOCK_ABSOLUTE) != 0);
+		run.trace.wait(c.id, w.kind, w.requested_at, w.asked, c.v, (w.flags & TCS_BLOCK_ABSOLUTE) != 0);
 }
 
 // Ends the side waits due at c's time (as it is resumed, its sensors'

@@ -64,7 +64,7 @@ void send_wake(Run &run, Controller &c)
 		c.wake_fd = -1;
 	}
 	if (c.wait.active && run.trace.is_open())
-		run.trace.wait(c.id, c.wait.kind, c.wait.requested_at, c.wait.deadline, c.v, c.wait.absolute);
+		run.trace.wait(c.id, c.wait.kind, c.wait.requested_at, c.wait.asked, c.v, c.wait.absolute);
 	c.wait.active = false;
 	c.wake_arg = 0;
 	c.wake_pending = false;
@@ -77,7 +77,7 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		// Another thread ended this wait before it began.
 		st.early_ahead = 0;
 		c.stats.waits++;
-		SideWait w = side_wait_of(m, fd, tid, c.v, run.sim_ns);
+		SideWait w = side_wait_of(m, fd, tid, c.v, run.sim_ns, run.cfg.slack);
 		w.wake_reason = TCS_WAKE_EARLY;
 		answer_side(run, c, w);
 		if (c.state == CtlState::Blocked) {
@@ -105,7 +105,7 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 			return;
 		}
 		// A thread that was asleep outside the hooks woke and waits now.
-		c.side.push_back(side_wait_of(m, fd, tid, c.v, run.sim_ns));
+		c.side.push_back(side_wait_of(m, fd, tid, c.v, run.sim_ns, run.cfg.slack));
 		if (c.missed_raised_signal(m))
 			c.side.back().wake_reason = TCS_WAKE_RECHECK;
 		child_wait_begins(run, c, m, &c.side.back());
@@ -153,7 +153,8 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	c.wait.fd = fd;
 	c.wait.tid = tid;
 	c.wait.flags = m.flags;
-	c.wait.deadline = m.deadline;
+	c.wait.deadline = timeout_end(m, run.cfg.slack);
+	c.wait.asked = m.deadline;
 	c.wait.active = true;
 	c.wait.kind = block_kind_name(m.kind);
 	c.wait.requested_at = c.v;

@@ -45,6 +45,8 @@ const char kUsage[] =
 	"                         lockstep: computation is free (the status quo)\n"
 	"  -t, --trace FILE       write a trace of everything served (MCAP)\n"
 	"      --epoch TIME       virtual wall-clock start: RFC 3339 or seconds since 1970\n"
+	"      --no-slack         waits end exactly at their deadlines (default: their\n"
+	"                         thread's timer slack later, 50 us unless it set one)\n"
 	"      --dds-domain N     publish rt/clock and rt/joint_states for ROS 2 tools\n"
 	"                         on DDS domain N (0-232), one sample per step, and\n"
 	"                         let agents on other hosts join the world there\n"
@@ -89,13 +91,14 @@ constexpr size_t kMaxScenario = 1 << 20;
 
 int main(int argc, char **argv)
 {
-	enum { OPT_EPOCH = 256, OPT_DDS_DOMAIN, OPT_AGENT, OPT_NAME };
+	enum { OPT_EPOCH = 256, OPT_DDS_DOMAIN, OPT_AGENT, OPT_NAME, OPT_NO_SLACK };
 	static const struct option longopts[] = {
 		{ "world", required_argument, nullptr, 'w' },
 		{ "socket", required_argument, nullptr, 's' },
 		{ "mode", required_argument, nullptr, 'm' },
 		{ "trace", required_argument, nullptr, 't' },
 		{ "epoch", required_argument, nullptr, OPT_EPOCH },
+		{ "no-slack", no_argument, nullptr, OPT_NO_SLACK },
 		{ "dds-domain", required_argument, nullptr, OPT_DDS_DOMAIN },
 		{ "agent", no_argument, nullptr, OPT_AGENT },
 		{ "name", required_argument, nullptr, OPT_NAME },
@@ -125,6 +128,9 @@ int main(int argc, char **argv)
 			if (cfg.mode < 0)
 				return usage_error("--mode: '" + arg + "' is not a mode (cpu or lockstep)");
 			mode_given = true;
+			break;
+		case OPT_NO_SLACK:
+			cfg.slack = false;
 			break;
 		case OPT_AGENT:
 			agent = true;

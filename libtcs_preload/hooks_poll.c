@@ -11,6 +11,7 @@
 
 #include "devices.h"
 #include "raw_syscall.h"
+#include "timer_slack.h"
 #include "timerfds.h"
 #include "vclock.h"
 #include "wait.h"
@@ -55,12 +56,18 @@ static long tcs_multiplex(int64_t timeout_ns, tcs_check_fn check, void *ctx, str
 		return r;
 	/* Relative on the first wait; absolute (the same deadline) on any
 	 * that follow a wake-up with nothing ready after all. */
-	struct tcs_wait_time t = { until, timeout_ns >= 0 && !timers, 0, 0, 0 };
+	struct tcs_wait_time t = { until, timeout_ns >= 0 && !timers, 0, 0, 0, 0 };
 	unsigned flags = (mirror ? 0 : TCS_BLOCK_RECHECK) | (devices ? TCS_BLOCK_DEVICES : 0);
+	/* The timeout ends late by the slack its length gives it; a timer's
+	 * expiry, exactly (timerfds have none, natively). */
+	const int64_t slack = timeout_ns > 0 ? tcs_poll_slack(timeout_ns) : 0;
+	t.slack = slack;
 	for (;;) {
 		/* Wake at the next timer expiry if it comes first. */
-		if (timers)
+		if (timers) {
 			t.deadline = next_timer < until ? next_timer : until;
+			t.slack = next_timer <= until ? 0 : next_timer - until < slack ? next_timer - until : slack;
+		}
 		long w = tcs_wait(&t, TCS_BLOCK_POLL, flags, mirror, nmirror, mask);
 		if (timers) {
 			next_timer = tcs_vtimers_fire(t.end);

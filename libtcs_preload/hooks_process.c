@@ -154,7 +154,7 @@ static long tcs_wait_child(idtype_t type, id_t id, siginfo_t *info, int options,
 		tcs_sys0(SYS_sched_yield);
 		/* Woken when a child ends; and every 100 ms all the same, for a
 		 * child the coordinator could not take on (it runs in real time). */
-		struct tcs_wait_time t = { 100 * TCS_NS_PER_MS, 1, 0, 0, 0 };
+		struct tcs_wait_time t = { 100 * TCS_NS_PER_MS, 1, 0, 0, 0, 0 };
 		long w = tcs_wait(&t, TCS_BLOCK_POLL, TCS_BLOCK_CHILD, NULL, 0, NULL);
 		tcs_wait_leave();
 		if (w == -EINTR)

@@ -1,13 +1,17 @@
-/* Priority and affinity hooks: sched_setscheduler, sched_setparam,
- * sched_setaffinity, pthread_setaffinity_np, pthread_setschedparam,
- * pthread_setschedprio (sched_setattr comes by number, hooks_syscall.c).
- * What a controller may have of them is sched_clamp.c's to say. */
+/* Priority, affinity and timer slack hooks: sched_setscheduler,
+ * sched_setparam, sched_setaffinity, pthread_setaffinity_np,
+ * pthread_setschedparam, pthread_setschedprio, prctl (sched_setattr comes
+ * by number, hooks_syscall.c). What a controller may have of them is
+ * sched_clamp.c's to say; its timer slack is timer_slack.c's. */
 #include <pthread.h>
 #include <sched.h>
+#include <stdarg.h>
+#include <sys/prctl.h>
 
 #include "raw_syscall.h"
 #include "real.h"
 #include "sched_clamp.h"
+#include "timer_slack.h"
 
 TCS_EXPORT int sched_setscheduler(pid_t pid, int policy, const struct sched_param *param)
 {
@@ -56,8 +60,12 @@ TCS_EXPORT int pthread_setschedparam(pthread_t thread, int policy, const struct 
 	if (!tcs_active())
 		return real(thread, policy, param);
 	struct sched_param p = *param;
+	int asked = policy;
 	tcs_sched_clamp(&policy, &p.sched_priority);
-	return real(thread, policy, &p);
+	int r = real(thread, policy, &p);
+	if (r == 0)
+		tcs_policy_set_thread(thread, asked);
+	return r;
 }
 
 TCS_EXPORT int pthread_setschedprio(pthread_t thread, int prio)
@@ -79,4 +87,15 @@ TCS_EXPORT int pthread_setschedprio(pthread_t thread, int prio)
 		return pthread_setschedparam(thread, clamped, &cur);
 	}
 	return real(thread, prio);
+}
+
+TCS_EXPORT int prctl(int option, ...)
+{
+	unsigned long a[4];
+	va_list ap;
+	va_start(ap, option);
+	for (int i = 0; i < 4; i++)
+		a[i] = va_arg(ap, unsigned long);
+	va_end(ap);
+	return tcs_errno_result(tcs_prctl(option, a));
 }

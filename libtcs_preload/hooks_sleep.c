@@ -7,6 +7,7 @@
 
 #include "raw_syscall.h"
 #include "report.h"
+#include "timer_slack.h"
 #include "vclock.h"
 #include "wait.h"
 
@@ -18,7 +19,7 @@ static long tcs_virtual_sleep(clockid_t clock, int flags, const struct timespec 
 	int64_t origin = tcs_sleep_clock_origin(clock);
 	if (origin < 0)
 		return origin;
-	struct tcs_wait_time t = { tcs_ts_to_ns(req), !(flags & TIMER_ABSTIME), 0, 0, 0 };
+	struct tcs_wait_time t = { tcs_ts_to_ns(req), !(flags & TIMER_ABSTIME), 0, 0, 0, tcs_timer_slack() };
 	if (flags & TIMER_ABSTIME)
 		t.deadline = t.deadline > origin ? t.deadline - origin : 0;
 	unsigned bflags = (flags & TIMER_ABSTIME) ? TCS_BLOCK_ABSOLUTE : 0;
@@ -114,7 +115,7 @@ static int tcs_wait_for_handler(const sigset_t *mask)
 		long r = mask ? tcs_sys2(SYS_rt_sigsuspend, mask, TCS_KERNEL_SIGSET_SIZE) : tcs_sys0(SYS_pause);
 		return tcs_errno_result(r);
 	}
-	struct tcs_wait_time t = { TCS_NEVER, 0, 0, 0, 0 };
+	struct tcs_wait_time t = { TCS_NEVER, 0, 0, 0, 0, 0 };
 	long r;
 	do
 		r = tcs_wait(&t, TCS_BLOCK_SLEEP, 0, NULL, 0, mask);

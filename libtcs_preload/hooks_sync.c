@@ -61,7 +61,7 @@ static int tcs_mutex_timedlock(pthread_mutex_t *m, clockid_t clock, const struct
 	if (m->__data.__owner == (int)tcs_sys0(SYS_gettid) && (m->__data.__kind & 3) == PTHREAD_MUTEX_ERRORCHECK)
 		return EDEADLK;
 	for (;;) {
-		struct tcs_wait_time t = { deadline, 0, 0, 0, 0 };
+		struct tcs_wait_time t = { deadline, 0, 0, 0, 0, 0 };
 		int slot = tcs_park_begin(m);
 		r = tcs_real_fns.pthread_mutex_trylock(m);
 		if (r != EBUSY) {
@@ -118,7 +118,7 @@ static int tcs_cond_wait(const void *cond, pthread_mutex_t *mutex, clockid_t clo
 	int64_t deadline = tcs_abs_deadline(clock, abstime);
 	if (deadline < 0)
 		return EINVAL;
-	struct tcs_wait_time t = { deadline, 0, 0, 0, 0 };
+	struct tcs_wait_time t = { deadline, 0, 0, 0, 0, 0 };
 	int slot = tcs_park_begin(cond);
 	int r = pthread_mutex_unlock(mutex);
 	if (r) {
@@ -269,7 +269,7 @@ static int tcs_sem_wait(sem_t *s, clockid_t clock, const struct timespec *abstim
 			r = EINVAL;
 			break;
 		}
-		struct tcs_wait_time t = { deadline, 0, 0, 0, 0 };
+		struct tcs_wait_time t = { deadline, 0, 0, 0, 0, 0 };
 		int slot = tcs_park_begin(s);
 		if (tcs_real_fns.sem_trywait(s) == 0) {
 			tcs_park_end(slot);

@@ -14,6 +14,7 @@
 #include "raw_syscall.h"
 #include "report.h"
 #include "sched_clamp.h"
+#include "timer_slack.h"
 #include "vclock.h"
 #include "wait.h"
 
@@ -22,7 +23,7 @@
 static long tcs_futex_wait(const int *uaddr, int op, int val, const struct timespec *timeout)
 {
 	int cmd = op & FUTEX_CMD_MASK;
-	struct tcs_wait_time t = { 0, 0, 0, 0, 0 };
+	struct tcs_wait_time t = { 0, 0, 0, 0, 0, 0 };
 	if (!tcs_ts_valid(timeout))
 		return -EINVAL;
 	if (cmd == FUTEX_WAIT) {
@@ -122,6 +123,8 @@ TCS_EXPORT long syscall(long nr, ...)
 		if (tcs_active())
 			return tcs_syscall_result(tcs_sched_setattr(a[0], (const void *)a[1], a[2]));
 		break;
+	case SYS_prctl:
+		return tcs_syscall_result(tcs_prctl((int)a[0], (const unsigned long *)&a[1]));
 	case SYS_sched_setaffinity:
 		if (tcs_active())
 			return tcs_syscall_result(a[2] ? tcs_sched_setaffinity((size_t)a[1], (const cpu_set_t *)a[2]) : -EFAULT);

@@ -8,6 +8,7 @@
 #include "raw_syscall.h"
 #include "real.h"
 #include "sched_clamp.h"
+#include "timer_slack.h"
 
 /* tcs runs a controller SCHED_FIFO so that nothing else takes its core while
  * it computes. Its threads, though, must share that core the way the kernel
@@ -35,7 +36,8 @@ TCS_EXPORT int pthread_create(pthread_t *thread, const pthread_attr_t *attr, voi
 	pthread_attr_t *own = (pthread_attr_t *)attr;
 	int clamped = tcs_active() && tcs_sched_clamp_attr(own, &saved, &saved_policy);
 	/* (Resolved here when a library's constructor, before ours, starts a thread.) */
-	int r = tcs_real()->pthread_create(thread, attr, start, arg);
+	int r = tcs_active() ? tcs_create_with_slack(tcs_real()->pthread_create, thread, attr, start, arg)
+			     : tcs_real()->pthread_create(thread, attr, start, arg);
 	if (clamped)
 		tcs_sched_restore_attr(own, &saved, saved_policy);
 	return r;

@@ -51,7 +51,7 @@ long tcs_timerfd_read(int fd, void *buf, size_t n)
 		 * disarmed, as a real timerfd's read does). */
 		if (!tcs_wait_enter())
 			return tcs_sys3(SYS_read, fd, buf, 8);
-		struct tcs_wait_time w = { t->next, 0, 0, 0, 0 };
+		struct tcs_wait_time w = { t->next, 0, 0, 0, 0, 0 };
 		int got = tcs_wait(&w, TCS_BLOCK_SLEEP, TCS_BLOCK_ABSOLUTE, NULL, 0, NULL);
 		tcs_wait_leave();
 		if (got == -EINTR)

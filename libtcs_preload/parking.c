@@ -15,6 +15,7 @@
 #include "report.h"
 #include "spin_lock.h"
 #include "thread_channels.h"
+#include "timer_slack.h"
 #include "vclock.h"
 
 #define TCS_MAX_PARKED 256
@@ -65,6 +66,7 @@ int tcs_park_wait(int slot, struct tcs_wait_time *t, unsigned flags)
 		t->seq = tcs_parked_slots[slot].seq;
 	else
 		flags |= TCS_BLOCK_RECHECK; /* no slot: nobody can poke it */
+	t->slack = tcs_timer_slack();
 	return tcs_wait(t, TCS_BLOCK_SYNC, flags, NULL, 0, NULL);
 }
 

@@ -16,6 +16,7 @@
 #include "raw_syscall.h"
 #include "report.h"
 #include "sched_clamp.h"
+#include "timer_slack.h"
 
 /* The kernel's struct sched_attr, as far as it matters here. */
 struct tcs_sched_attr {
@@ -68,8 +69,12 @@ long tcs_sched_setscheduler(long pid, int policy, const struct sched_param *para
 	if (!param)
 		return -EINVAL;
 	struct sched_param p = *param;
+	int asked = policy;
 	tcs_sched_clamp(&policy, &p.sched_priority);
-	return tcs_sys3(SYS_sched_setscheduler, pid, policy, &p);
+	long r = tcs_sys3(SYS_sched_setscheduler, pid, policy, &p);
+	if (r == 0)
+		tcs_policy_set_tid(pid, asked);
+	return r;
 }
 
 long tcs_sched_setattr(long pid, const void *uattr, long flags)
@@ -80,7 +85,7 @@ long tcs_sched_setattr(long pid, const void *uattr, long flags)
 	unsigned char copy[4096];
 	__builtin_memcpy(copy, a, a->size);
 	struct tcs_sched_attr *c = (struct tcs_sched_attr *)copy;
-	int policy = (int)c->sched_policy, prio = (int)c->sched_priority;
+	int policy = (int)c->sched_policy, prio = (int)c->sched_priority, asked = policy;
 	if (policy == SCHED_DEADLINE) {
 		static int once;
 		tcs_report_once(&once, "SCHED_DEADLINE granted as SCHED_FIFO below the coordinator: a deadline task "
@@ -92,7 +97,10 @@ long tcs_sched_setattr(long pid, const void *uattr, long flags)
 	tcs_sched_clamp(&policy, &prio);
 	c->sched_policy = (uint32_t)policy;
 	c->sched_priority = (uint32_t)prio;
-	return tcs_sys3(SYS_sched_setattr, pid, copy, flags);
+	long r = tcs_sys3(SYS_sched_setattr, pid, copy, flags);
+	if (r == 0)
+		tcs_policy_set_tid(pid, asked);
+	return r;
 }
 
 long tcs_sched_setaffinity(size_t size, const cpu_set_t *set)

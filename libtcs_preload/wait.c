@@ -133,7 +133,7 @@ static void tcs_catch_up_in_wait(void)
 	if (tcs_catching_up)
 		return;
 	tcs_catching_up = 1;
-	struct tcs_wait_time t = { 0, 1, 0, 0, 0 };
+	struct tcs_wait_time t = { 0, 1, 0, 0, 0, 0 };
 	(void)tcs_wait(&t, TCS_BLOCK_SLEEP, TCS_BLOCK_ASK, NULL, 0, NULL);
 	tcs_catching_up = 0;
 }
@@ -192,6 +192,7 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 	m.flags = (uint16_t)flags;
 	m.arg = (int64_t)raised;
 	m.deadline = deadline;
+	m.slack = t->slack > 0 ? t->slack : 0;
 	m.v = v;
 	m.cpu = cpu;
 	struct tcs_msg w;

@@ -32,6 +32,8 @@ struct tcs_wait_time {
 	int64_t start;    /* out: when the wait began */
 	int64_t end;      /* out: when it ended */
 	uint32_t seq;     /* in: a sequence number reserved for it (parking.c), or 0 */
+	int64_t slack;    /* in: how long after the deadline it ends, when nothing ends it
+			     sooner (timer_slack.h; 0: at the deadline) */
 };
 
 /* Waits until the virtual deadline (TCS_NEVER: forever). With fds, the wait

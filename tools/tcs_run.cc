@@ -38,6 +38,8 @@ const char kUsage[] =
 	"  -d, --duration TIME    stop after TIME of virtual time (10s, 250ms, 2min)\n"
 	"  -t, --trace FILE       write a trace of the run (MCAP)\n"
 	"      --epoch TIME       virtual wall-clock start: RFC 3339 or seconds since 1970\n"
+	"      --no-slack         waits end exactly at their deadlines (default: their\n"
+	"                         thread's timer slack later, 50 us unless it set one)\n"
 	"      --connect SOCKET   run under a running coordinatord\n"
 	"  -q, --quiet            no progress line, no summary\n"
 	"  -h, --help             show this help\n"
@@ -86,7 +88,7 @@ int run_under_daemon(const std::string &socket, const std::vector<std::string> &
 
 int main(int argc, char **argv)
 {
-	enum { OPT_CPU_SCALE = 256, OPT_EPOCH, OPT_CONNECT, OPT_LIST_SIGNALS };
+	enum { OPT_CPU_SCALE = 256, OPT_EPOCH, OPT_CONNECT, OPT_LIST_SIGNALS, OPT_NO_SLACK };
 	static const struct option longopts[] = {
 		{ "world", required_argument, nullptr, 'w' },
 		{ "mode", required_argument, nullptr, 'm' },
@@ -94,6 +96,7 @@ int main(int argc, char **argv)
 		{ "duration", required_argument, nullptr, 'd' },
 		{ "trace", required_argument, nullptr, 't' },
 		{ "epoch", required_argument, nullptr, OPT_EPOCH },
+		{ "no-slack", no_argument, nullptr, OPT_NO_SLACK },
 		{ "connect", required_argument, nullptr, OPT_CONNECT },
 		{ "list-signals", no_argument, nullptr, OPT_LIST_SIGNALS },
 		{ "quiet", no_argument, nullptr, 'q' },
@@ -112,7 +115,7 @@ int main(int argc, char **argv)
 		std::string arg = optarg ? optarg : "";
 		for (const struct option *o = longopts; o->name; o++)
 			if (o->val == opt && (opt == 'w' || opt == 'm' || opt == 'd' || opt == 't' || opt == OPT_EPOCH ||
-					      opt == OPT_LIST_SIGNALS))
+					      opt == OPT_LIST_SIGNALS || opt == OPT_NO_SLACK))
 				given.push_back(std::string("--") + o->name);
 		switch (opt) {
 		case 'w':
@@ -153,6 +156,9 @@ int main(int argc, char **argv)
 			cfg.epoch_ns = *v;
 			break;
 		}
+		case OPT_NO_SLACK:
+			cfg.slack = false;
+			break;
 		case OPT_CONNECT:
 			if (arg.empty())
 				return usage_error("--connect: the socket's path is empty");

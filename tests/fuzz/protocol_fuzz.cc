@@ -44,7 +44,7 @@ void check_accepted(const tcs_msg &m)
 		// compared as non-negative virtual ns (TCS_NEVER included).
 		check(m.kind == TCS_BLOCK_SLEEP || m.kind == TCS_BLOCK_POLL || m.kind == TCS_BLOCK_SYNC);
 		check((m.flags & ~TCS_BLOCK_FLAGS_ALL) == 0);
-		check(m.deadline >= 0 && m.v >= 0 && m.cpu >= 0);
+		check(m.deadline >= 0 && m.v >= 0 && m.cpu >= 0 && m.slack >= 0);
 		check(tcs_ns_add(m.v, m.deadline) >= m.deadline);
 		break;
 	case TCS_MSG_EARLY:
@@ -98,6 +98,7 @@ void check_rebuilt(const tcs_msg &m)
 	w.v = m.v;
 	w.cpu = m.cpu;
 	w.arg = m.arg;
+	w.slack = m.slack;
 	check(memcmp(&w, &m, sizeof m) == 0);
 	tcs_msg again;
 	check(tcs_msg_check(&w, (long)sizeof w, &again) == nullptr);
@@ -216,7 +217,7 @@ bool tcs_fuzz_mutate(std::string &s, tcs_fuzz::Rng &rng)
 		int bytes;
 	};
 	const Field fields[] = { { 0, 4 }, { 4, 2 }, { 6, 2 }, { 8, 4 }, { 12, 2 }, { 14, 2 },
-				 { 16, 8 }, { 24, 8 }, { 32, 8 }, { 40, 8 } };
+				 { 16, 8 }, { 24, 8 }, { 32, 8 }, { 40, 8 }, { 48, 8 } };
 	const uint64_t values[] = { 0,
 				    1,
 				    2,

@@ -82,7 +82,7 @@ format = "binary"
 
 
 def probe(world, *args, mode="lockstep"):
-    r = tcs("-q", "-m", mode, "-w", world, prog("device_probe"), *args, timeout=30)
+    r = tcs("-q", "-m", mode, "--no-slack", "-w", world, prog("device_probe"), *args, timeout=30)
     check(r.returncode == 0, "device_probe %s succeeds" % " ".join(args), r)
     return r
 
@@ -244,7 +244,7 @@ def test_commands_keep_the_time_they_were_written():
     a malformed one must still fail its write."""
     with scenario_file(TWO_MOTORS) as world, tempfile.TemporaryDirectory() as tmp:
         trace = os.path.join(tmp, "run.mcap")
-        r = tcs("-q", "-m", "lockstep", "-w", world, "-t", trace, prog("device_probe"), "batches",
+        r = tcs("-q", "-m", "lockstep", "--no-slack", "-w", world, "-t", trace, prog("device_probe"), "batches",
                 "/dev/tcs/a/torque", "/dev/tcs/b/torque_f64", timeout=60)
         check(r.returncode == 0, "device_probe batches succeeds", r)
         v = r.values()

@@ -8,7 +8,7 @@ import tempfile
 import textwrap
 import time
 
-from harness import AHEAD, READ, PYTHON, TCS_RUN, check, main, prog, run, tcs
+from harness import AHEAD, READ, PYTHON, SLACK, TCS_RUN, check, main, prog, run, tcs
 
 
 def ns(value, unit):
@@ -59,7 +59,9 @@ def test_python_sleep_loop_sees_exactly_5s():
     """)
     r = tcs("-q", "-m", "lockstep", "--", PYTHON, "-c", script, timeout=30)
     check(r.returncode == 0, "python exits 0", r)
-    check(r.values()["elapsed"] == "5.000000000", "500 x time.sleep(0.01) is exactly 5.000 s", r)
+    # Each sleep ends its 50 us of timer slack late, and the next counts
+    # from there.
+    check(r.values()["elapsed"] == "5.025000000", "500 x time.sleep(0.01) is exactly 500 x 10.05 ms", r)
 
 
 def cpu_clock_readings(loops):
@@ -113,19 +115,22 @@ def test_same_epoch_same_timestamps():
     runs = [tcs("-q", "-m", "lockstep", "--epoch", "2024-05-01T12:00:00Z", "--", PYTHON, "-c", script)
             for _ in range(2)]
     check(runs[0].stdout == runs[1].stdout, "two runs with one epoch print the same", runs[1])
-    check(runs[0].stdout.split()[0] == "t=1714564800250000000", "time.time() starts at the epoch", runs[0])
+    # (Each 0.25 s sleep ends 50 us late: its timer slack.)
+    check(runs[0].stdout.split()[0] == "t=1714564800250050000", "time.time() starts at the epoch", runs[0])
     # The monotonic clock too starts at a fixed value: 100000 s.
-    check(runs[0].stdout.split()[1] == "m=100000250000000", "time.monotonic() starts at 100000 s", runs[0])
+    check(runs[0].stdout.split()[1] == "m=100000250050000", "time.monotonic() starts at 100000 s", runs[0])
     c = [tcs("-q", "-m", "lockstep", "--epoch", "1714564800", prog("clocks")) for _ in range(2)]
     steps = [[line for line in x.stdout.splitlines() if line.startswith("step")] for x in c]
     check(len(steps[0]) == 4 and steps[0] == steps[1], "every clock identical across runs", c[1])
-    check("real0=1714564800125000000" in steps[0][0], "CLOCK_REALTIME = epoch + virtual time", c[0])
+    check("real0=1714564800125050000" in steps[0][0], "CLOCK_REALTIME = epoch + virtual time (a sleep and its slack)",
+          c[0])
 
 
 def test_every_clock_reads_virtual_time():
     r = tcs("-q", "-m", "lockstep", "--epoch", "2000-01-01T00:00:00Z", prog("clocks"))
     lines = [line for line in r.stdout.splitlines() if line.startswith("step")]
-    expected = [125000000, 375000000, 750000000, 1250000000]
+    # Four sleeps, each ending its 50 us of timer slack late.
+    expected = [at + (i + 1) * SLACK for i, at in enumerate([125000000, 375000000, 750000000, 1250000000])]
     check(len(lines) == len(expected), "a line after each of the four sleeps", r)
     # TAI runs ahead of UTC by the host's whole seconds of leap (0 where
     # the kernel was never told, 37 since 2017 where it was).
@@ -166,7 +171,7 @@ def test_every_clock_reads_virtual_time():
 
 
 def test_cpp_chrono_loop():
-    r = tcs("-q", "-m", "lockstep", "--epoch", "1000", prog("chrono_loop"), "200", "5")
+    r = tcs("-q", "--no-slack", "-m", "lockstep", "--epoch", "1000", prog("chrono_loop"), "200", "5")
     v = r.values()
     check(v["steady_elapsed_ns"] == "1000000000", "200 x sleep_until(+5ms) = 1 s of steady_clock", r)
     check(v["system_now_ns"] == "1001000000000", "system_clock = epoch + virtual time", r)
@@ -177,7 +182,7 @@ def test_epoch_in_cpu_mode():
     # CLOCK_REALTIME is the epoch plus virtual time in cpu mode too: when
     # the loop ends, its 1 s of sleeps plus the CPU the program had used by
     # then, which is at most what the kernel charged it.
-    r = tcs("-q", "--epoch", "1000", prog("chrono_loop"), "200", "5")
+    r = tcs("-q", "--no-slack", "--epoch", "1000", prog("chrono_loop"), "200", "5")
     v = r.values()
     elapsed = int(v["steady_elapsed_ns"])
     check(r.returncode == 0 and 10**9 <= elapsed <= 10**9 + READ + AHEAD,
@@ -190,7 +195,7 @@ def test_epoch_in_cpu_mode():
 
 
 def test_multiplexer_timeouts_are_virtual():
-    r = tcs("-q", "-m", "lockstep", prog("multiplex"))
+    r = tcs("-q", "--no-slack", "-m", "lockstep", prog("multiplex"))
     v = r.values()
     for name, ms in [("poll", 200), ("ppoll", 300), ("select", 400), ("pselect", 500), ("epoll_wait", 600),
                      ("epoll_pwait", 700)]:
@@ -203,7 +208,7 @@ def test_multiplexer_timeouts_are_virtual():
 
 def test_signal_handler_interrupts_waits():
     for mode in ("lockstep", "cpu"):
-        r = tcs("-q", "-m", mode, prog("interrupt"), timeout=30)
+        r = tcs("-q", "--no-slack", "-m", mode, prog("interrupt"), timeout=30)
         check(r.returncode == 0, "interrupt exits 0 (%s)" % mode, r)
         out, v = r.stdout, r.values()
         check("nanosleep=-1 errno=EINTR handled=1" in out, "nanosleep: EINTR", r)
@@ -233,11 +238,11 @@ def test_signal_handler_interrupts_waits():
                       "%s: slept the timer's 50 ms less the time since it was armed: %d ns (arming took %d)" %
                       (call, slept, window), r)
         check("sleep_left=0" in out, "a later sleep completes", r)
-    check("slept_ns=1000000000" in tcs("-q", "-m", "lockstep", prog("interrupt")).stdout, "exactly 1 s", r)
+    check("slept_ns=1000000000" in tcs("-q", "--no-slack", "-m", "lockstep", prog("interrupt")).stdout, "exactly 1 s", r)
 
 
 def test_runtime_fds_survive_closing_every_fd():
-    r = tcs("-q", "-m", "lockstep", prog("close_all"))
+    r = tcs("-q", "--no-slack", "-m", "lockstep", prog("close_all"))
     check(r.returncode == 0 and r.values().get("slept_ns") == "2500000000",
           "after closing every fd, sleeps still take exactly their virtual time", r)
 

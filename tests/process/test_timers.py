@@ -141,7 +141,7 @@ def test_alarm_and_pause():
 
 def test_sigev_thread_timers_call_their_function_in_virtual_time():
     # Lockstep: every call exactly on its expiry, on a thread of its own.
-    r = tcs("-q", "-m", "lockstep", prog("notify_timer"), 1000, 1000)
+    r = tcs("-q", "-m", "lockstep", "--no-slack", prog("notify_timer"), 1000, 1000)
     v = r.values()
     print("  lockstep: %s calls, first at %s ns, last at %s ns" % (v["calls"], v["first_ns"], v["last_ns"]))
     check(v["calls"] == "1000" and v["expiries"] == "1000", "1000 calls, one per expiry", r)
@@ -150,7 +150,7 @@ def test_sigev_thread_timers_call_their_function_in_virtual_time():
     check(v["after_delete"] == "0", "no call after timer_delete", r)
     check(v["other_thread"] == "1", "the function runs on another thread, with its sigev_value", r)
     # cpu mode, light function: on time within the noise of one core.
-    r = tcs("-q", prog("notify_timer"), 500, 1000, 100)
+    r = tcs("-q", "--no-slack", prog("notify_timer"), 500, 1000, 100)
     v = r.values()
     calls, expiries = int(v["calls"]), int(v["expiries"])
     print("  cpu mode, 100 us each: %d calls for %d expiries, at most %s ns late; %s overruns a pause explains" %

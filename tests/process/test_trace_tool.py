@@ -26,7 +26,7 @@ def trace_tool(*args, timeout=60, env=None):
 def traced_run(name, *args, timeout=120):
     """Runs tcs-run ARGS with a trace; returns (trace path, tcs-run result)."""
     path = os.path.join(TMP, name + ".mcap")
-    r = tcs("-t", path, *args, timeout=timeout)
+    r = tcs("-t", path, "--no-slack", *args, timeout=timeout)
     check(r.returncode == 0, "the traced run succeeds", r)
     mcap_counts(path)  # the official reader reads it, message by message
     return path, r

@@ -33,7 +33,7 @@ static inline struct tcs_msg valid_early(void)
 	return m;
 }
 
-/* Checks m as received (exactly 48 bytes) and returns the verdict. */
+/* Checks m as received (exactly 56 bytes) and returns the verdict. */
 static inline const char *check(struct tcs_msg m, struct tcs_msg *out)
 {
 	struct tcs_msg scratch;

@@ -19,7 +19,7 @@
 
 /* The wire layout is fixed: both sides are built separately and the preload
  * may be an older build than the coordinator. */
-_Static_assert(sizeof(struct tcs_msg) == 48, "tcs_msg is 48 bytes on the wire");
+_Static_assert(sizeof(struct tcs_msg) == 56, "tcs_msg is 56 bytes on the wire");
 _Static_assert(offsetof(struct tcs_msg, magic) == 0, "layout");
 _Static_assert(offsetof(struct tcs_msg, version) == 4, "layout");
 _Static_assert(offsetof(struct tcs_msg, type) == 6, "layout");
@@ -30,13 +30,14 @@ _Static_assert(offsetof(struct tcs_msg, deadline) == 16, "layout");
 _Static_assert(offsetof(struct tcs_msg, v) == 24, "layout");
 _Static_assert(offsetof(struct tcs_msg, cpu) == 32, "layout");
 _Static_assert(offsetof(struct tcs_msg, arg) == 40, "layout");
+_Static_assert(offsetof(struct tcs_msg, slack) == 48, "layout");
 
 /* ---- layout ---------------------------------------------------------------- */
 
 static void test_msg_make(void **state)
 {
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_WAKE, 0xdeadbeefu);
-	assert_int_equal(sizeof m, 48);
+	assert_int_equal(sizeof m, 56);
 	assert_int_equal(m.magic, TCS_PROTO_MAGIC);
 	assert_int_equal(m.version, TCS_PROTO_VERSION);
 	assert_int_equal(m.type, TCS_MSG_WAKE);
@@ -48,7 +49,7 @@ static void test_msg_make(void **state)
 	assert_i64_eq(m.cpu, 0);
 	assert_i64_eq(m.arg, 0);
 	/* The magic reads "tcs1" in memory on a little-endian machine. */
-	unsigned char raw[48];
+	unsigned char raw[56];
 	memcpy(raw, &m, sizeof raw);
 #if __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
 	assert_memory_equal(raw, "tcs1", 4);
@@ -90,6 +91,10 @@ static void test_valid_block(void **state)
 	assert_accepted(m);
 	m.kind = TCS_BLOCK_SYNC; /* a thread waiting for another */
 	assert_accepted(m);
+	m.slack = INT64_MAX; /* the coordinator bounds what it takes of it */
+	assert_accepted(m);
+	m.slack = -1; /* a timer slack is never negative */
+	assert_rejected(m);
 }
 
 /* A thread hands over its own channel: the tid must be one. */
@@ -157,7 +162,7 @@ static void test_unaligned_buffer(void **state)
 		memset(buf, 0, sizeof buf);
 		memcpy(buf + off, &m, sizeof m);
 		memset(&out, 0, sizeof out);
-		assert_null(tcs_msg_check(buf + off, 48, &out));
+		assert_null(tcs_msg_check(buf + off, 56, &out));
 		assert_memory_equal(&out, &m, sizeof m);
 	}
 }
@@ -170,7 +175,7 @@ static void test_wrong_size(void **state)
 	struct tcs_msg m = valid_hello(), out;
 	memset(buf, 0, sizeof buf);
 	memcpy(buf, &m, sizeof m);
-	static const long lens[] = { 0, 1, 4, 47, 49, 64, 96, 128, LONG_MAX, 48L + (1L << 32) };
+	static const long lens[] = { 0, 1, 4, 48, 55, 57, 64, 96, 128, LONG_MAX, 56L + (1L << 32) };
 	for (size_t i = 0; i < sizeof lens / sizeof lens[0]; i++) {
 		memset(&out, 0x5a, sizeof out);
 		const char *why = tcs_msg_check(buf, lens[i], &out);
@@ -178,13 +183,13 @@ static void test_wrong_size(void **state)
 		assert_string_equal(why, "wrong size");
 	}
 	/* A failed receive is reported as such, not as a bad message. */
-	static const long negative[] = { -1, -48, -4, LONG_MIN };
+	static const long negative[] = { -1, -56, -4, LONG_MIN };
 	for (size_t i = 0; i < sizeof negative / sizeof negative[0]; i++) {
 		const char *why = tcs_msg_check(buf, negative[i], &out);
 		assert_non_null(why);
 		assert_string_not_equal(why, "wrong size");
 	}
-	assert_null(tcs_msg_check(buf, 48, &out));
+	assert_null(tcs_msg_check(buf, 56, &out));
 }
 
 static void test_bad_magic(void **state)

@@ -31,6 +31,7 @@ static void assert_invariants(const struct tcs_msg *m, const void *raw)
 	case TCS_MSG_BLOCK:
 		assert_true(m->kind == TCS_BLOCK_SLEEP || m->kind == TCS_BLOCK_POLL || m->kind == TCS_BLOCK_SYNC);
 		assert_int_equal(m->flags & ~TCS_BLOCK_FLAGS_ALL, 0);
+		assert_true(m->slack >= 0);
 		assert_true(m->deadline >= 0);
 		assert_true(m->v >= 0);
 		assert_true(m->cpu >= 0);
@@ -105,8 +106,8 @@ static void test_fuzz_random_buffers(void **state)
 			uint16_t flags = (uint16_t)((r >> 24) % 5);
 			memcpy(buf + 14, &flags, 2);
 		}
-		if (r & 32) { /* clear the sign bits of deadline, v, cpu, arg (little- or big-endian) */
-			for (int f = 0; f < 4; f++)
+		if (r & 32) { /* clear the sign bits of deadline, v, cpu, arg, slack (little- or big-endian) */
+			for (int f = 0; f < 5; f++)
 				buf[16 + 8 * f + (__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__ ? 7 : 0)] &= 0x7f;
 		}
 		if (r & 64) {
@@ -114,12 +115,12 @@ static void test_fuzz_random_buffers(void **state)
 			memcpy(buf + 40, &arg, 8);
 		}
 		if (r & 128)
-			len = 48;
+			len = 56;
 
 		struct tcs_msg out;
 		const char *why = tcs_msg_check(buf, len, &out);
 		if (why == NULL) {
-			assert_int_equal(len, 48);
+			assert_int_equal(len, 56);
 			assert_invariants(&out, buf);
 			accepted++;
 		} else {
@@ -138,18 +139,18 @@ static void test_fuzz_mutations(void **state)
 	unsigned long accepted = 0, rejected = 0;
 	for (int i = 0; i < 300000; i++) {
 		struct tcs_msg m = makers[i % 3]();
-		unsigned char raw[48];
+		unsigned char raw[56];
 		memcpy(raw, &m, sizeof raw);
 		uint64_t r = test_rand(&rng);
 		switch (r % 4) {
 		case 0: /* flip one bit */
-			raw[(r >> 8) % 48] ^= (unsigned char)(1u << ((r >> 16) % 8));
+			raw[(r >> 8) % 56] ^= (unsigned char)(1u << ((r >> 16) % 8));
 			break;
 		case 1: /* replace one byte */
-			raw[(r >> 8) % 48] = (unsigned char)(r >> 16);
+			raw[(r >> 8) % 56] = (unsigned char)(r >> 16);
 			break;
 		case 2: { /* replace one field with a random or edge value */
-			static const size_t offs[] = { 0, 4, 6, 8, 12, 14, 16, 24, 32, 40 };
+			static const size_t offs[] = { 0, 4, 6, 8, 12, 14, 16, 24, 32, 40, 48 };
 			static const size_t sizes[] = { 4, 2, 2, 4, 2, 2, 8, 8, 8, 8 };
 			size_t f = (r >> 8) % 10;
 			uint64_t v = test_rand(&rng);
@@ -163,11 +164,11 @@ static void test_fuzz_mutations(void **state)
 		}
 		default: /* several random bytes */
 			for (int k = 0; k < 4; k++)
-				raw[test_rand(&rng) % 48] = (unsigned char)test_rand(&rng);
+				raw[test_rand(&rng) % 56] = (unsigned char)test_rand(&rng);
 			break;
 		}
 		struct tcs_msg out;
-		const char *why = tcs_msg_check(raw, 48, &out);
+		const char *why = tcs_msg_check(raw, 56, &out);
 		if (why == NULL) {
 			assert_invariants(&out, raw);
 			accepted++;

@@ -21,7 +21,7 @@ extern "C" {
 #endif
 
 #define TCS_PAGE_MAGIC 0x70736374u /* "tcsp" */
-#define TCS_PAGE_VERSION 10u
+#define TCS_PAGE_VERSION 11u
 #define TCS_PAGE_SIZE 4096
 
 enum tcs_mode {

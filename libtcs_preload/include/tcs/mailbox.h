@@ -55,9 +55,9 @@ struct tcs_mailbox {
 	uint32_t polling; /* coordinator: it looks without being rung */
 	uint8_t pad0[56];
 	struct tcs_msg request; /* controller */
-	uint8_t pad1[16];
+	uint8_t pad1[8];
 	struct tcs_msg answer; /* coordinator */
-	uint8_t pad2[16];
+	uint8_t pad2[8];
 };
 
 /* What a mailbox may carry: requests answered by a plain WAKE (no fd). */

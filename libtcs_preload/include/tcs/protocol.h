@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 #define TCS_PROTO_MAGIC 0x31736374u /* "tcs1" */
-#define TCS_PROTO_VERSION 6u
+#define TCS_PROTO_VERSION 7u
 
 /* Environment through which tcs-run hands the channel to the preload. */
 #define TCS_ENV_CHANNEL_FD "TCS_CHANNEL_FD"
@@ -159,13 +159,15 @@ struct tcs_msg {
 	int64_t cpu;      /* BLOCK: process CPU ns when the wait began; EARLY from
 			     another thread: when it ended the wait */
 	int64_t arg;      /* HELLO: pid */
+	int64_t slack;    /* BLOCK: how long after deadline the wait ends when nothing
+			     ends it sooner: the waiting thread's timer slack */
 };
 
 #if defined(__cplusplus)
-static_assert(sizeof(struct tcs_msg) == 48, "wire layout changed: bump TCS_PROTO_VERSION");
+static_assert(sizeof(struct tcs_msg) == 56, "wire layout changed: bump TCS_PROTO_VERSION");
 static_assert(offsetof(struct tcs_msg, deadline) == 16, "wire layout changed");
 #else
-_Static_assert(sizeof(struct tcs_msg) == 48, "wire layout changed: bump TCS_PROTO_VERSION");
+_Static_assert(sizeof(struct tcs_msg) == 56, "wire layout changed: bump TCS_PROTO_VERSION");
 _Static_assert(offsetof(struct tcs_msg, deadline) == 16, "wire layout changed");
 #endif
 
@@ -204,7 +206,7 @@ static inline const char *tcs_msg_check(const void *buf, long len, struct tcs_ms
 			return "BLOCK of unknown kind";
 		if (out->flags & ~TCS_BLOCK_FLAGS_ALL)
 			return "BLOCK with unknown flags";
-		if (out->deadline < 0 || out->v < 0 || out->cpu < 0)
+		if (out->deadline < 0 || out->v < 0 || out->cpu < 0 || out->slack < 0)
 			return "BLOCK with a negative time";
 		return NULL;
 	case TCS_MSG_EARLY:
