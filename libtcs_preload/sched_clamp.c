@@ -27,11 +27,7 @@ struct tcs_sched_attr {
 	uint32_t sched_priority;
 };
 
-#ifndef SCHED_DEADLINE
-#define SCHED_DEADLINE 6
-#endif
-
-static int tcs_rt_policy(int policy)
+int tcs_rt_policy(int policy)
 {
 	policy &= ~SCHED_RESET_ON_FORK;
 	return policy == SCHED_FIFO || policy == SCHED_RR;

@@ -9,11 +9,8 @@
 #include <sys/prctl.h>
 
 #include "raw_syscall.h"
+#include "sched_clamp.h"
 #include "spin_lock.h"
-
-#ifndef SCHED_DEADLINE
-#define SCHED_DEADLINE 6
-#endif
 
 /* Linux's slack for a normal thread (init's, inherited by everything). */
 #define TCS_DEFAULT_SLACK_NS 50000
@@ -25,10 +22,10 @@ static __thread int64_t tcs_slack_ns;    /* what PR_SET_TIMERSLACK set */
 static __thread int64_t tcs_slack_start; /* what the thread started with */
 static __thread int tcs_rt_thread;       /* 1: real-time, -1: not (set by the program) */
 
-static int tcs_rt_policy(int policy)
+/* A real-time policy as Linux's timer slack sees it: a deadline task's too. */
+static int tcs_rt_thread_policy(int policy)
 {
-	policy &= ~SCHED_RESET_ON_FORK;
-	return policy == SCHED_FIFO || policy == SCHED_RR || policy == SCHED_DEADLINE;
+	return tcs_rt_policy(policy) || (policy & ~SCHED_RESET_ON_FORK) == SCHED_DEADLINE;
 }
 
 /* ---- policies set for other threads, found by them at their next wait ---- */
@@ -43,7 +40,7 @@ static int tcs_notes_lock, tcs_notes_pending;
 
 static void tcs_note(long tid, pthread_t thread, int policy)
 {
-	int rt = tcs_rt_policy(policy) ? 1 : -1;
+	int rt = tcs_rt_thread_policy(policy) ? 1 : -1;
 	tcs_spin_lock(&tcs_notes_lock);
 	int free_slot = -1;
 	for (int i = 0; i < TCS_POLICY_NOTES; i++) {
@@ -85,7 +82,7 @@ static void tcs_take_notes(void)
 
 void tcs_policy_set_self(int policy)
 {
-	tcs_rt_thread = tcs_rt_policy(policy) ? 1 : -1;
+	tcs_rt_thread = tcs_rt_thread_policy(policy) ? 1 : -1;
 }
 
 void tcs_policy_set_tid(long tid, int policy)
@@ -174,7 +171,7 @@ static int tcs_attr_rt(const pthread_attr_t *attr)
 	if (!attr || pthread_attr_getinheritsched(attr, &inherit) != 0 || inherit != PTHREAD_EXPLICIT_SCHED ||
 	    pthread_attr_getschedpolicy(attr, &policy) != 0)
 		return 0;
-	return tcs_rt_policy(policy) ? 1 : -1;
+	return tcs_rt_thread_policy(policy) ? 1 : -1;
 }
 
 int tcs_create_with_slack(int (*real)(pthread_t *, const pthread_attr_t *, void *(*)(void *), void *),
