@@ -57,38 +57,58 @@ def test_no_slack_is_exact():
     check(v["set_slack_ns"] == 1000, "--no-slack: prctl still reports what was set", r)
 
 
-ASYNCIO = """
-import asyncio, time
-async def main():
-    t0 = time.monotonic()
+# 200 cycles of 10 ms, paced by asyncio (argv[1] "asyncio": an epoll_wait
+# each, its timeout rounded up to whole ms) or by time.sleep (a
+# clock_nanosleep each).
+PACED = """
+import asyncio, sys, time
+async def paced():
     for _ in range(200):
         await asyncio.sleep(0.01)
-    print("elapsed_s=%.9f" % (time.monotonic() - t0))
-asyncio.run(main())
+t0 = time.monotonic()
+if sys.argv[1] == "asyncio":
+    asyncio.run(paced())
+else:
+    for _ in range(200):
+        time.sleep(0.01)
+print("elapsed_s=%.9f" % (time.monotonic() - t0))
 """
 
 
 def test_asyncio_paces_as_natively():
-    # 200 asyncio.sleep(0.01): an epoll_wait of 10 ms each (its timeout
-    # rounded up to whole ms), and its slack. Ended exactly at deadlines,
-    # lockstep once made it 11 ms a cycle (2.2 s); natively it is about
-    # 10.2 ms (the slack and the machine's own latency).
+    # In lockstep a cycle is exactly 10 ms and its slack, by either pacing.
+    # Ended exactly at deadlines, asyncio's once took 11 ms (2.2 s: the
+    # rounding up of a timeout that was 10 ms and a float's last bit).
+    # Natively every cycle is also late by what the machine takes to
+    # deliver a wake-up, which tcs does not model: 18 to 21 ms in 200 here
+    # (a VM, idle; 2.06 to 2.10 s for asyncio's 200 cycles beside a build,
+    # where lockstep's 2.010 s fell outside 3 % of them). time.sleep's
+    # native pace measures it, run by
+    # run beside asyncio's (the least of five each): what asyncio takes
+    # beyond that is its own, and that is what lockstep must match.
     with tempfile.TemporaryDirectory(prefix="tcs-test-slack-") as d:
-        script = os.path.join(d, "aio.py")
+        script = os.path.join(d, "paced.py")
         with open(script, "w") as f:
-            f.write(ASYNCIO)
-        r = tcs("-q", "-m", "lockstep", "--", PYTHON, script, timeout=60)
-        check(r.returncode == 0, "the asyncio loop runs", r)
-        lockstep = float(r.values()["elapsed_s"])
-        natives = []
-        for _ in range(3):
-            n = native([PYTHON, script], timeout=60)
-            check(n.returncode == 0, "the asyncio loop runs natively", n)
-            natives.append(float(n.values()["elapsed_s"]))
-    nat = sorted(natives)[1]
-    print("  200 x asyncio.sleep(0.01): %.6f s in lockstep, %.6f s natively (median of %s)" % (lockstep, nat, natives))
-    check(2.0 + 200 * SLACK / 1e9 <= lockstep, "each cycle at least 10 ms and its slack: %.6f s" % lockstep, r)
-    check(abs(lockstep - nat) <= 0.03 * nat, "within 3 %% of the native pace: %.6f s, %.6f s" % (lockstep, nat), r)
+            f.write(PACED)
+        lockstep = {}
+        for how in ("asyncio", "sleep"):
+            r = tcs("-q", "-m", "lockstep", "--", PYTHON, script, how, timeout=60)
+            check(r.returncode == 0 and r.values()["elapsed_s"] == "%.9f" % (2.0 + 200 * SLACK / 1e9),
+                  "lockstep, %s: each cycle exactly 10 ms and its slack" % how, r)
+            lockstep[how] = float(r.values()["elapsed_s"])
+        natives = {"asyncio": [], "sleep": []}
+        for _ in range(5):
+            for how in natives:
+                n = native([PYTHON, script, how], timeout=60)
+                check(n.returncode == 0, "%s paces natively" % how, n)
+                natives[how].append(float(n.values()["elapsed_s"]))
+    nat = {how: min(runs) for how, runs in natives.items()}
+    wakes = nat["sleep"] - lockstep["sleep"]  # the machine's wake-ups
+    print("  200 x 10 ms by asyncio: %.6f s in lockstep, %.6f s natively; by time.sleep %.6f s natively "
+          "(the machine's wake-ups: %.6f s)" % (lockstep["asyncio"], nat["asyncio"], nat["sleep"], wakes))
+    own = nat["asyncio"] - wakes
+    check(abs(lockstep["asyncio"] - own) <= 0.03 * own,
+          "within 3 %% of the native pace less the machine's wake-ups: %.6f s, %.6f s" % (lockstep["asyncio"], own))
 
 
 if __name__ == "__main__":
