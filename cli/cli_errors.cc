@@ -26,9 +26,4 @@ std::string getopt_complaint(int opt, char **argv, int optind)
 	return std::string("unknown option '") + argv[optind - 1] + "'";
 }
 
-int parse_mode(const std::string &text)
-{
-	return text == "cpu" ? TCS_MODE_CPU : text == "lockstep" ? TCS_MODE_LOCKSTEP : -1;
-}
-
 } // namespace tcs

@@ -12,7 +12,5 @@ int report_usage_error(const char *prog, const std::string &msg);
 // What getopt_long's ':' (a value missing) or '?' (an unknown option) was
 // about, for report_usage_error.
 std::string getopt_complaint(int opt, char **argv, int optind);
-// --mode's value: TCS_MODE_CPU or TCS_MODE_LOCKSTEP, or -1.
-int parse_mode(const std::string &text);
 
 } // namespace tcs

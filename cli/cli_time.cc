@@ -89,6 +89,20 @@ Result<int64_t> parse_duration(const std::string &text)
 	return (int64_t)std::llroundl(ns);
 }
 
+Result<std::pair<int64_t, int64_t>> parse_duration_pair(const std::string &text, int64_t max_ns)
+{
+	size_t comma = text.find(',');
+	auto first = parse_duration(text.substr(0, comma));
+	if (!first)
+		return first.error();
+	auto second = comma == std::string::npos ? first : parse_duration(text.substr(comma + 1));
+	if (!second)
+		return second.error();
+	if (*first > max_ns || *second > max_ns)
+		return Error{ "'" + text + "': at most " + format_duration(max_ns) + " each" };
+	return std::pair{ *first, *second };
+}
+
 Result<double> parse_positive(const std::string &text)
 {
 	long double v;

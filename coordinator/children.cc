@@ -60,8 +60,9 @@ void on_child(Run &run, Controller &parent, const ::tcs_msg &m, UniqueFd channel
 	ControllerSpec spec;
 	spec.cpu_scale = parent.scale;
 	spec.report_misses = run.trace.is_open();
+	spec.random_key = parent.next_child_random_key();
 	auto made = Controller::adopt((int)run.ctls.size() + 1, parent, pid, std::move(channel), spec, run.cfg.mode,
-				      run.origins, run.rt, run.devices.bound());
+				      run.clocks, run.rt, run.devices.bound());
 	if (!made)
 		return; // its channel is closed: the child sees it and runs in real time
 	Controller &c = **made;

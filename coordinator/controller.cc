@@ -14,12 +14,13 @@
 #include "device_server.h"
 #include "spawn.h"
 #include "tcs/device_table.h"
+#include "tcs/random_stream.h"
 
 namespace tcs {
 
 // The shared region of a new controller: its clock page (set-once fields
 // filled in) and its device table.
-Result<UniqueFd> Controller::make_page(const ControllerSpec &spec, int mode, const ClockOrigins &origins,
+Result<UniqueFd> Controller::make_page(const ControllerSpec &spec, int mode, const ClockSetup &clocks,
 				       const RealtimePlan &rt, const std::vector<BoundDevice> &bound)
 {
 	UniqueFd page_fd(memfd_create("tcs-clock-page", MFD_CLOEXEC));
@@ -41,9 +42,12 @@ Result<UniqueFd> Controller::make_page(const ControllerSpec &spec, int mode, con
 	page_->tick_mult = rt.tick_mult;
 	page_->tick_resync = rt.tick_resync;
 	page_->cpu_scale = spec.cpu_scale;
-	page_->mono_origin_ns = origins.mono_ns;
-	page_->real_origin_ns = origins.real_ns;
-	page_->tai_origin_ns = origins.tai_ns;
+	page_->mono_origin_ns = clocks.mono_ns;
+	page_->real_origin_ns = clocks.real_ns;
+	page_->tai_origin_ns = clocks.tai_ns;
+	page_->random_key = random_key_ = spec.random_key;
+	page_->spin_clock_ns = (int32_t)clocks.spin.clock_ns;
+	page_->spin_read_ns = (int32_t)clocks.spin.read_ns;
 	tcs_device_table *table = tcs_device_table_of(page_);
 	for (const auto &d : bound) {
 		if (table->count == TCS_MAX_DEVICES)
@@ -69,7 +73,7 @@ Status Controller::take_pid(pid_t p)
 }
 
 Result<std::unique_ptr<Controller>> Controller::start(int id, const ControllerSpec &spec, int mode,
-						      const ClockOrigins &origins, const RealtimePlan &rt,
+						      const ClockSetup &clocks, const RealtimePlan &rt,
 						      const std::string &preload, const std::vector<BoundDevice> &devices)
 {
 	auto c = std::make_unique<Controller>();
@@ -82,7 +86,7 @@ Result<std::unique_ptr<Controller>> Controller::start(int id, const ControllerSp
 		return errno_error("socketpair");
 	c->channel.reset(sv[0]);
 	UniqueFd child_end(sv[1]);
-	auto page_fd = c->make_page(spec, mode, origins, rt, devices);
+	auto page_fd = c->make_page(spec, mode, clocks, rt, devices);
 	if (!page_fd)
 		return page_fd.error();
 
@@ -106,7 +110,7 @@ Result<std::unique_ptr<Controller>> Controller::start(int id, const ControllerSp
 }
 
 Result<std::unique_ptr<Controller>> Controller::adopt(int id, const Controller &parent, pid_t pid, UniqueFd channel,
-						      const ControllerSpec &spec, int mode, const ClockOrigins &origins,
+						      const ControllerSpec &spec, int mode, const ClockSetup &clocks,
 						      const RealtimePlan &rt, const std::vector<BoundDevice> &devices)
 {
 	auto c = std::make_unique<Controller>();
@@ -115,7 +119,7 @@ Result<std::unique_ptr<Controller>> Controller::adopt(int id, const Controller &
 	c->scale = parent.scale;
 	c->name = parent.name; // until it execs another program
 	c->channel = std::move(channel);
-	auto page_fd = c->make_page(spec, mode, origins, rt, devices);
+	auto page_fd = c->make_page(spec, mode, clocks, rt, devices);
 	if (!page_fd)
 		return page_fd.error();
 	c->pidfd.reset((int)syscall(SYS_pidfd_open, pid, 0));
@@ -219,6 +223,26 @@ void Controller::account(int64_t cpu, int mode)
 	charged = std::max(charged, tcs_ns_add(slice_.charged_base, used));
 	if (mode == TCS_MODE_CPU)
 		v = std::max(v, tcs_ns_add(slice_.v_base, used));
+	else
+		v = spun();
+}
+
+void Controller::limit_spin(int64_t until)
+{
+	spin_limit_ = until;
+	if (page_)
+		__atomic_store_n(&page_->spin_limit, until, __ATOMIC_RELEASE);
+}
+
+uint64_t Controller::next_child_random_key()
+{
+	return random_key_ ? tcs_random_key(random_key_, ++children_keyed_) : 0;
+}
+
+int64_t Controller::spun() const
+{
+	int64_t at = page_ ? __atomic_load_n(&page_->spin_v, __ATOMIC_ACQUIRE) : v;
+	return std::max(v, std::min(at, spin_limit_));
 }
 
 int64_t Controller::fork_claim() const

@@ -17,6 +17,7 @@
 #include "device.h"
 #include "mailbox.h"
 #include "realtime.h"
+#include "spin_costs.h"
 #include "tcs/clock_page.h"
 #include "tcs/protocol.h"
 #include "unique_fd.h"
@@ -34,13 +35,17 @@ struct ControllerSpec {
 	std::optional<std::vector<std::string>> env;
 	std::string cwd;
 	std::array<int, 3> stdio = { -1, -1, -1 };
+	// --seed: its key to the seeded randomness (tcs/random_stream.h); 0:
+	// the system's, real.
+	uint64_t random_key = 0;
 };
 
 // The constants every controller's clock page starts with.
-struct ClockOrigins {
+struct ClockSetup {
 	int64_t mono_ns = 0;
 	int64_t real_ns = 0;
 	int64_t tai_ns = 0;
+	SpinCosts spin; // (lockstep's)
 };
 
 enum class CtlState {
@@ -102,7 +107,7 @@ struct SideWait {
 // The trace's name for a wait of kind TCS_BLOCK_*.
 inline const char *block_kind_name(uint16_t kind)
 {
-	return kind == TCS_BLOCK_SLEEP ? "sleep" : kind == TCS_BLOCK_POLL ? "poll" : "sync";
+	return kind == TCS_BLOCK_SLEEP ? "sleep" : kind == TCS_BLOCK_POLL ? "poll" : kind == TCS_BLOCK_SPIN ? "spin" : "sync";
 }
 
 // The most timer slack a wait may ask for: its controller's to say, so
@@ -165,7 +170,7 @@ struct LoopStats {
 class Controller {
 public:
 	static Result<std::unique_ptr<Controller>> start(int id, const ControllerSpec &spec, int mode,
-							 const ClockOrigins &origins, const RealtimePlan &rt,
+							 const ClockSetup &clocks, const RealtimePlan &rt,
 							 const std::string &preload,
 							 const std::vector<BoundDevice> &devices);
 	// A child of parent (fork, posix_spawn...) that registered on its
@@ -174,7 +179,7 @@ public:
 	// page_fd_for_child, with the answer.
 	static Result<std::unique_ptr<Controller>> adopt(int id, const Controller &parent, pid_t pid, UniqueFd channel,
 							 const ControllerSpec &spec, int mode,
-							 const ClockOrigins &origins, const RealtimePlan &rt,
+							 const ClockSetup &clocks, const RealtimePlan &rt,
 							 const std::vector<BoundDevice> &devices);
 	~Controller();
 
@@ -202,8 +207,17 @@ public:
 	// Real CPU the current slice has used up to cpu (the runtime's own cost
 	// excluded: its hooks' and its CPU-clock reads').
 	int64_t slice_cpu(int64_t cpu) const;
-	// Closes the slice at cpu: v and charged move forward, never back.
+	// Closes the slice at cpu: v and charged move forward, never back (in
+	// lockstep, v to what spinning reached: spun()).
 	void account(int64_t cpu, int mode);
+	// Lockstep: how far spinning may take it in this slice (the page's
+	// spin_limit), and how far it did (the page's spin_v, held to that
+	// limit and to v: the controller's word).
+	void limit_spin(int64_t until);
+	int64_t spin_limit() const { return spin_limit_; }
+	int64_t spun() const;
+	// --seed: the key of its next child (each its own stream), or 0.
+	uint64_t next_child_random_key();
 	// The CPU up to which its request after its last fork charges it (the
 	// page's fork_claim), if that is in the current slice; else -1.
 	int64_t fork_claim() const;
@@ -311,6 +325,9 @@ public:
 
 	UniqueFd page_fd_for_child; // adopted: its page, until sent
 	int64_t next_timer_ = TCS_NEVER;
+	int64_t spin_limit_ = 0;
+	uint64_t random_key_ = 0;
+	uint64_t children_keyed_ = 0;
 	bool asleep = false;        // stepped aside, asleep in the kernel (asleep.cc)
 	// Its lane watchdog's last look at it, running (asleep.cc).
 	struct Look {
@@ -328,7 +345,7 @@ public:
 
 private:
 	template <class F> void advance_due(F f);
-	Result<UniqueFd> make_page(const ControllerSpec &spec, int mode, const ClockOrigins &origins,
+	Result<UniqueFd> make_page(const ControllerSpec &spec, int mode, const ClockSetup &clocks,
 				   const RealtimePlan &rt, const std::vector<BoundDevice> &bound);
 	Status take_pid(pid_t p);
 	tcs_clock_page *page_ = nullptr;

@@ -18,6 +18,7 @@
 #include "run.h"
 #include "serve.h"
 #include "slices.h"
+#include "spin_costs.h"
 #include "world_steps.h"
 
 namespace tcs {
@@ -111,12 +112,16 @@ Status Coordinator::init()
 
 	// With an epoch the monotonic clocks start at a fixed value too, so
 	// that a run repeats their values, not only their differences.
-	run.origins.mono_ns = run.cfg.epoch_ns ? kFixedMonotonicOrigin : clock_ns(CLOCK_MONOTONIC);
-	run.origins.real_ns = run.cfg.epoch_ns ? *run.cfg.epoch_ns : clock_ns(CLOCK_REALTIME);
+	run.clocks.mono_ns = run.cfg.epoch_ns ? kFixedMonotonicOrigin : clock_ns(CLOCK_MONOTONIC);
+	run.clocks.real_ns = run.cfg.epoch_ns ? *run.cfg.epoch_ns : clock_ns(CLOCK_REALTIME);
 	// TAI - UTC is a whole number of seconds; two reads differ by a few ns.
 	int64_t tai_offset = clock_ns(CLOCK_TAI) - clock_ns(CLOCK_REALTIME);
 	tai_offset = (tai_offset + TCS_NS_PER_S / 2) / TCS_NS_PER_S * TCS_NS_PER_S;
-	run.origins.tai_ns = run.origins.real_ns + tai_offset;
+	run.clocks.tai_ns = run.clocks.real_ns + tai_offset;
+	if (run.cfg.mode == TCS_MODE_LOCKSTEP)
+		run.clocks.spin = run.cfg.spin_costs ? *run.cfg.spin_costs
+				  : run.cfg.epoch_ns   ? kNominalSpinCosts
+						       : measure_spin_costs();
 
 	// The coordinator shares the running controller's core: each time it
 	// wakes, that controller's CPU-time estimates (cpu_estimate.c) are off.

@@ -17,6 +17,7 @@
 #include "error.h"
 #include "realtime.h"
 #include "sim_world.h"
+#include "spin_costs.h"
 #include "step_peers.h"
 #include "tcs/protocol.h"
 
@@ -33,6 +34,12 @@ struct CoordinatorConfig {
 	int64_t duration_ns = -1;           // stop at this virtual time; < 0: when all exit
 	std::optional<int64_t> epoch_ns;    // CLOCK_REALTIME at V = 0; default: now
 	bool slack = true; // a timed wait ends its thread's timer slack late (--no-slack: exactly)
+	// Lockstep: what a spin's clock read and empty read cost (--spin-cost);
+	// default: measured, or nominal with an epoch (spin_costs.h).
+	std::optional<SpinCosts> spin_costs;
+	// --seed: the system's randomness, as programs draw it, a stream fixed
+	// by this number (none: real).
+	std::optional<uint64_t> seed;
 	std::string preload;                // absolute path of libtcs_preload.so
 	RealtimeWish realtime; // SCHED_FIFO and the TSC, where the machine allows
 	// Called about every 250 ms of wall time while running (may be empty).

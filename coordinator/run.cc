@@ -25,6 +25,7 @@
 #include "slices.h"
 #include "tcs/msg_io.h"
 #include "tcs/protocol.h"
+#include "tcs/random_stream.h"
 #include "threads.h"
 #include "waits.h"
 #include "world_steps.h"
@@ -35,7 +36,10 @@ Status add_controller(Run &run, const ControllerSpec &spec)
 {
 	ControllerSpec traced = spec;
 	traced.report_misses = run.trace.is_open();
-	auto c = Controller::start((int)run.ctls.size() + 1, traced, run.cfg.mode, run.origins, run.rt, run.cfg.preload,
+	// Each controller a stream of its own, by its place in the run.
+	if (run.cfg.seed)
+		traced.random_key = tcs_random_key(*run.cfg.seed, run.ctls.size() + 1);
+	auto c = Controller::start((int)run.ctls.size() + 1, traced, run.cfg.mode, run.clocks, run.rt, run.cfg.preload,
 				   run.devices.bound());
 	if (!c)
 		return c.error();

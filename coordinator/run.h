@@ -52,7 +52,7 @@ constexpr int64_t kClaimSlack = 1 * TCS_NS_PER_MS;
 struct Run {
 	CoordinatorConfig cfg;
 	RealtimePlan rt;
-	ClockOrigins origins;
+	ClockSetup clocks;
 	EventLoop loop;
 	// The coordinator's core's first (its controller's estimates go stale
 	// whenever the coordinator runs).

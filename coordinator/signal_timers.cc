@@ -28,13 +28,14 @@ void on_timer(Run &run, Controller &c, const ::tcs_msg &m)
 	c.timers_changed();
 	if (!run.ending)
 		c.raise_due_timers();
-	reply_now(run, c, 0);
+	// (Before the answer: a lockstep spin after it stops at the timer.)
 	if (c.state == CtlState::Running)
 		budget_to_next_timer(run, c);
+	reply_now(run, c, 0);
 }
 
-// A running controller's budget ends no later than its next timer (cpu mode:
-// in lockstep it reaches it only by waiting). Budgets count from the
+// A running controller's budget ends no later than its next timer (cpu mode;
+// in lockstep, its spins stop there: spin_limit). Budgets count from the
 // slice's start, and so does the check's timer: armed from now for the
 // whole budget, it came as late as the slice was old (a thread's 10 ms
 // sleep beside a computing thread ended at 14 ms).
@@ -42,6 +43,8 @@ void budget_to_next_timer(Run &run, Controller &c)
 {
 	int64_t at = std::min(c.next_timer(), c.side_next());
 	Lane *lane = run.lanes.of(c);
+	if (run.cfg.mode == TCS_MODE_LOCKSTEP && at < c.spin_limit())
+		c.limit_spin(at); // a spin stops there too
 	if (run.cfg.mode != TCS_MODE_CPU || at == TCS_NEVER || !lane)
 		return;
 	int64_t need = std::max<int64_t>((int64_t)std::ceil((double)(at - c.slice().v_base) / c.scale), 1);

@@ -130,10 +130,26 @@ int64_t charge_point(Run &run, Controller &c, int64_t claimed)
 
 int64_t request_v(Run &run, Controller &c, const ::tcs_msg &m)
 {
-	if (c.state != CtlState::Running || run.cfg.mode != TCS_MODE_CPU)
+	if (c.state != CtlState::Running)
 		return c.v;
+	if (run.cfg.mode == TCS_MODE_LOCKSTEP)
+		return std::clamp(m.v, c.v, c.spun());
 	int64_t heard = tcs_ns_add(c.slice().v_base, tcs_scale_cpu(c.slice_cpu(charge_point(run, c, m.cpu)), c.scale));
 	return std::clamp(m.v, c.v, std::max(c.v, heard));
+}
+
+// Lockstep: how far a spin of c's may go in the slice it begins: to the
+// world's next step after its time (what it reads then must see that step),
+// its next timer, or another of its threads' wake. Not to where the
+// scheduler would stop it to let another run: that depends on how many
+// cores there are, and its virtual time must not.
+static int64_t spin_limit(const Run &run, const Controller &c)
+{
+	int64_t limit = std::min(tcs_ns_add(c.v - c.v % run.cfg.step_ns, run.cfg.step_ns), c.next_timer());
+	for (const SideWait &w : c.side)
+		if (w.deadline > c.v)
+			limit = std::min(limit, w.deadline);
+	return limit;
 }
 
 void resume(Run &run, Controller &c, int64_t target, int lane)
@@ -148,6 +164,8 @@ void resume(Run &run, Controller &c, int64_t target, int lane)
 	int64_t cpu = c.cpu_at_end >= 0 ? c.cpu_at_end : c.cpu_now();
 	c.cpu_at_end = -1;
 	c.publish_slice(cpu);
+	if (run.cfg.mode == TCS_MODE_LOCKSTEP)
+		c.limit_spin(spin_limit(run, c)); // (before its WAKE: it may spin at once)
 	start_slice_clock(run, c);
 	c.resumed_wall = c.slice_wall;
 	if (run.trace.is_open()) {

@@ -15,6 +15,7 @@
 #include "attach_socket.h"
 #include "cli_errors.h"
 #include "cli_time.h"
+#include "run_options.h"
 #include "clients.h"
 #include "coordinator.h"
 #include "preload_path.h"
@@ -40,13 +41,8 @@ const char kUsage[] =
 	"                         controllers the world waits for before it starts\n"
 	"  -s, --socket PATH      where to listen (default: $XDG_RUNTIME_DIR/tcs/\n"
 	"                         coordinatord.sock, or /run/tcs/coordinatord.sock as root)\n"
-	"  -m, --mode cpu|lockstep\n"
-	"                         cpu (default): computation costs virtual time;\n"
-	"                         lockstep: computation is free (the status quo)\n"
+	TCS_RUN_OPTIONS_HELP
 	"  -t, --trace FILE       write a trace of everything served (MCAP)\n"
-	"      --epoch TIME       virtual wall-clock start: RFC 3339 or seconds since 1970\n"
-	"      --no-slack         waits end exactly at their deadlines (default: their\n"
-	"                         thread's timer slack later, 50 us unless it set one)\n"
 	"      --dds-domain N     publish rt/clock and rt/joint_states for ROS 2 tools\n"
 	"                         on DDS domain N (0-232), one sample per step, and\n"
 	"                         let agents on other hosts join the world there\n"
@@ -91,7 +87,7 @@ constexpr size_t kMaxScenario = 1 << 20;
 
 int main(int argc, char **argv)
 {
-	enum { OPT_EPOCH = 256, OPT_DDS_DOMAIN, OPT_AGENT, OPT_NAME, OPT_NO_SLACK };
+	enum { OPT_EPOCH = 256, OPT_DDS_DOMAIN, OPT_AGENT, OPT_NAME, OPT_NO_SLACK, OPT_SPIN_COST, OPT_SEED };
 	static const struct option longopts[] = {
 		{ "world", required_argument, nullptr, 'w' },
 		{ "socket", required_argument, nullptr, 's' },
@@ -99,6 +95,8 @@ int main(int argc, char **argv)
 		{ "trace", required_argument, nullptr, 't' },
 		{ "epoch", required_argument, nullptr, OPT_EPOCH },
 		{ "no-slack", no_argument, nullptr, OPT_NO_SLACK },
+		{ "spin-cost", required_argument, nullptr, OPT_SPIN_COST },
+		{ "seed", required_argument, nullptr, OPT_SEED },
 		{ "dds-domain", required_argument, nullptr, OPT_DDS_DOMAIN },
 		{ "agent", no_argument, nullptr, OPT_AGENT },
 		{ "name", required_argument, nullptr, OPT_NAME },
@@ -116,21 +114,18 @@ int main(int argc, char **argv)
 	opterr = 0;
 	while ((opt = getopt_long(argc, argv, ":w:s:m:t:qhV", longopts, nullptr)) != -1) {
 		std::string arg = optarg ? optarg : "";
+		if (std::string name = run_option_of(longopts, opt); !name.empty()) {
+			if (auto ok = set_run_option(name, arg, cfg); !ok)
+				return usage_error(ok.error().message);
+			mode_given |= name == "mode";
+			continue;
+		}
 		switch (opt) {
 		case 'w':
 			world_file = arg;
 			break;
 		case 's':
 			socket_path = arg;
-			break;
-		case 'm':
-			cfg.mode = parse_mode(arg);
-			if (cfg.mode < 0)
-				return usage_error("--mode: '" + arg + "' is not a mode (cpu or lockstep)");
-			mode_given = true;
-			break;
-		case OPT_NO_SLACK:
-			cfg.slack = false;
 			break;
 		case OPT_AGENT:
 			agent = true;
@@ -141,13 +136,6 @@ int main(int argc, char **argv)
 		case 't':
 			cfg.trace_path = arg;
 			break;
-		case OPT_EPOCH: {
-			auto v = parse_epoch(arg);
-			if (!v)
-				return usage_error("--epoch: " + v.error().message);
-			cfg.epoch_ns = *v;
-			break;
-		}
 		case OPT_DDS_DOMAIN: {
 			char *end = nullptr;
 			long d = strtol(arg.c_str(), &end, 10);

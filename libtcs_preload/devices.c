@@ -15,6 +15,7 @@
 #include "raw_syscall.h"
 #include "report.h"
 #include "roundtrip.h"
+#include "spin.h"
 #include "vclock.h"
 #include "wait.h"
 
@@ -162,6 +163,10 @@ static long tcs_device_sync(int handle, int fd, unsigned kind)
 		return 0;
 	}
 	long r = tcs_device_sync_held(handle, fd, kind);
+	/* In lockstep, a read that found nothing and may not wait is a
+	 * spin's (one that got a record ends a spin: tcs_got_record). */
+	if (r == -EAGAIN)
+		tcs_spin_empty_read(1);
 	tcs_wait_leave();
 	return r;
 }
@@ -180,6 +185,14 @@ static long tcs_before_read(int fd)
 	return tcs_device_sync(h, fd, TCS_SYNC_READ);
 }
 
+/* A read of got bytes: a record came, and a spin waiting for it ends. */
+static long tcs_got_record(long got)
+{
+	if (got > 0)
+		tcs_spin_waited();
+	return got;
+}
+
 long tcs_device_read(int fd, void *buf, size_t n)
 {
 	/* A stream sensor's records already in the fd were due when they were
@@ -189,12 +202,12 @@ long tcs_device_read(int fd, void *buf, size_t n)
 	if (n > 0 && tcs_device_streams(fd)) {
 		long got = tcs_sys6(SYS_recvfrom, fd, buf, n, MSG_DONTWAIT, 0, 0);
 		if (got > 0)
-			return got;
+			return tcs_got_record(got);
 	}
 	long r = tcs_before_read(fd);
 	if (r < 0)
 		return r;
-	return tcs_sys3(SYS_read, fd, buf, n);
+	return tcs_got_record(tcs_sys3(SYS_read, fd, buf, n));
 }
 
 long tcs_device_readv(int fd, const struct iovec *iov, int n)
@@ -202,7 +215,7 @@ long tcs_device_readv(int fd, const struct iovec *iov, int n)
 	long r = tcs_before_read(fd);
 	if (r < 0)
 		return r;
-	return tcs_sys3(SYS_readv, fd, iov, n);
+	return tcs_got_record(tcs_sys3(SYS_readv, fd, iov, n));
 }
 
 /* After writing device handle h (fd): the coordinator takes the records,

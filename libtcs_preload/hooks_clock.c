@@ -8,6 +8,7 @@
 #include "cpu_estimate.h"
 #include "raw_syscall.h"
 #include "real.h"
+#include "spin.h"
 #include "vclock.h"
 
 /* <sys/timeb.h> is gone from glibc's headers; the ABI stays. */
@@ -42,17 +43,17 @@ static int tcs_virtual_clock(clockid_t id, int64_t *ns)
 	case CLOCK_REALTIME:
 	case CLOCK_REALTIME_COARSE:
 	case CLOCK_REALTIME_ALARM:
-		*ns = p->real_origin_ns + tcs_vnow();
+		*ns = p->real_origin_ns + tcs_program_vnow();
 		return 0;
 	case CLOCK_MONOTONIC:
 	case CLOCK_MONOTONIC_RAW:
 	case CLOCK_MONOTONIC_COARSE:
 	case CLOCK_BOOTTIME:
 	case CLOCK_BOOTTIME_ALARM:
-		*ns = p->mono_origin_ns + tcs_vnow();
+		*ns = p->mono_origin_ns + tcs_program_vnow();
 		return 0;
 	case CLOCK_TAI:
-		*ns = p->tai_origin_ns + tcs_vnow();
+		*ns = p->tai_origin_ns + tcs_program_vnow();
 		return 0;
 	case CLOCK_PROCESS_CPUTIME_ID:
 		*ns = tcs_charged_now();
@@ -89,7 +90,7 @@ TCS_EXPORT int clock_gettime(clockid_t id, struct timespec *ts)
 {
 	/* The clock control loops read most, on the shortest path. */
 	if (__builtin_expect(id == CLOCK_MONOTONIC, 1) && tcs_active()) {
-		*ts = tcs_ns_to_ts(tcs_rt.page->mono_origin_ns + tcs_vnow());
+		*ts = tcs_ns_to_ts(tcs_rt.page->mono_origin_ns + tcs_program_vnow());
 		return 0;
 	}
 	int64_t ns;
@@ -174,7 +175,7 @@ TCS_EXPORT clock_t times(struct tms *buf)
 		buf->tms_utime = (clock_t)(tcs_charged_now() / (TCS_NS_PER_S / TCS_USER_HZ));
 		buf->tms_stime = 0;
 	}
-	return (clock_t)((tcs_rt.page->mono_origin_ns + tcs_vnow()) / (TCS_NS_PER_S / TCS_USER_HZ));
+	return (clock_t)((tcs_rt.page->mono_origin_ns + tcs_program_vnow()) / (TCS_NS_PER_S / TCS_USER_HZ));
 }
 
 TCS_EXPORT int getrusage(int who, struct rusage *ru)

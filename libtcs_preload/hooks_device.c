@@ -1,8 +1,10 @@
 /* Device hooks: open/openat/fopen (with their 64 and fortified variants)
  * of a scenario's device paths give a real fd the coordinator serves
  * (devices.c); reads and writes of it are the I/O hooks' (hooks_io.c);
- * termios calls on it succeed as on a serial port. Everything else passes
- * straight to the kernel, or to libc. */
+ * termios calls on it succeed as on a serial port. /dev/urandom and
+ * /dev/random under --seed open as themselves, their fds marked for the
+ * I/O hooks to read from the seeded stream (random.c). Everything else
+ * passes straight to the kernel, or to libc. */
 /* Both open() and open64() are defined here: the headers must not rename
  * one to the other (meson builds with _FILE_OFFSET_BITS=64). */
 #undef _FILE_OFFSET_BITS
@@ -14,6 +16,7 @@
 #include <termios.h>
 
 #include "devices.h"
+#include "random.h"
 #include "raw_syscall.h"
 #include "real.h"
 
@@ -24,7 +27,10 @@ static long tcs_openat(int dirfd, const char *path, int flags, mode_t mode)
 	int dev = tcs_device_lookup(path);
 	if (dev >= 0)
 		return tcs_device_open(dev, flags);
-	return tcs_sys4(SYS_openat, dirfd, path, flags, mode);
+	long fd = tcs_sys4(SYS_openat, dirfd, path, flags, mode);
+	if (fd >= 0 && tcs_random_path(path) && tcs_seeded())
+		tcs_random_fd_opened((int)fd);
+	return fd;
 }
 
 #define TCS_MODE_ARG(flags, mode)                                  \
@@ -95,8 +101,9 @@ TCS_EXPORT int __openat64_2(int dirfd, const char *path, int flags)
 /* ---- stdio ------------------------------------------------------------------ */
 
 /* glibc's stdio reads and writes through internal calls no preload sees,
- * so a device opened with fopen() is a stream of our own over the fd,
- * read and written through the I/O hooks (hooks_io.c). */
+ * so a device (or a seeded random device) opened with fopen() is a stream
+ * of our own over the fd, read and written through the I/O hooks
+ * (hooks_io.c). */
 static ssize_t tcs_cookie_read(void *c, char *buf, size_t n)
 {
 	return read((int)(intptr_t)c, buf, n);
@@ -113,16 +120,20 @@ static int tcs_cookie_close(void *c)
 	return close((int)(intptr_t)c);
 }
 
+/* Whether fopen(path) is ours: a device, or a seeded random device. */
+static int tcs_fopen_ours(const char *path)
+{
+	return tcs_device_lookup(path) >= 0 || (tcs_random_path(path) && tcs_seeded());
+}
+
 static FILE *tcs_fopen(const char *path, const char *mode)
 {
 	int dev = tcs_device_lookup(path);
-	if (dev < 0)
-		return NULL;
 	int flags = mode[0] == 'r' ? (mode[1] == '+' ? O_RDWR : O_RDONLY) : O_WRONLY;
 	for (const char *m = mode; *m; m++)
 		if (*m == 'e')
 			flags |= O_CLOEXEC;
-	long fd = tcs_device_open(dev, flags);
+	long fd = tcs_openat(AT_FDCWD, path, flags, 0);
 	if (fd < 0) {
 		errno = (int)-fd;
 		return NULL;
@@ -137,7 +148,7 @@ static FILE *tcs_fopen(const char *path, const char *mode)
 	 * write through it (our read/write hooks), not through the FILE. */
 	f->_fileno = (int)fd;
 	/* Like a serial port (a tty): line-buffered, so each line goes out. */
-	if (tcs_rt.devices->dev[dev].format == TCS_FORMAT_TEXT)
+	if (dev >= 0 && tcs_rt.devices->dev[dev].format == TCS_FORMAT_TEXT)
 		setvbuf(f, NULL, _IOLBF, 0);
 	return f;
 }
@@ -146,14 +157,14 @@ static FILE *tcs_fopen(const char *path, const char *mode)
  * library's constructor, before ours, opens a configuration file). */
 TCS_EXPORT FILE *fopen(const char *path, const char *mode)
 {
-	if (tcs_device_lookup(path) >= 0)
+	if (tcs_fopen_ours(path))
 		return tcs_fopen(path, mode);
 	return tcs_real()->fopen(path, mode);
 }
 
 TCS_EXPORT FILE *fopen64(const char *path, const char *mode)
 {
-	if (tcs_device_lookup(path) >= 0)
+	if (tcs_fopen_ours(path))
 		return tcs_fopen(path, mode);
 	return tcs_real()->fopen64(path, mode);
 }

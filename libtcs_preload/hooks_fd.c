@@ -6,16 +6,33 @@
 #include <linux/close_range.h>
 
 #include "devices.h"
+#include "random.h"
 #include "raw_syscall.h"
 #include "thread_channels.h"
 #include "timerfds.h"
+
+/* What the runtime knows of an fd: whether it is a device, a virtual
+ * timerfd, a seeded random device. Forgotten when it is closed, copied
+ * when it is duplicated. */
+static void tcs_fd_forget(int fd)
+{
+	tcs_device_forget(fd);
+	tcs_vtimer_forget(fd);
+	tcs_random_forget(fd);
+}
+
+static void tcs_fd_copy(int from, int to)
+{
+	tcs_device_copy(from, to);
+	tcs_vtimer_copy(from, to);
+	tcs_random_copy(from, to);
+}
 
 TCS_EXPORT int close(int fd)
 {
 	if (tcs_is_runtime_fd(fd))
 		return tcs_errno_result(-EBADF);
-	tcs_device_forget(fd);
-	tcs_vtimer_forget(fd);
+	tcs_fd_forget(fd);
 	return tcs_errno_result(tcs_sys1(SYS_close, fd));
 }
 
@@ -50,10 +67,8 @@ static long tcs_close_range(unsigned first, unsigned last, unsigned flags)
 
 static void tcs_forget_range(unsigned first, unsigned last)
 {
-	for (unsigned fd = first; fd <= last && fd < TCS_DEVICE_FD_MAX; fd++) {
-		tcs_device_forget((int)fd);
-		tcs_vtimer_forget((int)fd);
-	}
+	for (unsigned fd = first; fd <= last && fd < TCS_DEVICE_FD_MAX; fd++)
+		tcs_fd_forget((int)fd);
 }
 
 TCS_EXPORT int close_range(unsigned first, unsigned last, int flags)
@@ -83,10 +98,8 @@ TCS_EXPORT int dup2(int oldfd, int newfd)
 TCS_EXPORT int dup(int oldfd)
 {
 	long r = tcs_sys1(SYS_dup, oldfd);
-	if (r >= 0) {
-		tcs_device_copy(oldfd, (int)r);
-		tcs_vtimer_copy(oldfd, (int)r);
-	}
+	if (r >= 0)
+		tcs_fd_copy(oldfd, (int)r);
 	return tcs_errno_result(r);
 }
 
@@ -96,10 +109,8 @@ TCS_EXPORT int dup3(int oldfd, int newfd, int flags)
 		return tcs_errno_result(-EBADF);
 	long r = tcs_sys3(SYS_dup3, oldfd, newfd, flags);
 	if (r >= 0) {
-		tcs_device_forget(newfd);
-		tcs_vtimer_forget(newfd);
-		tcs_device_copy(oldfd, newfd);
-		tcs_vtimer_copy(oldfd, newfd);
+		tcs_fd_forget(newfd);
+		tcs_fd_copy(oldfd, newfd);
 	}
 	return tcs_errno_result(r);
 }

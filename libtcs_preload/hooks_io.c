@@ -1,12 +1,14 @@
 /* I/O hooks: read, readv, __read_chk, write, writev. What the fd is
  * decides who serves the call: a virtual timerfd's read its own hooks
  * (hooks_timerfd.c), a device's read or write the device table
- * (devices.c), which makes the one round trip it needs; anything else goes
+ * (devices.c), which makes the one round trip it needs, a random device's
+ * read under --seed the seeded stream (random.c); anything else goes
  * straight to the kernel. */
 #include <sys/uio.h>
 
 #include "devices.h"
 #include "hooks_timerfd.h"
+#include "random.h"
 #include "raw_syscall.h"
 #include "timerfds.h"
 
@@ -17,6 +19,8 @@ TCS_EXPORT ssize_t read(int fd, void *buf, size_t n)
 			return tcs_errno_result(tcs_timerfd_read(fd, buf, n));
 		if (tcs_device_handle(fd) >= 0)
 			return tcs_errno_result(tcs_device_read(fd, buf, n));
+		if (tcs_random_fd(fd))
+			return tcs_errno_result(tcs_random_read(buf, n));
 	}
 	return tcs_errno_result(tcs_sys3(SYS_read, fd, buf, n));
 }
@@ -33,6 +37,8 @@ TCS_EXPORT ssize_t readv(int fd, const struct iovec *iov, int n)
 {
 	if (tcs_active() && tcs_device_handle(fd) >= 0)
 		return tcs_errno_result(tcs_device_readv(fd, iov, n));
+	if (tcs_active() && tcs_random_fd(fd))
+		return tcs_errno_result(tcs_random_readv(iov, n));
 	return tcs_errno_result(tcs_sys3(SYS_readv, fd, iov, n));
 }
 

@@ -11,6 +11,7 @@
 
 #include "devices.h"
 #include "raw_syscall.h"
+#include "spin.h"
 #include "timer_slack.h"
 #include "timerfds.h"
 #include "vclock.h"
@@ -52,6 +53,8 @@ static long tcs_multiplex(int64_t timeout_ns, tcs_check_fn check, void *ctx, str
 			until = tcs_ns_add(now, timeout_ns);
 	}
 	long r = check(ctx);
+	if (r == 0 && timeout_ns == 0)
+		tcs_spin_empty_read(1); /* polled, nothing ready: a spin's, in lockstep */
 	if (r != 0 || timeout_ns == 0)
 		return r;
 	/* Relative on the first wait; absolute (the same deadline) on any

@@ -11,6 +11,7 @@
 #include <stdarg.h>
 
 #include "parking.h"
+#include "random.h"
 #include "raw_syscall.h"
 #include "report.h"
 #include "sched_clamp.h"
@@ -125,6 +126,8 @@ TCS_EXPORT long syscall(long nr, ...)
 		break;
 	case SYS_prctl:
 		return tcs_syscall_result(tcs_prctl((int)a[0], (const unsigned long *)&a[1]));
+	case SYS_getrandom:
+		return tcs_syscall_result(tcs_getrandom((void *)a[0], (size_t)a[1], (unsigned)a[2]));
 	case SYS_sched_setaffinity:
 		if (tcs_active())
 			return tcs_syscall_result(a[2] ? tcs_sched_setaffinity((size_t)a[1], (const cpu_set_t *)a[2]) : -EFAULT);

@@ -40,5 +40,11 @@ TCS_EXPORT int pthread_create(pthread_t *thread, const pthread_attr_t *attr, voi
 			     : tcs_real()->pthread_create(thread, attr, start, arg);
 	if (clamped)
 		tcs_sched_restore_attr(own, &saved, saved_policy);
+	/* In lockstep the new thread runs first, till it waits: a spin of
+	 * this one (spin.c) would otherwise take virtual time for as long as
+	 * the kernel kept it waiting, and its first wait would begin that much
+	 * later, by the wall clock's chance. */
+	if (r == 0 && tcs_active() && tcs_rt.page->mode == TCS_MODE_LOCKSTEP)
+		tcs_sys0(SYS_sched_yield);
 	return r;
 }

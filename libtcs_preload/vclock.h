@@ -45,7 +45,7 @@ static inline __attribute__((always_inline)) int64_t tcs_vnow(void)
 		tcs_catch_up();
 	/* Lockstep needs no CPU reading: the cheapest path of all. */
 	if (p->mode == TCS_MODE_LOCKSTEP)
-		return tcs_page_read_slice(p).v_base;
+		return tcs_page_lockstep_v(p, tcs_page_read_slice(p));
 #if defined(__x86_64__)
 	/* While the anchor holds, so does the slice it was taken in (a new
 	 * slice bumps gen): virtual time is the anchor's plus the TSC since,

@@ -10,6 +10,7 @@
 #include "report.h"
 #include "roundtrip.h"
 #include "signal_timers.h"
+#include "spin.h"
 #include "thread_channels.h"
 #include "vclock.h"
 #include "wait.h"
@@ -198,6 +199,7 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 	struct tcs_msg w;
 	unsigned early = tcs_roundtrip(&m, fds, nfds, mask, &w, NULL);
 	t->end = w.v;
+	tcs_spin_waited();
 	/* A handler ran (a timer's signal, say): the wait was interrupted,
 	 * whatever the answer that crossed the EARLY says. */
 	if (early == TCS_EARLY_SIGNAL)

@@ -10,6 +10,7 @@
 
 #include "cli_errors.h"
 #include "cli_time.h"
+#include "run_options.h"
 #include "connect_run.h"
 #include "coordinator.h"
 #include "preload_path.h"
@@ -30,16 +31,11 @@ const char kUsage[] =
 	"\n"
 	"  -w, --world FILE       scenario (default: the built-in pendulum)\n"
 	"      --list-signals     print the scenario's signals and devices, and exit\n"
-	"  -m, --mode cpu|lockstep\n"
-	"                         cpu (default): computation costs virtual time;\n"
-	"                         lockstep: computation is free (the status quo)\n"
+	TCS_RUN_OPTIONS_HELP
 	"      --cpu-scale X      virtual seconds per CPU second (default 1.0;\n"
 	"                         3 models a target CPU three times slower)\n"
 	"  -d, --duration TIME    stop after TIME of virtual time (10s, 250ms, 2min)\n"
 	"  -t, --trace FILE       write a trace of the run (MCAP)\n"
-	"      --epoch TIME       virtual wall-clock start: RFC 3339 or seconds since 1970\n"
-	"      --no-slack         waits end exactly at their deadlines (default: their\n"
-	"                         thread's timer slack later, 50 us unless it set one)\n"
 	"      --connect SOCKET   run under a running coordinatord\n"
 	"  -q, --quiet            no progress line, no summary\n"
 	"  -h, --help             show this help\n"
@@ -88,7 +84,7 @@ int run_under_daemon(const std::string &socket, const std::vector<std::string> &
 
 int main(int argc, char **argv)
 {
-	enum { OPT_CPU_SCALE = 256, OPT_EPOCH, OPT_CONNECT, OPT_LIST_SIGNALS, OPT_NO_SLACK };
+	enum { OPT_CPU_SCALE = 256, OPT_EPOCH, OPT_CONNECT, OPT_LIST_SIGNALS, OPT_NO_SLACK, OPT_SPIN_COST, OPT_SEED };
 	static const struct option longopts[] = {
 		{ "world", required_argument, nullptr, 'w' },
 		{ "mode", required_argument, nullptr, 'm' },
@@ -97,6 +93,8 @@ int main(int argc, char **argv)
 		{ "trace", required_argument, nullptr, 't' },
 		{ "epoch", required_argument, nullptr, OPT_EPOCH },
 		{ "no-slack", no_argument, nullptr, OPT_NO_SLACK },
+		{ "spin-cost", required_argument, nullptr, OPT_SPIN_COST },
+		{ "seed", required_argument, nullptr, OPT_SEED },
 		{ "connect", required_argument, nullptr, OPT_CONNECT },
 		{ "list-signals", no_argument, nullptr, OPT_LIST_SIGNALS },
 		{ "quiet", no_argument, nullptr, 'q' },
@@ -115,19 +113,20 @@ int main(int argc, char **argv)
 		std::string arg = optarg ? optarg : "";
 		for (const struct option *o = longopts; o->name; o++)
 			if (o->val == opt && (opt == 'w' || opt == 'm' || opt == 'd' || opt == 't' || opt == OPT_EPOCH ||
-					      opt == OPT_LIST_SIGNALS || opt == OPT_NO_SLACK))
+					      opt == OPT_LIST_SIGNALS || opt == OPT_NO_SLACK || opt == OPT_SPIN_COST ||
+					      opt == OPT_SEED))
 				given.push_back(std::string("--") + o->name);
+		if (std::string name = run_option_of(longopts, opt); !name.empty()) {
+			if (auto ok = set_run_option(name, arg, cfg); !ok)
+				return usage_error(ok.error().message);
+			continue;
+		}
 		switch (opt) {
 		case 'w':
 			world_file = arg;
 			break;
 		case OPT_LIST_SIGNALS:
 			list_signals = true;
-			break;
-		case 'm':
-			cfg.mode = parse_mode(arg);
-			if (cfg.mode < 0)
-				return usage_error("--mode: '" + arg + "' is not a mode (cpu or lockstep)");
 			break;
 		case OPT_CPU_SCALE: {
 			auto v = parse_positive(arg);
@@ -148,16 +147,6 @@ int main(int argc, char **argv)
 		}
 		case 't':
 			cfg.trace_path = arg;
-			break;
-		case OPT_EPOCH: {
-			auto v = parse_epoch(arg);
-			if (!v)
-				return usage_error("--epoch: " + v.error().message);
-			cfg.epoch_ns = *v;
-			break;
-		}
-		case OPT_NO_SLACK:
-			cfg.slack = false;
 			break;
 		case OPT_CONNECT:
 			if (arg.empty())

@@ -42,7 +42,8 @@ void check_accepted(const tcs_msg &m)
 	case TCS_MSG_BLOCK:
 		// The wait's kind names it in the trace; times are added and
 		// compared as non-negative virtual ns (TCS_NEVER included).
-		check(m.kind == TCS_BLOCK_SLEEP || m.kind == TCS_BLOCK_POLL || m.kind == TCS_BLOCK_SYNC);
+		check(m.kind == TCS_BLOCK_SLEEP || m.kind == TCS_BLOCK_POLL || m.kind == TCS_BLOCK_SYNC ||
+		      m.kind == TCS_BLOCK_SPIN);
 		check((m.flags & ~TCS_BLOCK_FLAGS_ALL) == 0);
 		check(m.deadline >= 0 && m.v >= 0 && m.cpu >= 0 && m.slack >= 0);
 		check(tcs_ns_add(m.v, m.deadline) >= m.deadline);

@@ -113,7 +113,7 @@ def test_pipes_and_python_subprocesses():
     # the output's 1 s (the child writes and exits there): one step at most.
     took = float(re.search(r"([0-9.]+) s virtual", r.stderr).group(1))
     check(took in (3.0, 3.001), "3 s of virtual time, or a step more (%.3f)" % took, r)
-    r = tcs("-q", "-m", "lockstep", "--", PYTHON, "-c",
+    r = tcs("-q", "-m", "lockstep", "--spin-cost", "0", "--", PYTHON, "-c",
             "import os, subprocess, time\n"
             "t = time.monotonic()\n"
             "subprocess.run(['sleep', '2'], check=True)\n"

@@ -82,7 +82,7 @@ format = "binary"
 
 
 def probe(world, *args, mode="lockstep"):
-    r = tcs("-q", "-m", mode, "--no-slack", "-w", world, prog("device_probe"), *args, timeout=30)
+    r = tcs("-q", "-m", mode, "--no-slack", "--spin-cost", "0", "-w", world, prog("device_probe"), *args, timeout=30)
     check(r.returncode == 0, "device_probe %s succeeds" % " ".join(args), r)
     return r
 

@@ -57,11 +57,13 @@ def test_python_sleep_loop_sees_exactly_5s():
             time.sleep(0.01)
         print("elapsed=%.9f" % (time.monotonic() - t0))
     """)
-    r = tcs("-q", "-m", "lockstep", "--", PYTHON, "-c", script, timeout=30)
+    r = tcs("-q", "-m", "lockstep", "--epoch", "0", "--", PYTHON, "-c", script, timeout=30)
     check(r.returncode == 0, "python exits 0", r)
     # Each sleep ends its 50 us of timer slack late, and the next counts
-    # from there.
-    check(r.values()["elapsed"] == "5.025000000", "500 x time.sleep(0.01) is exactly 500 x 10.05 ms", r)
+    # from there. The first sleep's own clock read follows t0's with no
+    # wait between: a spin's read, 25 ns with an epoch (the others each
+    # follow a sleep, and cost nothing).
+    check(r.values()["elapsed"] == "5.025000025", "500 x time.sleep(0.01) is exactly 500 x 10.05 ms and a read", r)
 
 
 def cpu_clock_readings(loops):
@@ -116,18 +118,22 @@ def test_same_epoch_same_timestamps():
             for _ in range(2)]
     check(runs[0].stdout == runs[1].stdout, "two runs with one epoch print the same", runs[1])
     # (Each 0.25 s sleep ends 50 us late: its timer slack.)
-    check(runs[0].stdout.split()[0] == "t=1714564800250050000", "time.time() starts at the epoch", runs[0])
-    # The monotonic clock too starts at a fixed value: 100000 s.
-    check(runs[0].stdout.split()[1] == "m=100000250050000", "time.monotonic() starts at 100000 s", runs[0])
+    # Python's start-up reads the clock (25 ns each after the first, with
+    # an epoch: spins in lockstep), so the sleep begins a few us in.
+    t, m = (int(x.split("=")[1]) for x in runs[0].stdout.split()[:2])
+    check(0 <= t - 1714564800250050000 < 100000, "time.time() starts at the epoch", runs[0])
+    # The monotonic clock too starts at a fixed value: 100000 s (read
+    # right after time.time(), one read later).
+    check(m - 100000 * 10**9 == t - 1714564800 * 10**9 + 25, "time.monotonic() starts at 100000 s", runs[0])
     c = [tcs("-q", "-m", "lockstep", "--epoch", "1714564800", prog("clocks")) for _ in range(2)]
     steps = [[line for line in x.stdout.splitlines() if line.startswith("step")] for x in c]
     check(len(steps[0]) == 4 and steps[0] == steps[1], "every clock identical across runs", c[1])
-    check("real0=1714564800125050000" in steps[0][0], "CLOCK_REALTIME = epoch + virtual time (a sleep and its slack)",
-          c[0])
+    check("real0=1714564800125050100" in steps[0][0],
+          "CLOCK_REALTIME = epoch + virtual time (a sleep and its slack, and four clock reads before)", c[0])
 
 
 def test_every_clock_reads_virtual_time():
-    r = tcs("-q", "-m", "lockstep", "--epoch", "2000-01-01T00:00:00Z", prog("clocks"))
+    r = tcs("-q", "-m", "lockstep", "--spin-cost", "0", "--epoch", "2000-01-01T00:00:00Z", prog("clocks"))
     lines = [line for line in r.stdout.splitlines() if line.startswith("step")]
     # Four sleeps, each ending its 50 us of timer slack late.
     expected = [at + (i + 1) * SLACK for i, at in enumerate([125000000, 375000000, 750000000, 1250000000])]
@@ -174,7 +180,8 @@ def test_cpp_chrono_loop():
     r = tcs("-q", "--no-slack", "-m", "lockstep", "--epoch", "1000", prog("chrono_loop"), "200", "5")
     v = r.values()
     check(v["steady_elapsed_ns"] == "1000000000", "200 x sleep_until(+5ms) = 1 s of steady_clock", r)
-    check(v["system_now_ns"] == "1001000000000", "system_clock = epoch + virtual time", r)
+    # (Read right after steady_clock's: a spin's read, 25 ns with an epoch.)
+    check(v["system_now_ns"] == "1001000000025", "system_clock = epoch + virtual time", r)
     check(v["sleep_for_ns"] == "250000000", "sleep_for(250ms) lasts 250 ms", r)
 
 
@@ -195,7 +202,7 @@ def test_epoch_in_cpu_mode():
 
 
 def test_multiplexer_timeouts_are_virtual():
-    r = tcs("-q", "--no-slack", "-m", "lockstep", prog("multiplex"))
+    r = tcs("-q", "--no-slack", "--spin-cost", "0", "-m", "lockstep", prog("multiplex"))
     v = r.values()
     for name, ms in [("poll", 200), ("ppoll", 300), ("select", 400), ("pselect", 500), ("epoll_wait", 600),
                      ("epoll_pwait", 700)]:
@@ -208,7 +215,7 @@ def test_multiplexer_timeouts_are_virtual():
 
 def test_signal_handler_interrupts_waits():
     for mode in ("lockstep", "cpu"):
-        r = tcs("-q", "--no-slack", "-m", mode, prog("interrupt"), timeout=30)
+        r = tcs("-q", "--no-slack", "--spin-cost", "0", "-m", mode, prog("interrupt"), timeout=30)
         check(r.returncode == 0, "interrupt exits 0 (%s)" % mode, r)
         out, v = r.stdout, r.values()
         check("nanosleep=-1 errno=EINTR handled=1" in out, "nanosleep: EINTR", r)

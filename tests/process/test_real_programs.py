@@ -89,7 +89,7 @@ os.kill(pid, signal.SIGUSR1)
 os.waitpid(pid, 0)
 print("parent_done=%.9f" % (time.monotonic() - t0))
 """
-    r = tcs("-q", "-m", "lockstep", "--no-slack", "--", PYTHON, "-c", script, timeout=30)
+    r = tcs("-q", "-m", "lockstep", "--no-slack", "--spin-cost", "0", "--", PYTHON, "-c", script, timeout=30)
     v = r.values()
     print("  child's handler at %s s, parent done at %s s" % (v.get("handler_at"), v.get("parent_done")))
     check(v.get("handler_at") == "0.500000000", "the child's handler runs at 0.5 s", r)

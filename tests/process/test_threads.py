@@ -18,7 +18,7 @@ def run(mode, *argv, options=()):
     """argv under tcs in mode, every wait exactly at its deadline
     (--no-slack: what these tests check is the waits' machinery;
     test_slack checks the timer slack)."""
-    r = tcs("-q", "-m", mode, "--no-slack", *options, "--", *argv, timeout=60)
+    r = tcs("-q", "-m", mode, "--no-slack", "--spin-cost", "0", *options, "--", *argv, timeout=60)
     check(r.returncode == 0, "%s under %s: exit 0" % (argv[0], mode), r)
     return r.values(), r
 

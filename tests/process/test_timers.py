@@ -15,7 +15,7 @@ LOOK_SLACK = READ + AHEAD
 
 def test_timerfd_paces_a_loop_exactly_in_lockstep():
     for how in ("read", "poll", "select", "epoll"):
-        r = tcs("-q", "-m", "lockstep", prog("timer_loop"), how, 1000, 1000)
+        r = tcs("-q", "-m", "lockstep", "--spin-cost", "0", prog("timer_loop"), how, 1000, 1000)
         v = r.values()
         print("  %-6s %s expirations in %s ns" % (how, v["expirations"], v["loop_ns"]))
         check(v["bad"] == "0", "%s: every wait ended with the timer readable" % how, r)
@@ -63,7 +63,7 @@ def test_overruns_are_counted_in_cpu_mode():
 
 def test_signal_timers_pace_a_legacy_loop():
     for how in ("itimer", "posix", "thread"):
-        r = tcs("-q", "-m", "lockstep", prog("alarm_loop"), how, 1000, 1000, 0)
+        r = tcs("-q", "-m", "lockstep", "--spin-cost", "0", prog("alarm_loop"), how, 1000, 1000, 0)
         v = r.values()
         print("  %-6s lockstep: %s ticks in %s ns" % (how, v["ticks"], v["loop_ns"]))
         check(v["ticks"] == "1000" and v["loop_ns"] == "1000000000",

@@ -226,7 +226,7 @@ def test_summary_of_an_overloaded_loop():
     # A period, one loop's CPU, holds its work (a wake's mark may run ahead).
     check(c["period"]["min_ns"] >= 1.5e6 - AHEAD, "each period 1.5 ms of work or more: %s" % c["period"])
 
-    path, r = traced_run("lockstep", "-m", "lockstep", "--", prog("periodic"), 1000, 1, "1500us")
+    path, r = traced_run("lockstep", "-m", "lockstep", "--spin-cost", "0", "--", prog("periodic"), 1000, 1, "1500us")
     own = r.values()
     s = summary(path)
     c = s["controllers"][0]

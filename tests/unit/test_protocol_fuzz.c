@@ -29,7 +29,8 @@ static void assert_invariants(const struct tcs_msg *m, const void *raw)
 		assert_true(m->arg > 0 && m->arg <= INT32_MAX);
 		break;
 	case TCS_MSG_BLOCK:
-		assert_true(m->kind == TCS_BLOCK_SLEEP || m->kind == TCS_BLOCK_POLL || m->kind == TCS_BLOCK_SYNC);
+		assert_true(m->kind == TCS_BLOCK_SLEEP || m->kind == TCS_BLOCK_POLL || m->kind == TCS_BLOCK_SYNC ||
+			    m->kind == TCS_BLOCK_SPIN);
 		assert_int_equal(m->flags & ~TCS_BLOCK_FLAGS_ALL, 0);
 		assert_true(m->slack >= 0);
 		assert_true(m->deadline >= 0);

@@ -21,7 +21,7 @@ extern "C" {
 #endif
 
 #define TCS_PAGE_MAGIC 0x70736374u /* "tcsp" */
-#define TCS_PAGE_VERSION 11u
+#define TCS_PAGE_VERSION 12u
 #define TCS_PAGE_SIZE 4096
 
 enum tcs_mode {
@@ -90,7 +90,14 @@ struct tcs_clock_page {
 	uint64_t tick_resync;   /* ticks after which an estimate is read again */
 	int64_t owner_pid;      /* the process this page is for: another one (a child
 				 * after exec) must register before it runs */
-	uint64_t reserved1[1];
+	/* Lockstep: the virtual cost of a clock read, and of an empty
+	 * non-blocking read or poll, made without a wait since the last such
+	 * call (a spin: spin.c). */
+	int32_t spin_clock_ns;
+	int32_t spin_read_ns;
+	/* --seed: this process's key to the seeded stream (tcs/random_stream.h);
+	 * 0: the system's randomness is real. */
+	uint64_t random_key;
 
 	/* Coordinator-written under the seqlock. */
 	uint32_t seq;
@@ -101,7 +108,11 @@ struct tcs_clock_page {
 	 * says in its BLOCK how many it had seen when it looked for pending ones
 	 * (TCS_BLOCK_SIGMASK). */
 	uint64_t signals_raised;
-	uint64_t reserved3[2];
+	/* Lockstep: how far virtual time may go by spinning in this slice
+	 * (spin_v) before the controller must ask: the next time the world,
+	 * a timer or another thread needs it. */
+	int64_t spin_limit;
+	uint64_t reserved3[1];
 
 	/* Controller-written, one atomic store each. */
 	int64_t exit_cpu;        /* process CPU when the last hook returned */
@@ -122,6 +133,10 @@ struct tcs_clock_page {
 				  * that registers first starts no later, not at
 				  * the CPU of the hook since (on_child,
 				  * coordinator/children.cc) */
+	int64_t spin_v;          /* lockstep: the virtual time spinning reached in
+				  * this slice, short of spin_limit (spin.c) */
+	uint64_t random_drawn;   /* --seed: blocks of its stream drawn so far (kept
+				  * across exec, so the stream goes on) */
 
 	/* Both sides, by its own rules (tcs/mailbox.h). */
 	struct tcs_mailbox mailbox __attribute__((aligned(64)));
@@ -129,10 +144,10 @@ struct tcs_clock_page {
 
 #if defined(__cplusplus)
 static_assert(sizeof(struct tcs_clock_page) <= TCS_PAGE_SIZE, "page too large");
-static_assert(__builtin_offsetof(struct tcs_clock_page, seq) == 80, "layout changed: bump TCS_PAGE_VERSION");
+static_assert(__builtin_offsetof(struct tcs_clock_page, seq) == 88, "layout changed: bump TCS_PAGE_VERSION");
 #else
 _Static_assert(sizeof(struct tcs_clock_page) <= TCS_PAGE_SIZE, "page too large");
-_Static_assert(__builtin_offsetof(struct tcs_clock_page, seq) == 80, "layout changed: bump TCS_PAGE_VERSION");
+_Static_assert(__builtin_offsetof(struct tcs_clock_page, seq) == 88, "layout changed: bump TCS_PAGE_VERSION");
 #endif
 
 static inline void tcs_cpu_relax(void)
@@ -198,11 +213,19 @@ static inline int64_t tcs_page_slice_cpu(const struct tcs_clock_page *p, struct 
 	return tcs_less_own(tcs_slice_cpu(s.cpu_base, exit_cpu, cpu_now), s.own_base, own);
 }
 
+/* Lockstep: virtual time is the slice's start, or later by what spinning
+ * reached in it (spin_v; from an earlier slice, it is behind v_base). */
+static inline int64_t tcs_page_lockstep_v(const struct tcs_clock_page *p, struct tcs_slice s)
+{
+	int64_t spun = __atomic_load_n(&p->spin_v, __ATOMIC_RELAXED);
+	return spun > s.v_base ? spun : s.v_base;
+}
+
 /* Virtual time of a controller whose process CPU clock reads cpu_now. */
 static inline int64_t tcs_page_vnow(const struct tcs_clock_page *p, struct tcs_slice s, int64_t cpu_now)
 {
 	if (p->mode == TCS_MODE_LOCKSTEP)
-		return s.v_base;
+		return tcs_page_lockstep_v(p, s);
 	return tcs_ns_add(s.v_base, tcs_scale_cpu(tcs_page_slice_cpu(p, s, cpu_now), p->cpu_scale));
 }
 

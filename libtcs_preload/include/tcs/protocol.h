@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 #define TCS_PROTO_MAGIC 0x31736374u /* "tcs1" */
-#define TCS_PROTO_VERSION 7u
+#define TCS_PROTO_VERSION 8u
 
 /* Environment through which tcs-run hands the channel to the preload. */
 #define TCS_ENV_CHANNEL_FD "TCS_CHANNEL_FD"
@@ -106,6 +106,10 @@ enum tcs_block_kind {
 	TCS_BLOCK_SLEEP = 1, /* nanosleep and friends */
 	TCS_BLOCK_POLL = 2,  /* select/poll/epoll: real fds may end it early */
 	TCS_BLOCK_SYNC = 3,  /* a thread waits for another (condition variable, semaphore, mutex, futex) */
+	/* Lockstep: a spin (clock reads, empty reads) reached the clock page's
+	 * spin_limit; it goes on from deadline once the world, timers and other
+	 * threads are there (libtcs_preload/spin.c). Not the program's wait. */
+	TCS_BLOCK_SPIN = 4,
 };
 
 enum tcs_block_flags {
@@ -202,7 +206,7 @@ static inline const char *tcs_msg_check(const void *buf, long len, struct tcs_ms
 			return "HELLO with an invalid pid";
 		return NULL;
 	case TCS_MSG_BLOCK:
-		if (out->kind != TCS_BLOCK_SLEEP && out->kind != TCS_BLOCK_POLL && out->kind != TCS_BLOCK_SYNC)
+		if (out->kind < TCS_BLOCK_SLEEP || out->kind > TCS_BLOCK_SPIN)
 			return "BLOCK of unknown kind";
 		if (out->flags & ~TCS_BLOCK_FLAGS_ALL)
 			return "BLOCK with unknown flags";

@@ -1,0 +1,30 @@
+/* Spins in lockstep (spin.c): a loop that waits by reading the clock, or
+ * by reading a device or polling that has nothing yet, makes no wait, and
+ * in lockstep only waits move virtual time. So each such call made without
+ * a wait since the last one costs what it costs natively (the clock page's
+ * spin_clock_ns, spin_read_ns), and the spin ends where it would on the
+ * machine. In cpu mode the spin's CPU is charged: nothing to do here. */
+#ifndef TCS_PRELOAD_SPIN_H
+#define TCS_PRELOAD_SPIN_H
+
+#include "vclock.h"
+
+/* Virtual time now for a clock the program reads: in lockstep, later by
+ * the read's cost when it spins. */
+int64_t tcs_spin_clock_read(void) TCS_HIDDEN;
+
+static inline int64_t tcs_program_vnow(void)
+{
+	if (tcs_rt.page->mode != TCS_MODE_LOCKSTEP)
+		return tcs_vnow();
+	return tcs_spin_clock_read();
+}
+
+/* An empty non-blocking read or poll (lockstep: costs as it spins). held:
+ * the caller is inside a hook's wait (tcs_wait_enter). */
+void tcs_spin_empty_read(int held) TCS_HIDDEN;
+
+/* This thread waited: its next clock read or empty read is free. */
+void tcs_spin_waited(void) TCS_HIDDEN;
+
+#endif

@@ -1,0 +1,100 @@
+"""Spins in lockstep (docs/DESIGN.md §2): a loop that waits by reading the
+clock, or by reading or polling a device that has nothing yet, makes no
+wait, and in lockstep only waits move virtual time; so each such call made
+without a wait since the last one costs what it costs natively, and the
+spin ends where it would on the machine instead of hanging. With --epoch
+the costs are fixed (25 ns a clock read, 500 ns an empty read) so that a
+run repeats; --spin-cost sets them. Checked with tests/programs/spin.c."""
+
+from harness import SLACK, check, main, prog, scenario_file, tcs
+
+MS = 1000000
+US = 1000
+EPOCH_MONO = 100000 * 1000 * MS  # CLOCK_MONOTONIC at virtual 0 with --epoch
+
+STREAM = """\
+[sim]
+step = "1ms"
+model = "pendulum"
+
+[[device]]
+path = "/dev/tcs/pendulum/state"
+kind = "sensor"
+signals = ["pendulum.hinge.position", "pendulum.hinge.velocity"]
+mode = "stream"
+rate = "1kHz"
+"""
+
+
+def spin(*args, options=(), mode="lockstep"):
+    r = tcs("-q", "-m", mode, *options, prog("spin"), *args, timeout=60)
+    check(r.returncode == 0, "spin %s ends" % " ".join(args), r)
+    return {k: int(v) for k, v in r.values().items()}, r
+
+
+def test_a_clock_spin_ends_at_its_deadlines():
+    # 100 deadlines 1 ms apart, each waited for by reading the clock.
+    # With the nominal 25 ns a read, each deadline is met exactly by a read.
+    v, r = spin("clock", "100", str(MS), options=("--epoch", "0"))
+    check(v["span"] == 100 * MS and v["late"] == 0, "--epoch: 100 x 1 ms of spinning end at exactly 100 ms", r)
+    check(v["reads"] == 100 * MS // 25 + 1, "one read every 25 ns of virtual time, and the first free", r)
+    # Measured costs (this machine's): the reads past each deadline come
+    # within one read's cost of it, whatever that is here.
+    v, r = spin("clock", "100", str(MS))
+    check(0 <= v["late"] < 5 * US and 100 * MS <= v["span"] <= 100 * MS + v["late"],
+          "measured costs: every deadline met within a read's cost (%d ns)" % v["late"], r)
+    cost = 100 * MS / v["reads"]
+    check(1 <= cost < 5 * US, "a read costs what a clock read costs natively: %.1f ns" % cost, r)
+
+
+def test_spin_costs_are_set_by_the_user():
+    v, r = spin("clock", "10", str(MS), options=("--spin-cost", "1us,2us"))
+    check(v["span"] == 10 * MS and v["reads"] == 10 * 1000 + 1, "--spin-cost 1us: a read each microsecond", r)
+    r = tcs("-q", "-m", "lockstep", "--spin-cost", "2ms", prog("spin"), "clock", "1", "1")
+    check(r.returncode == 2 and "--spin-cost: '2ms': at most 1.000 ms each" in r.stderr,
+          "a cost over 1 ms is refused, naming the option", r)
+
+
+def test_an_empty_device_is_read_until_its_record():
+    with scenario_file(STREAM) as world:
+        # Nominal: 500 ns an empty read or poll; records every whole ms.
+        v, r = spin("device", "/dev/tcs/pendulum/state", options=("--epoch", "0", "-w", world))
+        check(v["at"] - EPOCH_MONO == MS and v["tries"] == 2000,
+              "reads at 500 ns each find the next record when it is due, at 1 ms", r)
+        check(v["poll_at"] - EPOCH_MONO - 2 * MS <= 25 and v["poll_tries"] == 1999,
+              "zero-timeout polls find it at 2 ms (and the clock read after costs 25 ns)", r)
+        # Measured costs: within a few microseconds of when it is due.
+        v, r = spin("device", "/dev/tcs/pendulum/state", options=("--epoch", "0", "--spin-cost", "24ns,1us",
+                                                                 "-w", world))
+        check(v["at"] - EPOCH_MONO == MS and v["tries"] == 1000, "--spin-cost 1us: 1000 reads to the record", r)
+        v, r = spin("device", "/dev/tcs/pendulum/state", options=("-w", world))
+        check(v["tries"] > 0 and v["poll_tries"] > 0, "measured costs: reads and polls found nothing first", r)
+
+
+def test_a_spin_meets_timers_and_other_threads():
+    # A signal timer's handler runs at its expiry (timers have no slack).
+    v, r = spin("alarm", "10", options=("--epoch", "0"))
+    check(v["alarm_ns"] == 10 * MS, "a spin for a 10 ms itimer's flag sees it at 10 ms", r)
+    # Another thread's sleep ends at its deadline and slack; it runs then.
+    v, r = spin("thread", "5", options=("--epoch", "0"))
+    check(v["thread_ns"] == 5 * MS + SLACK, "a spin for a thread's 5 ms sleep sees its flag at 5.05 ms", r)
+    v, r = spin("thread", "5")
+    check(5 * MS + SLACK <= v["thread_ns"] < 5 * MS + SLACK + 5 * US,
+          "measured costs: at 5.05 ms, within a read's cost", r)
+
+
+def test_two_runs_with_an_epoch_repeat():
+    runs = [spin("thread", "3", options=("--epoch", "0"))[1].stdout for _ in range(2)]
+    runs += [spin("clock", "20", str(MS // 3), options=("--epoch", "0"))[1].stdout for _ in range(2)]
+    check(runs[0] == runs[1] and runs[2] == runs[3], "the same output twice: %r" % runs)
+
+
+def test_cpu_mode_charges_the_spin_itself():
+    # There the spin's CPU moves virtual time: it ends too, a little late
+    # by what a preemption costs (tens of us) at most.
+    v, r = spin("clock", "20", str(MS), mode="cpu")
+    check(20 * MS <= v["span"] < 21 * MS, "cpu mode: 20 x 1 ms of spinning take 20 ms", r)
+
+
+if __name__ == "__main__":
+    main(globals())
