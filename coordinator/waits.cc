@@ -180,7 +180,12 @@ void on_early(Run &run, Controller &c, const ::tcs_msg &m, int fd)
 		return;
 	if (c.state == CtlState::Blocked && c.wait.active && m.seq == c.wait.seq &&
 	    fd == (c.wait.fd >= 0 ? c.wait.fd : c.channel.get())) {
-		wake(run, c, std::max(c.v, run.sim_ns), TCS_WAKE_EARLY);
+		// A signal another controller sent (told before it was sent)
+		// ends the wait at the sender's time: its handler runs then.
+		int64_t at = std::max(c.v, run.sim_ns);
+		if (m.kind == TCS_EARLY_SIGNAL && c.wait.kicked_at != TCS_NEVER)
+			at = std::max(at, c.wait.kicked_at);
+		wake(run, c, at, TCS_WAKE_EARLY);
 		schedule(run);
 		return;
 	}

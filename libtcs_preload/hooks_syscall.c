@@ -67,20 +67,23 @@ static long tcs_futex(long a[6])
 	return r;
 }
 
-/* A signal sent by number: the kernel sends it; the coordinator is told
- * whom it reached (wait.c). */
+/* A signal sent by number: the coordinator is told whom it is for, then
+ * the kernel sends it (wait.c). */
 static long tcs_signal_syscall(long nr, const long a[6])
 {
-	long r = tcs_sys6(nr, a[0], a[1], a[2], a[3], a[4], a[5]);
 	switch (nr) {
 	case SYS_kill:
 	case SYS_rt_sigqueueinfo:
-		return tcs_signal_sent(r, a[0], (int)a[1]);
+		tcs_signal_sending(a[0], (int)a[1]);
+		break;
 	case SYS_tgkill:
-		return tcs_signal_sent(r, a[0], (int)a[2]);
+		tcs_signal_sending(a[0], (int)a[2]);
+		break;
 	default: /* tkill, pidfd_send_signal: the process is not at hand */
-		return tcs_signal_sent(r, -1, (int)a[1]);
+		tcs_signal_sending(-1, (int)a[1]);
+		break;
 	}
+	return tcs_sys6(nr, a[0], a[1], a[2], a[3], a[4], a[5]);
 }
 
 /* The C convention of syscall(): -1 and errno on failure. */

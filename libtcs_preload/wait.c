@@ -65,11 +65,10 @@ static void tcs_tell_kill(long target)
 	tcs_npending_kills = n + 1;
 }
 
-long tcs_signal_sent(long r, long target, int sig)
+void tcs_signal_sending(long target, int sig)
 {
-	if (r == 0 && sig != 0 && target != tcs_rt.pid)
+	if (sig != 0 && target != tcs_rt.pid)
 		tcs_tell_kill(target);
-	return r;
 }
 
 int tcs_wait_enter(void)

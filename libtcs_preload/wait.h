@@ -49,10 +49,12 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
  * the world's time before a clock read answers (tcs_vnow). */
 void tcs_catch_up(void) TCS_HIDDEN;
 
-/* After a send of sig to target (kill's convention: a pid, -pgid, or -1
- * when not at hand) that returned r: one that reached another process is
- * told to the coordinator (TCS_MSG_KILL), so that a controller waiting in
- * virtual time acts on it at the sender's time. Returns r. */
-long tcs_signal_sent(long r, long target, int sig) TCS_HIDDEN;
+/* Before a send of sig to target (kill's convention: a pid, -pgid, or -1
+ * when not at hand): one to another process is told to the coordinator
+ * (TCS_MSG_KILL), so that a controller waiting in virtual time acts on it
+ * at the sender's time. Told first: the receiver's wait, ended by the
+ * signal, must not reach the coordinator before the news of it does (its
+ * handler then ran at the world's time, before the sender's). */
+void tcs_signal_sending(long target, int sig) TCS_HIDDEN;
 
 #endif
