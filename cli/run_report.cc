@@ -93,6 +93,9 @@ std::string summary(const RunReport &r, int mode, const std::string &who)
 			s += format_number(" (%.1f Hz)", (double)cycles / secs);
 		if (c.periodic_waits)
 			s += ", " + std::to_string(c.deadline_misses) + " deadline misses";
+		if (c.spin_stops)
+			s += "; " + std::to_string(c.spin_stops) + (c.spin_stops == 1 ? " spin stop" : " spin stops") +
+			     " (lockstep: see --spin-cost)";
 		s += "; CPU " + format_duration(c.charged_ns);
 		if (c.virtual_ns > 0)
 			s += format_number(" (%.1f %%)", 100.0 * (double)c.charged_ns / (double)c.virtual_ns);

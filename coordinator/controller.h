@@ -161,7 +161,9 @@ struct OwnWait {
 };
 
 struct LoopStats {
-	uint64_t waits = 0;          // BLOCK messages
+	uint64_t waits = 0;          // BLOCK messages: the program's waits
+	uint64_t spin_stops = 0;     // and the spins' (TCS_BLOCK_SPIN), not the program's
+	void count_wait(const ::tcs_msg &m) { (m.kind == TCS_BLOCK_SPIN ? spin_stops : waits)++; }
 	uint64_t absolute_waits = 0; // of which absolute deadlines (periodic loops)
 	uint64_t preemptions = 0;    // budgets that ended with SIGSTOP
 	uint64_t reported_misses = 0; // absolute waits sent though already past

@@ -79,6 +79,7 @@ struct ControllerReport {
 	int64_t virtual_ns = 0;
 	int64_t charged_ns = 0;
 	uint64_t waits = 0;           // waits served (including those that returned at once)
+	uint64_t spin_stops = 0;      // lockstep: where spins stopped for the world (not waits)
 	uint64_t periodic_waits = 0;  // absolute-deadline waits (a periodic loop's cycles)
 	uint64_t deadline_misses = 0; // absolute deadlines already past when asked for
 	uint64_t preemptions = 0;

@@ -63,6 +63,7 @@ ControllerReport report_of(const Run &run, const Controller &c)
 	cr.virtual_ns = c.v;
 	cr.charged_ns = c.charged;
 	cr.waits = c.stats.waits + c.quick_waits();
+	cr.spin_stops = c.stats.spin_stops;
 	cr.periodic_waits = c.stats.absolute_waits + c.past_deadlines();
 	cr.deadline_misses = c.past_deadlines() + c.stats.reported_misses;
 	cr.preemptions = c.stats.preemptions;

@@ -76,7 +76,7 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	if (!run.ending && st.early_ahead != 0 && st.early_ahead == m.seq) {
 		// Another thread ended this wait before it began.
 		st.early_ahead = 0;
-		c.stats.waits++;
+		c.stats.count_wait(m);
 		SideWait w = side_wait_of(m, fd, tid, c.v, run.sim_ns, run.cfg.slack);
 		w.wake_reason = TCS_WAKE_EARLY;
 		answer_side(run, c, w);
@@ -109,14 +109,14 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		if (c.missed_raised_signal(m))
 			c.side.back().wake_reason = TCS_WAKE_RECHECK;
 		child_wait_begins(run, c, m, &c.side.back());
-		c.stats.waits++;
+		c.stats.count_wait(m);
 		hear_threads(run, c);
 		schedule(run);
 		return;
 	}
 	if (c.multithreaded() && side_wait(run, c, m, fd, tid)) {
 		child_wait_begins(run, c, m, &c.side.back());
-		c.stats.waits++;
+		c.stats.count_wait(m);
 		if (m.flags & TCS_BLOCK_ABSOLUTE) {
 			c.stats.absolute_waits++;
 			if (m.deadline <= c.side.back().requested_at)
@@ -143,7 +143,7 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	}
 	// (Ready: the budget ran out just as it began to wait; SIGSTOP has
 	// already closed its slice.)
-	c.stats.waits++;
+	c.stats.count_wait(m);
 	if (m.flags & TCS_BLOCK_ABSOLUTE) {
 		c.stats.absolute_waits++;
 		if (m.deadline <= c.v)

@@ -6,7 +6,11 @@ spin ends where it would on the machine instead of hanging. With --epoch
 the costs are fixed (25 ns a clock read, 500 ns an empty read) so that a
 run repeats; --spin-cost sets them. Checked with tests/programs/spin.c."""
 
-from harness import SLACK, check, main, prog, scenario_file, tcs
+import json
+import os
+import tempfile
+
+from harness import SLACK, TCS_TRACE, check, main, prog, run, scenario_file, tcs, trace_rows
 
 MS = 1000000
 US = 1000
@@ -38,6 +42,18 @@ def test_a_clock_spin_ends_at_its_deadlines():
     v, r = spin("clock", "100", str(MS), options=("--epoch", "0"))
     check(v["span"] == 100 * MS and v["late"] == 0, "--epoch: 100 x 1 ms of spinning end at exactly 100 ms", r)
     check(v["reads"] == 100 * MS // 25 + 1, "one read every 25 ns of virtual time, and the first free", r)
+    # The summary tells spins from waits: the program made none of its own,
+    # and its spin stopped at each of the world's 100 steps.
+    with tempfile.TemporaryDirectory(prefix="tcs-test-spin-") as d:
+        path = os.path.join(d, "run.mcap")
+        r = tcs("-m", "lockstep", "--epoch", "0", "-t", path, prog("spin"), "clock", "100", str(MS), timeout=60)
+        check("exited 0; 0 waits; 100 spin stops (lockstep: see --spin-cost)" in r.stderr,
+              "the summary: no waits, 100 spin stops", r)
+        spins = [w for w in trace_rows(path, "/tcs/wait") if w["kind"] == "spin"]
+        check(len(spins) == 100 and all(int(w["v_end_ns"]) % MS == 0 for w in spins),
+              "the trace has them as waits of kind spin, each at a step", r)
+        s = run([TCS_TRACE, "summary", "--json", path])
+        check(json.loads(s.stdout)["controllers"][0]["cycles"] == 0, "tcs-trace summary counts no cycles", s)
     # Measured costs (this machine's): the reads past each deadline come
     # within one read's cost of it, whatever that is here.
     v, r = spin("clock", "100", str(MS))

@@ -52,7 +52,7 @@ ControllerSummary summarize_controller(const TraceData &t, const TraceController
 	s.periodic = !loop.empty();
 	if (!s.periodic)
 		for (const auto &w : t.waits)
-			if (w.controller == c.id && w.deadline >= 0)
+			if (w.controller == c.id && w.deadline >= 0 && w.kind != "spin") // (a spin's stop: not a wait)
 				loop.push_back(&w);
 	s.cycles = loop.size();
 	std::vector<int64_t> periods, steps;
@@ -170,7 +170,8 @@ std::string summary_text(const RunSummary &r)
 	o += "  timing error: " + format_number("%.3f %%", 100 * r.timing_error) + " (virtual time while computing against CPU charged)";
 	o += "; CPU not charged (tcs's hooks): " + format_number("%.2f %%", 100 * r.uncharged) + "\n";
 	if (!r.controllers.empty() && r.controllers.front().info->mode == "lockstep")
-		o += "  (lockstep: computation took no virtual time, whatever CPU it used)\n";
+		o += "  (lockstep: computation took no virtual time, whatever CPU it used, but for spins' clock and\n"
+		     "  empty reads)\n";
 	for (const auto &c : r.controllers) {
 		const TraceController &i = *c.info;
 		o += "controller " + std::to_string(i.id) + ": " + i.name + " (pid " + std::to_string(i.pid) + ")";
