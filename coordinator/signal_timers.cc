@@ -41,11 +41,13 @@ void on_timer(Run &run, Controller &c, const ::tcs_msg &m)
 // sleep beside a computing thread ended at 14 ms).
 void budget_to_next_timer(Run &run, Controller &c)
 {
+	if (run.cfg.mode == TCS_MODE_LOCKSTEP) {
+		c.limit_spin(std::min(c.spin_limit(), spin_limit(run, c)));
+		return;
+	}
 	int64_t at = std::min(c.next_timer(), c.side_next());
 	Lane *lane = run.lanes.of(c);
-	if (run.cfg.mode == TCS_MODE_LOCKSTEP && at < c.spin_limit())
-		c.limit_spin(at); // a spin stops there too
-	if (run.cfg.mode != TCS_MODE_CPU || at == TCS_NEVER || !lane)
+	if (at == TCS_NEVER || !lane)
 		return;
 	int64_t need = std::max<int64_t>((int64_t)std::ceil((double)(at - c.slice().v_base) / c.scale), 1);
 	if (c.budgeted && need >= c.budget)

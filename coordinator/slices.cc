@@ -138,12 +138,9 @@ int64_t request_v(Run &run, Controller &c, const ::tcs_msg &m)
 	return std::clamp(m.v, c.v, std::max(c.v, heard));
 }
 
-// Lockstep: how far a spin of c's may go in the slice it begins: to the
-// world's next step after its time (what it reads then must see that step),
-// its next timer, or another of its threads' wake. Not to where the
-// scheduler would stop it to let another run: that depends on how many
-// cores there are, and its virtual time must not.
-static int64_t spin_limit(const Run &run, const Controller &c)
+// Not to where the scheduler would stop it to let another run: that
+// depends on how many cores there are, and its virtual time must not.
+int64_t spin_limit(const Run &run, const Controller &c)
 {
 	int64_t limit = std::min(tcs_ns_add(c.v - c.v % run.cfg.step_ns, run.cfg.step_ns), c.next_timer());
 	for (const SideWait &w : c.side)

@@ -20,6 +20,10 @@ int64_t wall_now();
 // c's accounting slice begins now, in its lane: the wall time (and, sharing
 // our core, our own CPU) that its checks set its CPU against.
 void start_slice_clock(Run &run, Controller &c);
+// Lockstep: how far a spin of c's may take it (the page's spin_limit): to
+// the world's next step after its time (what it reads then must see that
+// step), its next timer, or another of its threads' wake.
+int64_t spin_limit(const Run &run, const Controller &c);
 // The CPU a request charges up to; a claim may exceed the wall time
 // since the slice began by this much (the hook's part before we ran).
 int64_t charge_point(Run &run, Controller &c, int64_t claimed);

@@ -32,15 +32,9 @@ int tcs_device_lookup(const char *path)
 	if (!tcs_active() || !path || path[0] != '/' || !tcs_rt.devices)
 		return -1;
 	const struct tcs_device_table *t = tcs_rt.devices;
-	for (uint32_t i = 0; i < t->count && i < TCS_MAX_DEVICES; i++) {
-		const char *a = t->dev[i].path, *b = path;
-		while (*a && *a == *b) {
-			a++;
-			b++;
-		}
-		if (*a == '\0' && *b == '\0')
+	for (uint32_t i = 0; i < t->count && i < TCS_MAX_DEVICES; i++)
+		if (tcs_str_equal(t->dev[i].path, path))
 			return (int)i;
-	}
 	return -1;
 }
 

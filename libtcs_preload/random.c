@@ -55,17 +55,7 @@ long tcs_getrandom(void *buf, size_t n, unsigned flags)
 
 int tcs_random_path(const char *path)
 {
-	static const char u[] = "/dev/urandom", r[] = "/dev/random";
-	if (!path)
-		return 0;
-	const char *a = u, *b = path;
-	while (*a && *a == *b)
-		a++, b++;
-	if (!*a && !*b)
-		return 1;
-	for (a = r, b = path; *a && *a == *b;)
-		a++, b++;
-	return !*a && !*b;
+	return path && (tcs_str_equal(path, "/dev/urandom") || tcs_str_equal(path, "/dev/random"));
 }
 
 void tcs_random_fd_opened(int fd)

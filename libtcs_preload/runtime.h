@@ -47,6 +47,17 @@ static inline int tcs_active(void)
 	return __atomic_load_n(&tcs_rt.state, __ATOMIC_RELAXED) == TCS_ON;
 }
 
+/* Whether two strings are equal (inline: no libc call inside a hook's
+ * lookups, which run before libc's are resolved). */
+static inline int tcs_str_equal(const char *a, const char *b)
+{
+	while (*a && *a == *b) {
+		a++;
+		b++;
+	}
+	return *a == *b;
+}
+
 /* Returns -1 with errno = -r when r < 0, else r. The one place hooks turn
  * internal -errno results into the C convention. */
 static inline int tcs_errno_result(long r)

@@ -11,23 +11,11 @@ import os
 import tempfile
 
 from harness import SLACK, TCS_TRACE, check, main, prog, run, scenario_file, tcs, trace_rows
+from test_devices import SCENARIO as STREAM  # (a 1 kHz stream sensor, /dev/tcs/pendulum/state)
 
 MS = 1000000
 US = 1000
 EPOCH_MONO = 100000 * 1000 * MS  # CLOCK_MONOTONIC at virtual 0 with --epoch
-
-STREAM = """\
-[sim]
-step = "1ms"
-model = "pendulum"
-
-[[device]]
-path = "/dev/tcs/pendulum/state"
-kind = "sensor"
-signals = ["pendulum.hinge.position", "pendulum.hinge.velocity"]
-mode = "stream"
-rate = "1kHz"
-"""
 
 
 def spin(*args, options=(), mode="lockstep"):
