@@ -28,6 +28,8 @@ Result<UniqueFd> Controller::make_page(const ControllerSpec &spec, int mode, con
 		return errno_error("memfd_create");
 	if (ftruncate(page_fd.get(), TCS_SHARED_SIZE) < 0)
 		return errno_error("ftruncate");
+	if (auto s = make_journal(page_fd.get(), spec); !s)
+		return s.error();
 	void *m = mmap(nullptr, TCS_SHARED_SIZE, PROT_READ | PROT_WRITE, MAP_SHARED, page_fd.get(), 0);
 	if (m == MAP_FAILED)
 		return errno_error("mmap");
@@ -38,7 +40,9 @@ Result<UniqueFd> Controller::make_page(const ControllerSpec &spec, int mode, con
 	page_->mode = (uint32_t)mode;
 	page_->flags = (spec.report_misses ? TCS_PAGE_REPORT_MISSES : 0) | (rt.cpu_estimate() ? TCS_PAGE_CPU_ESTIMATE : 0) |
 		       (rt.ticks == EstimateTicks::Vdso ? TCS_PAGE_TICKS_VDSO : 0) |
-		       (rt.fifo && rt.cpu >= 0 ? TCS_PAGE_FIFO | TCS_PAGE_SHARES_CORE : 0);
+		       (rt.fifo && rt.cpu >= 0 ? TCS_PAGE_FIFO | TCS_PAGE_SHARES_CORE : 0) |
+		       (spec.record ? TCS_PAGE_RECORD : 0) | (spec.replay ? TCS_PAGE_REPLAY : 0);
+	page_->journal_bytes = journal_bytes_;
 	page_->tick_mult = rt.tick_mult;
 	page_->tick_resync = rt.tick_resync;
 	page_->cpu_scale = spec.cpu_scale;
@@ -60,6 +64,49 @@ Result<UniqueFd> Controller::make_page(const ControllerSpec &spec, int mode, con
 		e.width = (uint32_t)d.width;
 	}
 	return page_fd;
+}
+
+// Its journal, after the device table in the same memory: a ring to record
+// into, or the record's entries for it to replay.
+Status Controller::make_journal(int page_fd, const ControllerSpec &spec)
+{
+	if (!spec.record && !spec.replay)
+		return Ok{};
+	uint64_t n = spec.record ? (TCS_JOURNAL_RING_BYTES - TCS_JOURNAL_HEADER) / sizeof(tcs_journal_entry)
+				 : std::max<uint64_t>(spec.replay->size(), 1);
+	uint64_t bytes = (tcs_journal_bytes(n) + 4095) / 4096 * 4096;
+	if (ftruncate(page_fd, (off_t)(TCS_JOURNAL_OFFSET + bytes)) < 0)
+		return errno_error("ftruncate (journal)");
+	void *m = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED, page_fd, TCS_JOURNAL_OFFSET);
+	if (m == MAP_FAILED)
+		return errno_error("mmap (journal)");
+	journal_ = static_cast<tcs_journal *>(m);
+	journal_bytes_ = bytes;
+	journal_capacity_ = (bytes - TCS_JOURNAL_HEADER) / sizeof(tcs_journal_entry);
+	journal_->magic = TCS_JOURNAL_MAGIC;
+	journal_->capacity = journal_capacity_;
+	if (spec.replay) {
+		journal_->replaying = 1;
+		std::copy(spec.replay->begin(), spec.replay->end(), tcs_journal_entries(journal_));
+		journal_->tail = spec.replay->size();
+	}
+	return Ok{};
+}
+
+void Controller::set_page_mode(int mode)
+{
+	if (page_)
+		__atomic_store_n(&page_->mode, (uint32_t)mode, __ATOMIC_RELEASE);
+}
+
+void Controller::unmap()
+{
+	if (journal_)
+		munmap(journal_, journal_bytes_);
+	journal_ = nullptr;
+	if (page_)
+		munmap(page_, TCS_SHARED_SIZE);
+	page_ = nullptr;
 }
 
 Status Controller::take_pid(pid_t p)
@@ -142,8 +189,7 @@ Controller::~Controller()
 		siginfo_t si;
 		waitid(P_PID, pid, &si, WEXITED);
 	}
-	if (page_)
-		munmap(page_, TCS_SHARED_SIZE);
+	unmap();
 }
 
 int64_t Controller::cpu_now() const
@@ -220,11 +266,15 @@ int64_t Controller::slice_cpu(int64_t cpu) const
 void Controller::account(int64_t cpu, int mode)
 {
 	int64_t used = tcs_scale_cpu(slice_cpu(cpu), scale);
-	charged = std::max(charged, tcs_ns_add(slice_.charged_base, used));
 	if (mode == TCS_MODE_CPU)
 		v = std::max(v, tcs_ns_add(slice_.v_base, used));
 	else
 		v = spun();
+	// Replaying, the record's charges are what moved it: its virtual time
+	// in the slice, as in cpu mode (not this machine's CPU).
+	if (page_ && (__atomic_load_n(&page_->flags, __ATOMIC_RELAXED) & TCS_PAGE_REPLAY))
+		used = std::max<int64_t>(v - slice_.v_base, 0);
+	charged = std::max(charged, tcs_ns_add(slice_.charged_base, used));
 }
 
 void Controller::limit_spin(int64_t until)
@@ -302,10 +352,7 @@ void Controller::release()
 	threads.clear();
 	devices.clear();
 	mailbox.attach(nullptr);
-	if (page_) {
-		munmap(page_, TCS_SHARED_SIZE);
-		page_ = nullptr;
-	}
+	unmap();
 }
 
 // Calls f with each timer due by v, then moves it past v: expirations

@@ -19,6 +19,7 @@
 #include "realtime.h"
 #include "spin_costs.h"
 #include "tcs/clock_page.h"
+#include "tcs/journal.h"
 #include "tcs/protocol.h"
 #include "unique_fd.h"
 
@@ -38,6 +39,11 @@ struct ControllerSpec {
 	// --seed: its key to the seeded randomness (tcs/random_stream.h); 0:
 	// the system's, real.
 	uint64_t random_key = 0;
+	// --record: it journals every clock value it reads and the time of
+	// every request; --replay: the record's journal for it, which it takes
+	// them from (tcs/journal.h). Controllers tcs starts, not their children.
+	bool record = false;
+	const std::vector<tcs_journal_entry> *replay = nullptr;
 };
 
 // The constants every controller's clock page starts with.
@@ -233,6 +239,17 @@ public:
 	uint64_t take_lazy_handles();
 	uint64_t quick_waits() const;
 	uint64_t past_deadlines() const;
+	// --record, --replay: its journal (null: none), and how many entries
+	// it holds; recording, the next entry to drain, and entries it said it
+	// could not keep (journals.cc).
+	tcs_journal *journal() const { return journal_; }
+	uint64_t journal_capacity() const { return journal_capacity_; }
+	uint64_t journal_tail = 0, journal_lost = 0;
+	std::vector<tcs_journal_entry> journal_batch; // drained, not yet in the record
+	tcs_journal_entry journal_stop = {}; // a stop that goes after entry journal_stop_after - 1
+	uint64_t journal_stop_after = 0;
+	bool departed = false; // replaying: its departure has been said
+	void set_page_mode(int mode);
 	// Ended: its descriptors and shared memory go back (a daemon serves
 	// controllers for as long as it runs); what the report needs stays.
 	void release();
@@ -246,6 +263,7 @@ public:
 	int64_t hello_nonce = 0; // the current image's HELLO
 	int64_t v = 0;          // virtual time (exact whenever not Running)
 	int64_t charged = 0;    // virtual CPU charged
+	int64_t request_v = 0;  // the time its last request was charged at (its WAKE says)
 	int64_t budget = 0;     // real CPU this slice may use (cpu mode)
 	// Where the current scheduling slice began, for the trace (a device
 	// request answered at once restarts the accounting slice, not this).
@@ -351,6 +369,10 @@ private:
 				   const RealtimePlan &rt, const std::vector<BoundDevice> &bound);
 	Status take_pid(pid_t p);
 	tcs_clock_page *page_ = nullptr;
+	tcs_journal *journal_ = nullptr;
+	uint64_t journal_bytes_ = 0, journal_capacity_ = 0;
+	Status make_journal(int page_fd, const ControllerSpec &spec);
+	void unmap();
 	uint64_t signals_raised_ = 0;
 	uint64_t final_quick_waits_ = 0, final_past_deadlines_ = 0; // once released
 	clockid_t cpu_clock_ = 0;

@@ -5,6 +5,7 @@
 #include "coordinator.h"
 
 #include <signal.h>
+#include <sys/random.h>
 #include <sys/signalfd.h>
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include "clock_ns.h"
 #include "exits.h"
 #include "messages.h"
+#include "record.h"
 #include "remote.h"
 #include "run.h"
 #include "serve.h"
@@ -43,11 +45,49 @@ Coordinator::Coordinator() : run_(std::make_unique<Run>())
 {
 }
 
+// --record and --replay: what each asks of the run's settings.
+static Status take_record_settings(Run &run)
+{
+	CoordinatorConfig &cfg = run.cfg;
+	if (!cfg.record_path.empty()) {
+		if (cfg.mode != TCS_MODE_CPU)
+			return Error{ "--record records a cpu-mode run (a lockstep run repeats by itself with --epoch and --seed)" };
+		if (cfg.replay)
+			return Error{ "--record and --replay do not go together" };
+		if (!cfg.trace_path.empty() && cfg.trace_path != cfg.record_path)
+			return Error{ "--record writes its trace itself: no --trace beside it" };
+		cfg.trace_path = cfg.record_path;
+		// The system's randomness as a stream the record can repeat.
+		if (!cfg.seed) {
+			uint64_t seed = 0;
+			while (seed == 0)
+				if (getrandom(&seed, sizeof seed, 0) != (ssize_t)sizeof seed)
+					return errno_error("getrandom");
+			cfg.seed = seed;
+		}
+	}
+	if (cfg.replay) {
+		const Record &r = *cfg.replay;
+		if (cfg.mode != TCS_MODE_CPU)
+			return Error{ "--replay repeats a cpu-mode run: no --mode beside it" };
+		if (r.step_ns != cfg.step_ns)
+			return Error{ "the record's world steps every " + std::to_string(r.step_ns) + " ns, this one every " +
+				      std::to_string(cfg.step_ns) + " ns: replay it with the record's scenario" };
+		cfg.mode = TCS_MODE_LOCKSTEP;
+		cfg.seed = r.seed;
+		cfg.slack = r.slack;
+		run.replaying = true;
+	}
+	return Ok{};
+}
+
 Status Coordinator::init()
 {
 	Run &run = *run_;
 	if (run.cfg.step_ns <= 0)
 		return Error{ "the simulation step must be positive" };
+	if (auto s = take_record_settings(run); !s)
+		return s;
 	if (auto s = run.loop.init(); !s)
 		return s;
 	for (Timer *t : { &run.progress_timer, &run.kill_timer, &run.idle_timer, &run.continue_timer, &run.exit_timer,
@@ -93,7 +133,7 @@ Status Coordinator::init()
 	if (auto s = run.devices.bind(run.cfg.devices, run.world.get(), warn); !s)
 		return s;
 	if (!run.cfg.trace_path.empty()) {
-		if (auto s = run.trace.open(run.cfg.trace_path, run.rt.cpu); !s)
+		if (auto s = run.trace.open(run.cfg.trace_path, run.rt.cpu, !run.cfg.record_path.empty()); !s)
 			return s;
 		// The joint states each step records: scalar positions and velocities.
 		std::vector<std::string> names;
@@ -118,7 +158,25 @@ Status Coordinator::init()
 	int64_t tai_offset = clock_ns(CLOCK_TAI) - clock_ns(CLOCK_REALTIME);
 	tai_offset = (tai_offset + TCS_NS_PER_S / 2) / TCS_NS_PER_S * TCS_NS_PER_S;
 	run.clocks.tai_ns = run.clocks.real_ns + tai_offset;
-	if (run.cfg.mode == TCS_MODE_LOCKSTEP)
+	if (run.cfg.replay) {
+		run.clocks.mono_ns = run.cfg.replay->mono_origin_ns;
+		run.clocks.real_ns = run.cfg.replay->real_origin_ns;
+		run.clocks.tai_ns = run.cfg.replay->tai_origin_ns;
+		run.clocks.spin = kNominalSpinCosts; // (not taken: the record says what spins cost)
+	}
+	if (!run.cfg.record_path.empty()) {
+		Record r;
+		r.cpu_scale = run.cfg.record_scale;
+		r.step_ns = run.cfg.step_ns;
+		r.mono_origin_ns = run.clocks.mono_ns;
+		r.real_origin_ns = run.clocks.real_ns;
+		r.tai_origin_ns = run.clocks.tai_ns;
+		r.seed = run.cfg.seed;
+		r.slack = run.cfg.slack;
+		r.program = run.cfg.record_program;
+		run.trace.record_run(record_run_json(r));
+	}
+	if (run.cfg.mode == TCS_MODE_LOCKSTEP && !run.cfg.replay)
 		run.clocks.spin = run.cfg.spin_costs ? *run.cfg.spin_costs
 				  : run.cfg.epoch_ns   ? kNominalSpinCosts
 						       : measure_spin_costs();

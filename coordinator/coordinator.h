@@ -24,6 +24,7 @@
 namespace tcs {
 
 struct ControllerReport;
+struct Record;
 
 struct CoordinatorConfig {
 	int mode = TCS_MODE_CPU;
@@ -40,6 +41,14 @@ struct CoordinatorConfig {
 	// --seed: the system's randomness, as programs draw it, a stream fixed
 	// by this number (none: real).
 	std::optional<uint64_t> seed;
+	// --record: a trace there that is also a record (trace/record.h);
+	// the run must be cpu mode. The controller's command line, for it.
+	std::string record_path;
+	std::vector<std::string> record_program;
+	double record_scale = 1.0;
+	// --replay: the record, whose settings (scale, origins, seed, slack)
+	// this run takes and whose journals its controllers replay.
+	std::shared_ptr<const Record> replay;
 	std::string preload;                // absolute path of libtcs_preload.so
 	RealtimeWish realtime; // SCHED_FIFO and the TSC, where the machine allows
 	// Called about every 250 ms of wall time while running (may be empty).

@@ -2,6 +2,7 @@
 // its main one), its exit accounted (its CPU to the last), or tcs dropping
 // it for what it sent.
 #include "exits.h"
+#include "journals.h"
 
 #include <signal.h>
 #include <sys/signalfd.h>
@@ -69,6 +70,7 @@ void on_pidfd(Run &run, Controller &c)
 		return later();
 	int64_t cpu = exited_cpu(run, c);
 	c.account(cpu, run.cfg.mode);
+	replay_exit(run, c);
 	if (c.lane >= 0)
 		trace_slice_end(run, c, "exited", cpu);
 	si = {};
@@ -85,6 +87,7 @@ void on_pidfd(Run &run, Controller &c)
 void on_exit(Run &run, Controller &c, int wait_status)
 {
 	run.devices.take_lazy_commands(c, -1, run.trace); // its last commands count
+	journal_ends(run, c);
 	c.state = CtlState::Exited;
 	c.exit_status = wait_status;
 	// A parent waiting for its children learns of it at the child's

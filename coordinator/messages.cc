@@ -18,6 +18,7 @@
 #include "clock_ns.h"
 #include "device_requests.h"
 #include "exits.h"
+#include "journals.h"
 #include "proc_info.h"
 #include "signal_timers.h"
 #include "signals.h"
@@ -89,6 +90,10 @@ void on_request(Run &run, Controller &c, ThreadChannel *t, const ::tcs_msg &m, U
 	const int fd = t ? t->fd.get() : c.channel.get();
 	const pid_t tid = t ? t->tid : c.pid;
 	ChannelState &st = t ? t->state : c.main_state;
+	if (c.journal()) {
+		drain_journal(run, c);   // what it read before it asked, in order
+		check_departure(run, c); // a replay it left: live from this request on
+	}
 	// Records it wrote since its last request carry the time it has now,
 	// before anything it asks moves that. (A device it asks to take what
 	// it wrote: that request takes them, and judges them with its write.)

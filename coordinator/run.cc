@@ -20,6 +20,7 @@
 #include "exits.h"
 #include "messages.h"
 #include "proc_info.h"
+#include "record.h"
 #include "remote.h"
 #include "serve.h"
 #include "slices.h"
@@ -39,13 +40,22 @@ Status add_controller(Run &run, const ControllerSpec &spec)
 	// Each controller a stream of its own, by its place in the run.
 	if (run.cfg.seed)
 		traced.random_key = tcs_random_key(*run.cfg.seed, run.ctls.size() + 1);
-	auto c = Controller::start((int)run.ctls.size() + 1, traced, run.cfg.mode, run.clocks, run.rt, run.cfg.preload,
+	const int id = (int)run.ctls.size() + 1;
+	traced.record = !run.cfg.record_path.empty();
+	if (run.cfg.replay) {
+		traced.cpu_scale = run.cfg.replay->cpu_scale;
+		auto j = run.cfg.replay->journals.find(id);
+		static const std::vector<tcs_journal_entry> none;
+		traced.replay = j != run.cfg.replay->journals.end() ? &j->second : &none;
+	}
+	auto c = Controller::start(id, traced, run.cfg.mode, run.clocks, run.rt, run.cfg.preload,
 				   run.devices.bound());
 	if (!c)
 		return c.error();
 	Controller *raw = c->get();
 	if (run.trace.is_open())
-		run.trace.controller(raw->id, raw->name, raw->pid, raw->scale, run.cfg.mode, run.cfg.step_ns);
+		run.trace.controller(raw->id, raw->name, raw->pid, raw->scale,
+				     run.cfg.replay ? TCS_MODE_CPU : run.cfg.mode, run.cfg.step_ns);
 	run.ctls.push_back(std::move(*c));
 	if (auto s = run.loop.add(raw->channel.get(), [&run, raw](uint32_t) { on_channel(run, *raw, nullptr); }); !s)
 		return s;

@@ -89,6 +89,10 @@ struct Run {
 	std::vector<Contender> contenders; // (kept: schedule() runs on every request)
 	bool hearing = false; // hear_threads: schedule() waits for the last
 
+	// --replay: lockstep, with each controller's time from its journal,
+	// until one departs from the record (journals.cc: then cpu mode).
+	bool replaying = false;
+
 	int64_t sim_ns = 0;    // S: the simulation clock
 	int64_t steps = 0;
 	bool ending = false;

@@ -42,7 +42,8 @@ void on_timer(Run &run, Controller &c, const ::tcs_msg &m)
 void budget_to_next_timer(Run &run, Controller &c)
 {
 	if (run.cfg.mode == TCS_MODE_LOCKSTEP) {
-		c.limit_spin(std::min(c.spin_limit(), spin_limit(run, c)));
+		// (Replaying: the world steps where the record's stops were.)
+		c.limit_spin(std::min(c.spin_limit(), run.replaying ? c.next_timer() : spin_limit(run, c)));
 		return;
 	}
 	int64_t at = std::min(c.next_timer(), c.side_next());

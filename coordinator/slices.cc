@@ -23,6 +23,7 @@
 #include "asleep.h"
 #include "clock_ns.h"
 #include "exits.h"
+#include "journals.h"
 #include "proc_info.h"
 #include "signal_timers.h"
 #include "tcs/protocol.h"
@@ -161,8 +162,8 @@ void resume(Run &run, Controller &c, int64_t target, int lane)
 	int64_t cpu = c.cpu_at_end >= 0 ? c.cpu_at_end : c.cpu_now();
 	c.cpu_at_end = -1;
 	c.publish_slice(cpu);
-	if (run.cfg.mode == TCS_MODE_LOCKSTEP)
-		c.limit_spin(spin_limit(run, c)); // (before its WAKE: it may spin at once)
+	if (run.cfg.mode == TCS_MODE_LOCKSTEP) // (before its WAKE: it may spin at once)
+		c.limit_spin(run.replaying ? TCS_NEVER : spin_limit(run, c)); // (replaying: the record's stops)
 	start_slice_clock(run, c);
 	c.resumed_wall = c.slice_wall;
 	if (run.trace.is_open()) {
@@ -348,6 +349,7 @@ void preempt(Run &run, Controller &c, bool held)
 	c.account(cpu, run.cfg.mode);
 	c.cpu_at_end = cpu;
 	trace_slice_end(run, c, "preempted", cpu, budget, overshoot);
+	journal_stop(run, c);
 	if (!run.ending)
 		c.raise_due_timers(); // pending until it continues
 }

@@ -12,6 +12,7 @@
 #include "children.h"
 #include "clock_ns.h"
 #include "exits.h"
+#include "journals.h"
 #include "proc_info.h"
 #include "slices.h"
 #include "tcs/msg_io.h"
@@ -58,6 +59,7 @@ void send_wake(Run &run, Controller &c)
 	m.flags = TCS_WAKE_STARTS_SLICE;
 	m.v = c.v;
 	m.arg = c.wake_arg;
+	m.deadline = c.request_v; // (what a recording controller journals: tcs/journal.h)
 	send_answer(run, c, fd, m, c.wake_fd);
 	if (c.wake_fd >= 0) {
 		close(c.wake_fd);
@@ -72,6 +74,8 @@ void send_wake(Run &run, Controller &c)
 
 void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 {
+	if (replay_stop(run, c, m, fd, tid))
+		return;
 	ChannelState &st = c.channel_state(fd);
 	if (!run.ending && st.early_ahead != 0 && st.early_ahead == m.seq) {
 		// Another thread ended this wait before it began.
@@ -141,6 +145,7 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		trace_slice_end(run, c, "blocked", cpu);
 		c.cpu_at_end = cpu;
 	}
+	c.request_v = c.v;
 	// (Ready: the budget ran out just as it began to wait; SIGSTOP has
 	// already closed its slice.)
 	c.stats.count_wait(m);

@@ -11,6 +11,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include "journal.h"
 #include "child.h"
 #include "devices.h"
 #include "raw_syscall.h"
@@ -70,8 +71,10 @@ int tcs_become_child(int parent_channel, int64_t fork_v, int v_known)
 	struct tcs_clock_page *old = tcs_rt.page;
 	if (tcs_register_child(parent_channel, tcs_rt.channel_fd, tcs_rt.page_fd, fork_v, v_known) < 0)
 		return -1;
-	if (old)
+	if (old) {
+		tcs_journal_forget(); /* (its parent's) */
 		tcs_sys2(SYS_munmap, old, TCS_SHARED_SIZE);
+	}
 	tcs_rt.page = NULL;
 	long m = tcs_sys6(SYS_mmap, NULL, TCS_SHARED_SIZE, PROT_READ | PROT_WRITE, MAP_SHARED, tcs_rt.page_fd, 0);
 	if (m < 0 && m > -4096)

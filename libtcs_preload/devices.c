@@ -10,6 +10,7 @@
 #include <sys/socket.h>
 #include <sys/uio.h>
 
+#include "journal.h"
 #include "devices.h"
 #include "lazy_writes.h"
 #include "raw_syscall.h"
@@ -99,7 +100,7 @@ long tcs_device_open(int dev, int oflags)
 		return -EBUSY;
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_DEV_OPEN, 0), w;
 	m.arg = dev;
-	m.cpu = tcs_charge_point();
+	m.cpu = tcs_charge_point(TCS_MSG_DEV_OPEN);
 	m.v = tcs_page_vnow(tcs_rt.page, tcs_page_read_slice(tcs_rt.page), m.cpu);
 	m.flags = (uint16_t)((access == O_RDONLY ? TCS_DEV_READ : TCS_DEV_WRITE) |
 			     ((oflags & O_NONBLOCK) ? TCS_DEV_NONBLOCK : 0));
@@ -134,7 +135,7 @@ long tcs_device_sync_held(int handle, int fd, unsigned kind)
 {
 	long fl = fd >= 0 ? tcs_sys3(SYS_fcntl, fd, F_GETFL, 0) : 0;
 	struct tcs_clock_page *p = tcs_rt.page;
-	int64_t cpu = tcs_charge_point();
+	int64_t cpu = tcs_charge_point(TCS_MSG_DEV_SYNC);
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_DEV_SYNC, 0), w;
 	m.kind = (uint16_t)kind;
 	m.flags = (uint16_t)((fl > 0 && (fl & O_NONBLOCK)) ? TCS_DEV_NONBLOCK : 0);
@@ -187,7 +188,52 @@ static long tcs_got_record(long got)
 	return got;
 }
 
+/* Recording or replaying (journal.h): how much each read took, and whether
+ * it asked first, are journalled, so that a replay reads as much, after
+ * the same requests, whatever the coordinator had put in its fd by then. */
+static long tcs_device_read_live(int fd, void *buf, size_t n);
+static long tcs_device_read_journalled(int fd, void *buf, size_t n)
+{
+	struct tcs_journal_entry e;
+	if (!tcs_replay_next(TCS_J_CHARGE, TCS_MSG_DEV_SYNC) && !tcs_replay_next(TCS_J_READ, 0)) {
+		long got = tcs_device_read_live(fd, buf, n);
+		tcs_journal_note(TCS_J_READ, 0, tcs_vnow(), got); /* (after the sync it made) */
+		return got;
+	}
+	if (tcs_replay_next(TCS_J_CHARGE, TCS_MSG_DEV_SYNC)) {
+		long r = tcs_before_read(fd); /* (it found none in its fd there) */
+		if (r < 0)
+			return r;
+	}
+	if (!tcs_replay_take(TCS_J_READ, 0, &e))
+		return tcs_device_read_live(fd, buf, n);
+	tcs_replay_reach(e.value);
+	if (e.arg <= 0)
+		return e.arg;
+	size_t want = (size_t)e.arg < n ? (size_t)e.arg : n;
+	long got = tcs_sys6(SYS_recvfrom, fd, buf, want, MSG_DONTWAIT, 0, 0);
+	if (got >= 0 && (size_t)got < want) {
+		/* Put there by a stop that came a little later here than there
+		 * (at the world's step, not past it): what is due by now. */
+		tcs_replay_inner_begin();
+		long r = tcs_before_read(fd);
+		tcs_replay_inner_end();
+		long more = r < 0 ? r : tcs_sys6(SYS_recvfrom, fd, (char *)buf + got, want - (size_t)got, MSG_DONTWAIT, 0, 0);
+		got += more > 0 ? more : 0;
+	}
+	if (got != e.arg)
+		tcs_replay_depart(TCS_J_READ, got);
+	return tcs_got_record(got);
+}
+
 long tcs_device_read(int fd, void *buf, size_t n)
+{
+	if (__builtin_expect(tcs_journal_on(), 0))
+		return tcs_device_read_journalled(fd, buf, n);
+	return tcs_device_read_live(fd, buf, n);
+}
+
+static long tcs_device_read_live(int fd, void *buf, size_t n)
 {
 	/* A stream sensor's records already in the fd were due when they were
 	 * put there (at the controller's last wake or sync): they are read

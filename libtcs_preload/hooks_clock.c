@@ -6,6 +6,7 @@
 #include <sys/times.h>
 
 #include "cpu_estimate.h"
+#include "journal.h"
 #include "raw_syscall.h"
 #include "real.h"
 #include "spin.h"
@@ -30,8 +31,40 @@ static inline long tcs_cpuclock_pid(clockid_t id)
 
 static int64_t tcs_thread_cpu_scaled(clockid_t id)
 {
-	int64_t ns = tcs_kernel_clock(id);
-	return ns < 0 ? ns : tcs_scale_cpu(ns, tcs_rt.page->cpu_scale);
+	int64_t ns;
+	if (__builtin_expect(tcs_journal_on(), 0) && tcs_replay_clock(TCS_J_THREAD_CPU, &ns))
+		return ns;
+	ns = tcs_kernel_clock(id);
+	ns = ns < 0 ? ns : tcs_scale_cpu(ns, tcs_rt.page->cpu_scale);
+	if (__builtin_expect(tcs_journal_on(), 0) && ns >= 0)
+		tcs_journal_note(TCS_J_THREAD_CPU, 0, ns, 0);
+	return ns;
+}
+
+/* What the program's clock reads say, virtual time and CPU time: journalled
+ * when recording, the record's when replaying (journal.h). */
+static int64_t tcs_program_time(void)
+{
+	if (__builtin_expect(!tcs_journal_on(), 1))
+		return tcs_program_vnow();
+	int64_t v;
+	if (tcs_replay_clock(TCS_J_CLOCK, &v))
+		return v;
+	v = tcs_program_vnow();
+	tcs_journal_note(TCS_J_CLOCK, 0, v, 0);
+	return v;
+}
+
+static int64_t tcs_program_cpu(void)
+{
+	if (__builtin_expect(!tcs_journal_on(), 1))
+		return tcs_charged_now();
+	int64_t ns;
+	if (tcs_replay_clock(TCS_J_CPU, &ns))
+		return ns;
+	ns = tcs_charged_now();
+	tcs_journal_note(TCS_J_CPU, 0, ns, 0);
+	return ns;
 }
 
 /* The virtual value of clock id in *ns, or 1 when the clock is not one tcs
@@ -43,20 +76,20 @@ static int tcs_virtual_clock(clockid_t id, int64_t *ns)
 	case CLOCK_REALTIME:
 	case CLOCK_REALTIME_COARSE:
 	case CLOCK_REALTIME_ALARM:
-		*ns = p->real_origin_ns + tcs_program_vnow();
+		*ns = p->real_origin_ns + tcs_program_time();
 		return 0;
 	case CLOCK_MONOTONIC:
 	case CLOCK_MONOTONIC_RAW:
 	case CLOCK_MONOTONIC_COARSE:
 	case CLOCK_BOOTTIME:
 	case CLOCK_BOOTTIME_ALARM:
-		*ns = p->mono_origin_ns + tcs_program_vnow();
+		*ns = p->mono_origin_ns + tcs_program_time();
 		return 0;
 	case CLOCK_TAI:
-		*ns = p->tai_origin_ns + tcs_program_vnow();
+		*ns = p->tai_origin_ns + tcs_program_time();
 		return 0;
 	case CLOCK_PROCESS_CPUTIME_ID:
-		*ns = tcs_charged_now();
+		*ns = tcs_program_cpu();
 		return 0;
 	case CLOCK_THREAD_CPUTIME_ID:
 		*ns = tcs_thread_cpu_scaled(id);
@@ -69,7 +102,7 @@ static int tcs_virtual_clock(clockid_t id, int64_t *ns)
 			return *ns < 0 ? 1 : 0;
 		}
 		if (tcs_cpuclock_pid(id) == 0 || tcs_cpuclock_pid(id) == tcs_rt.pid) {
-			*ns = tcs_charged_now();
+			*ns = tcs_program_cpu();
 			return 0;
 		}
 		return 1; /* another process's CPU clock, or a PTP device: real */
@@ -90,7 +123,7 @@ TCS_EXPORT int clock_gettime(clockid_t id, struct timespec *ts)
 {
 	/* The clock control loops read most, on the shortest path. */
 	if (__builtin_expect(id == CLOCK_MONOTONIC, 1) && tcs_active()) {
-		*ts = tcs_ns_to_ts(tcs_rt.page->mono_origin_ns + tcs_program_vnow());
+		*ts = tcs_ns_to_ts(tcs_rt.page->mono_origin_ns + tcs_program_time());
 		return 0;
 	}
 	int64_t ns;
@@ -157,7 +190,7 @@ TCS_EXPORT int ftime(struct tcs_timeb *tb)
 
 static int64_t tcs_process_cpu_ns(void)
 {
-	return tcs_active() ? tcs_charged_now() : tcs_kernel_clock(CLOCK_PROCESS_CPUTIME_ID);
+	return tcs_active() ? tcs_program_cpu() : tcs_kernel_clock(CLOCK_PROCESS_CPUTIME_ID);
 }
 
 TCS_EXPORT clock_t clock(void)
@@ -172,10 +205,10 @@ TCS_EXPORT clock_t times(struct tms *buf)
 	if (!tcs_active() || r < 0)
 		return (clock_t)tcs_errno_result(r);
 	if (buf) {
-		buf->tms_utime = (clock_t)(tcs_charged_now() / (TCS_NS_PER_S / TCS_USER_HZ));
+		buf->tms_utime = (clock_t)(tcs_program_cpu() / (TCS_NS_PER_S / TCS_USER_HZ));
 		buf->tms_stime = 0;
 	}
-	return (clock_t)((tcs_rt.page->mono_origin_ns + tcs_program_vnow()) / (TCS_NS_PER_S / TCS_USER_HZ));
+	return (clock_t)((tcs_rt.page->mono_origin_ns + tcs_program_time()) / (TCS_NS_PER_S / TCS_USER_HZ));
 }
 
 TCS_EXPORT int getrusage(int who, struct rusage *ru)
@@ -183,7 +216,7 @@ TCS_EXPORT int getrusage(int who, struct rusage *ru)
 	long r = tcs_sys2(SYS_getrusage, who, ru);
 	if (r < 0 || !tcs_active())
 		return tcs_errno_result(r);
-	int64_t ns = who == RUSAGE_SELF     ? tcs_charged_now()
+	int64_t ns = who == RUSAGE_SELF     ? tcs_program_cpu()
 		     : who == RUSAGE_THREAD ? tcs_thread_cpu_scaled(CLOCK_THREAD_CPUTIME_ID)
 					    : -1;
 	if (ns >= 0) {

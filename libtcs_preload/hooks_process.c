@@ -33,7 +33,7 @@ static void tcs_await_child(pid_t pid)
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_CHILD, 0), w;
 	m.arg = pid;
 	m.flags = TCS_CHILD_PARENT;
-	m.cpu = tcs_charge_point();
+	m.cpu = tcs_charge_point(TCS_MSG_CHILD);
 	__atomic_store_n(&tcs_rt.page->fork_claim, m.cpu, __ATOMIC_RELAXED);
 	tcs_roundtrip(&m, NULL, 0, NULL, &w, NULL);
 	tcs_wait_leave();

@@ -50,7 +50,7 @@ static long tcs_stimer_sync(int slot, const struct tcs_stimer *t)
 	m.deadline = t->first;
 	m.arg = t->interval;
 	m.v = t->tid;
-	m.cpu = tcs_charge_point();
+	m.cpu = tcs_charge_point(TCS_MSG_TIMER);
 	tcs_roundtrip(&m, NULL, 0, NULL, &w, NULL);
 	tcs_wait_leave();
 	return w.arg < 0 ? w.arg : 0;

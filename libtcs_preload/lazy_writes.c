@@ -49,7 +49,7 @@ int tcs_lazy_write_begin(int h, const struct tcs_device_entry *e, const void *bu
 {
 	const struct tcs_clock_page *p = tcs_rt.page;
 	if (h < 0 || h >= TCS_LAZY_HANDLES || !tcs_active() || tcs_in_wait || p->mode != TCS_MODE_LOCKSTEP ||
-	    (__atomic_load_n(&p->flags, __ATOMIC_RELAXED) & TCS_PAGE_ASLEEP) ||
+	    (__atomic_load_n(&p->flags, __ATOMIC_RELAXED) & (TCS_PAGE_ASLEEP | TCS_PAGE_REPLAY)) ||
 	    __atomic_load_n(&p->threads_started, __ATOMIC_RELAXED) != 0 || tcs_lazy_partial[h] != 0 ||
 	    tcs_lazy_writes >= TCS_LAZY_WRITES_MAX || n > TCS_LAZY_BYTES_MAX - tcs_lazy_bytes)
 		return 0;

@@ -98,7 +98,7 @@ int tcs_unpark_all(const void *addr)
 	tcs_spin_unlock(&tcs_parked_lock);
 	/* Where this thread's process is: the coordinator's own reading of a
 	 * running process's CPU lags by up to a kernel tick. */
-	int64_t cpu = n > 0 ? tcs_charge_point() : 0;
+	int64_t cpu = n > 0 ? tcs_charge_point(TCS_MSG_EARLY) : 0;
 	for (int i = 0; i < n; i++) {
 		struct tcs_msg m = tcs_msg_make(TCS_MSG_EARLY, seqs[i]);
 		m.kind = TCS_EARLY_FD;

@@ -5,6 +5,7 @@
 #include <sys/socket.h>
 
 #include "cpu_estimate.h"
+#include "journal.h"
 #include "lazy_writes.h"
 #include "mailbox.h"
 #include "raw_syscall.h"
@@ -131,6 +132,8 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 answered:
 	if (mailbox)
 		tcs_mailbox_done();
+	if (__builtin_expect(tcs_journal_on(), 0))
+		tcs_journal_answered(m->type, reply->deadline);
 	/* From here on the hook's own cost is not charged to the program. The
 	 * mark is the process's CPU, which only means this hook's cost while
 	 * the process has one thread: with more, another may have computed

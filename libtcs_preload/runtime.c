@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <sys/mman.h>
 
+#include "journal.h"
 #include "child.h"
 #include "cpu_estimate.h"
 #include "raw_syscall.h"
@@ -128,6 +129,7 @@ static int (*const tcs_start_steps[])(void) = {
 	tcs_start_environment,     /* stops outside tcs-run */
 	tcs_start_clock_page,      /* stops in a descendant with no page */
 	tcs_start_as_child,        /* stops when the coordinator refuses it */
+	tcs_start_journal,         /* --record, --replay: the page says */
 	tcs_start_fork_handlers,
 	tcs_start_hello,
 };

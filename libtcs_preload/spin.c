@@ -18,17 +18,9 @@ void tcs_spin_waited(void)
 	tcs_spun = 0;
 }
 
-/* Virtual time after a call that costs cost ns when it spins. held: the
- * caller is inside a hook's wait already. */
-static int64_t tcs_spin_advance(int64_t cost, int held)
+int64_t tcs_spin_to(int64_t v, int held)
 {
 	struct tcs_clock_page *p = tcs_rt.page;
-	int64_t now = tcs_vnow();
-	if (!tcs_spun || cost <= 0) {
-		tcs_spun = 1;
-		return now;
-	}
-	int64_t v = tcs_ns_add(now, cost);
 	if (v < __atomic_load_n(&p->spin_limit, __ATOMIC_ACQUIRE)) {
 		/* Another thread may have spun further meanwhile: the larger. */
 		int64_t old = __atomic_load_n(&p->spin_v, __ATOMIC_RELAXED);
@@ -38,7 +30,7 @@ static int64_t tcs_spin_advance(int64_t cost, int held)
 		return old < v ? v : old;
 	}
 	if (!held && !tcs_wait_enter())
-		return now; /* no channel: it cannot ask, so it stays */
+		return tcs_vnow(); /* no channel: it cannot ask, so it stays */
 	struct tcs_wait_time t = { v, 0, 0, 0, 0, 0 };
 	(void)tcs_wait(&t, TCS_BLOCK_SPIN, 0, NULL, 0, NULL);
 	if (!held)
@@ -49,6 +41,18 @@ static int64_t tcs_spin_advance(int64_t cost, int held)
 	tcs_sys0(SYS_sched_yield);
 	tcs_spun = 1; /* (the wait was the spin's, not the program's) */
 	return tcs_vnow();
+}
+
+/* Virtual time after a call that costs cost ns when it spins. held: the
+ * caller is inside a hook's wait already. */
+static int64_t tcs_spin_advance(int64_t cost, int held)
+{
+	int64_t now = tcs_vnow();
+	if (!tcs_spun || cost <= 0) {
+		tcs_spun = 1;
+		return now;
+	}
+	return tcs_spin_to(tcs_ns_add(now, cost), held);
 }
 
 int64_t tcs_spin_clock_read(void)
@@ -62,7 +66,7 @@ int64_t tcs_spin_clock_read(void)
 void tcs_spin_empty_read(int held)
 {
 	const struct tcs_clock_page *p = tcs_rt.page;
-	if (p->mode != TCS_MODE_LOCKSTEP || (!held && tcs_in_wait))
-		return;
+	if (p->mode != TCS_MODE_LOCKSTEP || (!held && tcs_in_wait) || (p->flags & TCS_PAGE_REPLAY))
+		return; /* (replaying: what it cost is in the record) */
 	(void)tcs_spin_advance(p->spin_read_ns, held);
 }

@@ -24,6 +24,12 @@ static inline int64_t tcs_program_vnow(void)
  * the caller is inside a hook's wait (tcs_wait_enter). */
 void tcs_spin_empty_read(int held) TCS_HIDDEN;
 
+/* Lockstep: virtual time v reached by computing (a spin's cost, a replayed
+ * record's time): stored in the page, or, past its spin_limit, asked for
+ * with a wait of its own that ends there. Returns virtual time after. held:
+ * the caller is inside a hook's wait. */
+int64_t tcs_spin_to(int64_t v, int held) TCS_HIDDEN;
+
 /* This thread waited: its next clock read or empty read is free. */
 void tcs_spin_waited(void) TCS_HIDDEN;
 

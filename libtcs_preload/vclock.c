@@ -3,6 +3,8 @@
  * any context, signal handlers included: no locks. */
 #include "vclock.h"
 
+#include "journal.h"
+
 /* Estimates of CPU time (cpu_estimate.c) may run ahead of a later exact
  * reading, and the clock must not go back: tcs_v_not_before(). */
 int64_t tcs_v_seen;
@@ -27,8 +29,10 @@ void tcs_cpu_forget(void)
 #endif
 }
 
-int64_t tcs_charge_point(void)
+int64_t tcs_charge_point(unsigned type)
 {
+	if (__builtin_expect(tcs_journal_on(), 0))
+		tcs_journal_request(type);
 	/* Estimated (the coordinator bounds it by its own reading), but never
 	 * below a CPU time the program has already read: an estimate can fall
 	 * short by an interrupt charged to the process, and its CPU-time clock

@@ -24,8 +24,9 @@ static inline int64_t tcs_v_not_before(int64_t v)
 	return v;
 }
 
-/* The process CPU time up to which a request charges it. */
-int64_t tcs_charge_point(void) TCS_HIDDEN;
+/* The process CPU time up to which a request of type (TCS_MSG_*) charges
+ * it. Replaying, the record's time for the request is reached first. */
+int64_t tcs_charge_point(unsigned type) TCS_HIDDEN;
 /* In a new child: the CPU readings it inherited are its parent's. */
 void tcs_cpu_forget(void) TCS_HIDDEN;
 /* The virtual CPU time charged to the controller so far. */

@@ -6,6 +6,7 @@
  * Signals sent to other processes are news for the coordinator; a handler
  * that sends one from inside a wait cannot make a request of its own (the
  * wait's is under way), so its news is told as the wait is left. */
+#include "journal.h"
 #include "raw_syscall.h"
 #include "report.h"
 #include "roundtrip.h"
@@ -27,8 +28,8 @@ static void tcs_send_kill(long target)
 {
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_KILL, 0), w;
 	m.arg = target;
+	m.cpu = tcs_charge_point(TCS_MSG_KILL);
 	m.v = tcs_vnow();
-	m.cpu = tcs_charge_point();
 	tcs_roundtrip(&m, NULL, 0, NULL, &w, NULL);
 }
 
@@ -153,7 +154,7 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 	if (__builtin_expect(__atomic_load_n(&p->flags, __ATOMIC_RELAXED) & TCS_PAGE_ASLEEP, 0))
 		tcs_catch_up_in_wait();
 	/* The charge up to here, and virtual time from it in cpu mode. */
-	int64_t cpu = tcs_charge_point();
+	int64_t cpu = tcs_charge_point(TCS_MSG_BLOCK);
 	int64_t v = tcs_page_vnow(p, tcs_page_read_slice(p), cpu);
 	/* A relative wait counts from the latest time the program was told,
 	 * so it never sees a sleep end before it should have. */
@@ -167,6 +168,8 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 		if (flags & TCS_BLOCK_ABSOLUTE)
 			__atomic_add_fetch(&p->past_deadlines, 1, __ATOMIC_RELAXED);
 		t->end = v;
+		if (__builtin_expect(tcs_journal_on(), 0))
+			tcs_journal_answered(TCS_MSG_BLOCK, v);
 		return TCS_WAIT_DEADLINE;
 	}
 

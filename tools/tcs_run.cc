@@ -17,6 +17,7 @@
 #include "program_check.h"
 #include "run_report.h"
 #include "default_scenario.h"
+#include "record.h"
 #include "scenario.h"
 #include "world_setup.h"
 
@@ -36,6 +37,10 @@ const char kUsage[] =
 	"                         3 models a target CPU three times slower)\n"
 	"  -d, --duration TIME    stop after TIME of virtual time (10s, 250ms, 2min)\n"
 	"  -t, --trace FILE       write a trace of the run (MCAP)\n"
+	"      --record FILE      record a cpu-mode run for --replay (a trace that also\n"
+	"                         holds every clock value read and request's time)\n"
+	"      --replay FILE      repeat a recorded run exactly (its scale, clocks and\n"
+	"                         seed), saying where the program departs from it\n"
 	"      --connect SOCKET   run under a running coordinatord\n"
 	"  -q, --quiet            no progress line, no summary\n"
 	"  -h, --help             show this help\n"
@@ -84,7 +89,8 @@ int run_under_daemon(const std::string &socket, const std::vector<std::string> &
 
 int main(int argc, char **argv)
 {
-	enum { OPT_CPU_SCALE = 256, OPT_EPOCH, OPT_CONNECT, OPT_LIST_SIGNALS, OPT_NO_SLACK, OPT_SPIN_COST, OPT_SEED };
+	enum { OPT_CPU_SCALE = 256, OPT_EPOCH, OPT_CONNECT, OPT_LIST_SIGNALS, OPT_NO_SLACK, OPT_SPIN_COST, OPT_SEED,
+	       OPT_RECORD, OPT_REPLAY };
 	static const struct option longopts[] = {
 		{ "world", required_argument, nullptr, 'w' },
 		{ "mode", required_argument, nullptr, 'm' },
@@ -95,6 +101,8 @@ int main(int argc, char **argv)
 		{ "no-slack", no_argument, nullptr, OPT_NO_SLACK },
 		{ "spin-cost", required_argument, nullptr, OPT_SPIN_COST },
 		{ "seed", required_argument, nullptr, OPT_SEED },
+		{ "record", required_argument, nullptr, OPT_RECORD },
+		{ "replay", required_argument, nullptr, OPT_REPLAY },
 		{ "connect", required_argument, nullptr, OPT_CONNECT },
 		{ "list-signals", no_argument, nullptr, OPT_LIST_SIGNALS },
 		{ "quiet", no_argument, nullptr, 'q' },
@@ -105,7 +113,7 @@ int main(int argc, char **argv)
 	CoordinatorConfig cfg;
 	double cpu_scale = 1.0;
 	bool quiet = false, list_signals = false, scale_given = false;
-	std::string world_file, connect_socket;
+	std::string world_file, connect_socket, replay_file;
 	std::vector<std::string> given; // options that belong to the world's owner
 	int opt;
 	opterr = 0;
@@ -114,7 +122,7 @@ int main(int argc, char **argv)
 		for (const struct option *o = longopts; o->name; o++)
 			if (o->val == opt && (opt == 'w' || opt == 'm' || opt == 'd' || opt == 't' || opt == OPT_EPOCH ||
 					      opt == OPT_LIST_SIGNALS || opt == OPT_NO_SLACK || opt == OPT_SPIN_COST ||
-					      opt == OPT_SEED))
+					      opt == OPT_SEED || opt == OPT_RECORD || opt == OPT_REPLAY))
 				given.push_back(std::string("--") + o->name);
 		if (std::string name = run_option_of(longopts, opt); !name.empty()) {
 			if (auto ok = set_run_option(name, arg, cfg); !ok)
@@ -147,6 +155,16 @@ int main(int argc, char **argv)
 		}
 		case 't':
 			cfg.trace_path = arg;
+			break;
+		case OPT_RECORD:
+			if (arg.empty())
+				return usage_error("--record: the file's path is empty");
+			cfg.record_path = arg;
+			break;
+		case OPT_REPLAY:
+			if (arg.empty())
+				return usage_error("--replay: the file's path is empty");
+			replay_file = arg;
 			break;
 		case OPT_CONNECT:
 			if (arg.empty())
@@ -190,6 +208,20 @@ int main(int argc, char **argv)
 		}
 		return 0;
 	}
+	if (!replay_file.empty()) {
+		auto record = read_record(replay_file);
+		if (!record)
+			return fail(record.error().message);
+		if (scale_given && cpu_scale != record->cpu_scale)
+			return usage_error("--cpu-scale " + std::to_string(cpu_scale) + " differs from the record's " +
+					   std::to_string(record->cpu_scale) + " (a replay takes the record's)");
+		if (cfg.seed && cfg.seed != record->seed)
+			return usage_error("--seed differs from the record's (a replay takes the record's)");
+		cpu_scale = record->cpu_scale;
+		scale_given = true;
+		cfg.replay = std::make_shared<const Record>(std::move(*record));
+	}
+	cfg.record_scale = cpu_scale;
 	cfg.models = setup->models;
 	cfg.devices = setup->devices;
 	cfg.step_ns = setup->step_ns;
@@ -201,6 +233,7 @@ int main(int argc, char **argv)
 			spec.argv.push_back(argv[i]);
 		spec.cpu_scale = cpu_scale;
 		specs.push_back(spec);
+		cfg.record_program = spec.argv;
 	} else {
 		for (const auto &entry : scenario->controllers) {
 			ControllerSpec spec;

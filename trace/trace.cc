@@ -48,6 +48,16 @@ const char kStepSchema[] = R"({"type":"object","title":"tcs simulation step","pr
 const char kClockSchema[] = R"({"type":"object","title":"rosgraph_msgs/Clock","properties":{
 "clock":{"type":"object","properties":{"sec":{"type":"integer"},"nanosec":{"type":"integer"}}}}})";
 
+// A record's (trace/record.h).
+const char kRecordRunSchema[] = R"({"type":"object","title":"tcs record: the run's settings","properties":{
+"cpu_scale":{"type":"number"},"step_ns":{"type":"integer"},"mono_origin_ns":{"type":"integer"},
+"real_origin_ns":{"type":"integer"},"tai_origin_ns":{"type":"integer"},"seed":{"type":"integer"},
+"slack":{"type":"boolean"},"program":{"type":"array","items":{"type":"string"}}}})";
+
+const char kJournalSchema[] = R"json({"type":"object","title":"tcs record: a controller's journal","properties":{
+"controller":{"type":"integer"},"entries":{"type":"array","description":"[kind, type, thread, value, arg]: kind 1 clock read (value: virtual ns), 2 CPU-time clock, 3 thread CPU-time clock, 4 request (type: its message type; value: virtual ns), 5 device read (value: virtual ns; arg: bytes read)",
+"items":{"type":"array","items":{"type":"integer"}}}}})json";
+
 void append(std::string &s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 void append(std::string &s, const char *fmt, ...)
 {
@@ -86,7 +96,7 @@ void append_number(std::string &s, double v)
 
 } // namespace
 
-Status Trace::open(const std::string &path, int avoid_cpu)
+Status Trace::open(const std::string &path, int avoid_cpu, bool record)
 {
 	if (auto s = writer_.open(path, "", "tcs"); !s)
 		return s;
@@ -100,8 +110,12 @@ Status Trace::open(const std::string &path, int avoid_cpu)
 		{ "/tcs/device", "tcs.Command", kDeviceSchema, &device_ },
 		{ "/tcs/step", "tcs.Step", kStepSchema, &step_ },
 		{ "/clock", "rosgraph_msgs/Clock", kClockSchema, &clock_ },
+		{ "/tcs/record/run", "tcs.RecordRun", kRecordRunSchema, &record_run_ },
+		{ "/tcs/record/journal", "tcs.Journal", kJournalSchema, &journal_ },
 	};
 	for (const auto &t : topics) {
+		if (!record && (t.id == &record_run_ || t.id == &journal_))
+			continue;
 		auto schema = writer_.add_schema(t.schema_name, t.schema);
 		if (!schema)
 			return schema.error();
@@ -231,6 +245,23 @@ void Trace::step(int64_t v, int64_t wall_ns, int64_t wall_cost_ns, std::vector<d
 	emit(std::move(e));
 }
 
+void Trace::record_run(std::string json)
+{
+	Event e{ Event::RecordRun };
+	e.json = std::move(json);
+	emit(std::move(e));
+}
+
+void Trace::journal(int controller, std::vector<tcs_journal_entry> entries)
+{
+	if (entries.empty())
+		return;
+	Event e{ Event::Journal };
+	e.controller = controller;
+	e.entries = std::move(entries);
+	emit(std::move(e));
+}
+
 void Trace::write_event(const Event &e)
 {
 	auto put = [this](uint16_t channel, int64_t v) {
@@ -292,6 +323,24 @@ void Trace::write_event(const Event &e)
 		       e.f[0] % 1000000000);
 		put(clock_, e.f[0]);
 		return;
+	case Event::RecordRun:
+		json_ = e.json;
+		put(record_run_, 0);
+		return;
+	case Event::Journal: {
+		append(json_, "{\"controller\":%d,\"entries\":[", e.controller);
+		int64_t at = 0;
+		for (size_t i = 0; i < e.entries.size(); i++) {
+			const tcs_journal_entry &j = e.entries[i];
+			append(json_, "%s[%u,%u,%u,%" PRId64 ",%" PRId64 "]", i ? "," : "", j.kind, j.type, j.thread, j.value,
+			       j.arg);
+			if (j.kind == TCS_J_CLOCK || j.kind == TCS_J_CHARGE || j.kind == TCS_J_READ)
+				at = j.value;
+		}
+		json_ += "]}";
+		put(journal_, at); // (logged at its last virtual time)
+		return;
+	}
 	}
 }
 

@@ -6,8 +6,9 @@
 // ended), /tcs/wait (each hooked wait: kind, requested deadline, when it
 // ended), /tcs/device (each command written to an actuator), /tcs/step (each
 // simulation step: wall time, wall cost, joint states) and /clock (the
-// simulation clock, as ROS 2 publishes it). Wall times count from the start
-// of the run.
+// simulation clock, as ROS 2 publishes it); a record adds /tcs/record/run and
+// /tcs/record/journal (trace/record.h). Wall times count from the start of
+// the run.
 #pragma once
 
 #include <condition_variable>
@@ -19,6 +20,7 @@
 
 #include "error.h"
 #include "mcap_writer.h"
+#include "tcs/journal.h"
 
 namespace tcs {
 
@@ -27,7 +29,8 @@ public:
 	// Opens path; the file is written by a thread of its own kept off core
 	// avoid_cpu (the controllers' core; -1: anywhere), so that compression
 	// and writing do not take time from the run.
-	Status open(const std::string &path, int avoid_cpu = -1);
+	// A record (--record) has the record's topics too.
+	Status open(const std::string &path, int avoid_cpu = -1, bool record = false);
 	bool is_open() const { return open_; }
 	Status close();
 
@@ -53,12 +56,16 @@ public:
 	// their values, in that order, with each step.
 	void set_joint_names(std::vector<std::string> names) { joint_names_ = std::move(names); }
 	void step(int64_t v, int64_t wall_ns, int64_t wall_cost_ns, std::vector<double> joint_values);
+	// A record (--record, trace/record.h): the run's settings a replay
+	// needs, once, as JSON; and each controller's journal, in batches.
+	void record_run(std::string json);
+	void journal(int controller, std::vector<tcs_journal_entry> entries);
 
 private:
 	// What happened, as raw fields: formatting is the writer thread's work,
 	// so that the run pays only for filling this in.
 	struct Event {
-		enum Kind : uint8_t { ControllerInfo, SliceEnd, Wait, Command, Step } kind;
+		enum Kind : uint8_t { ControllerInfo, SliceEnd, Wait, Command, Step, RecordRun, Journal } kind;
 		bool flag = false;          // wait: absolute; command: malformed
 		int controller = 0;
 		int64_t f[9] = {};          // the kind's numbers, in schema order
@@ -66,6 +73,8 @@ private:
 		const char *text = "";      // why a slice ended; a wait's kind
 		const std::string *path = nullptr; // command: the path; controller: the name
 		std::vector<double> values; // command values; step joint values
+		std::string json;           // the record's settings
+		std::vector<tcs_journal_entry> entries; // a journal's batch
 	};
 	void emit(Event &&e);
 	void writer_loop(int avoid_cpu);
@@ -74,6 +83,7 @@ private:
 	McapWriter writer_; // the writer thread's, once it runs
 	bool open_ = false;
 	uint16_t controller_ = 0, slice_ = 0, wait_ = 0, device_ = 0, step_ = 0, clock_ = 0;
+	uint16_t record_run_ = 0, journal_ = 0; // a record's
 	std::vector<std::string> joint_names_;
 	std::string json_; // the writer thread's formatting buffer
 

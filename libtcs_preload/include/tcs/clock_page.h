@@ -21,7 +21,7 @@ extern "C" {
 #endif
 
 #define TCS_PAGE_MAGIC 0x70736374u /* "tcsp" */
-#define TCS_PAGE_VERSION 12u
+#define TCS_PAGE_VERSION 13u
 #define TCS_PAGE_SIZE 4096
 
 enum tcs_mode {
@@ -67,6 +67,13 @@ enum tcs_mode {
  * one on its core (lockstep): a request through the mailbox is parked at
  * once rather than spun for, so that the next one has the core. */
 #define TCS_PAGE_QUEUED 128u
+/* flags: --record: the controller appends to its journal (tcs/journal.h)
+ * every clock value it reads and the time of every request. */
+#define TCS_PAGE_RECORD 256u
+/* flags: --replay: clock values and the times of requests come from the
+ * journal, a record's, until the program departs from it (mode is
+ * lockstep meanwhile: virtual time moves as the record says, and only so). */
+#define TCS_PAGE_REPLAY 512u
 
 /* The seqlock-protected part: where the current slice started. */
 struct tcs_slice {
@@ -112,7 +119,8 @@ struct tcs_clock_page {
 	 * (spin_v) before the controller must ask: the next time the world,
 	 * a timer or another thread needs it. */
 	int64_t spin_limit;
-	uint64_t reserved3[1];
+	/* Set once: the journal's size after the device table (0: none). */
+	uint64_t journal_bytes;
 
 	/* Controller-written, one atomic store each. */
 	int64_t exit_cpu;        /* process CPU when the last hook returned */

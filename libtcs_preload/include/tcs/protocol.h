@@ -38,7 +38,8 @@ enum tcs_msg_type {
 	TCS_MSG_HELLO = 1, /* controller → coordinator: preload attached (arg = pid, v = this image's nonce) */
 	TCS_MSG_BLOCK = 2, /* controller → coordinator: wait until deadline */
 	TCS_MSG_EARLY = 3, /* controller → coordinator: end wait seq now (kind = reason) */
-	TCS_MSG_WAKE = 4,  /* coordinator → controller: request seq is done (v = its time, arg = result) */
+	TCS_MSG_WAKE = 4,  /* coordinator → controller: request seq is done (v = its time, arg = result,
+			    * deadline = the time the request was charged at) */
 	TCS_MSG_DEV_OPEN = 5, /* controller → coordinator: open device arg (flags: TCS_DEV_*) */
 	TCS_MSG_DEV_SYNC = 6, /* controller → coordinator: bring device handle arg up to v (kind: TCS_SYNC_*) */
 	TCS_MSG_TIMER = 7,    /* controller → coordinator: (re)arm signal timer flags (see below) */

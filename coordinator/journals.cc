@@ -1,0 +1,209 @@
+// Journals (journals.h). Everything in a journal was written by the
+// controller: each entry is read once, its kind checked, and the ring's
+// positions are bounded by what the coordinator itself has taken.
+#include "journals.h"
+
+#include <algorithm>
+#include <cinttypes>
+#include <cstdio>
+
+#include "slices.h"
+#include "waits.h"
+#include "world_steps.h"
+
+namespace tcs {
+
+namespace {
+// Entries a record message holds at most (smaller: at a controller's end).
+constexpr size_t kBatch = 4096;
+} // namespace
+
+void journal_stop(Run &run, Controller &c)
+{
+	tcs_journal *j = c.journal();
+	if (!j || j->replaying)
+		return;
+	drain_journal(run, c);
+	tcs_journal_entry stop = {};
+	stop.kind = TCS_J_STOP;
+	stop.value = c.v;
+	// A slot claimed before the stop, not yet filled (stopped in the
+	// middle of its append): the stop comes after it.
+	uint64_t head = __atomic_load_n(&j->head, __ATOMIC_ACQUIRE);
+	if (head != c.journal_tail && head - c.journal_tail <= c.journal_capacity()) {
+		c.journal_stop = stop;
+		c.journal_stop_after = head;
+		return;
+	}
+	c.journal_batch.push_back(stop);
+}
+
+void drain_journal(Run &run, Controller &c, bool flush)
+{
+	tcs_journal *j = c.journal();
+	if (!j || j->replaying)
+		return;
+	const uint64_t cap = c.journal_capacity();
+	uint64_t tail = c.journal_tail;
+	uint64_t head = __atomic_load_n(&j->head, __ATOMIC_ACQUIRE);
+	if (head - tail > cap)
+		head = tail + cap; // (a controller's word)
+	tcs_journal_entry *ring = tcs_journal_entries(j);
+	for (; tail != head; tail++) {
+		tcs_journal_entry *e = &ring[tail % cap];
+		uint16_t kind = __atomic_load_n(&e->kind, __ATOMIC_ACQUIRE);
+		if (kind == 0)
+			break; // claimed, not yet filled: next time
+		tcs_journal_entry copy = *e;
+		copy.kind = kind;
+		__atomic_store_n(&e->kind, (uint16_t)0, __ATOMIC_RELAXED);
+		if (kind < TCS_J_STOP)
+			c.journal_batch.push_back(copy);
+		if (c.journal_stop.kind != 0 && tail + 1 == c.journal_stop_after) {
+			c.journal_batch.push_back(c.journal_stop); // (in its place)
+			c.journal_stop.kind = 0;
+		}
+	}
+	c.journal_tail = tail;
+	__atomic_store_n(&j->tail, tail, __ATOMIC_RELEASE);
+	uint64_t lost = __atomic_load_n(&j->lost, __ATOMIC_RELAXED);
+	if (lost != c.journal_lost && !c.departed) {
+		c.departed = true; // (said once)
+		warn_once(run, "record: '" + c.name + "' read its clocks more often between two stops than its journal holds; "
+			  "the record is incomplete from " + std::to_string(c.v / 1e9) + " s, where a replay departs");
+	}
+	c.journal_lost = lost;
+	if (c.journal_batch.size() >= kBatch || (flush && !c.journal_batch.empty())) {
+		run.trace.journal(c.id, std::move(c.journal_batch));
+		c.journal_batch.clear();
+	}
+}
+
+static std::string what_of(unsigned kind, unsigned type)
+{
+	static const char *const types[] = { "", "HELLO", "wait", "EARLY", "WAKE", "device open", "device sync",
+					     "timer", "fork", "THREAD", "signal" };
+	std::string s = tcs_journal_kind_name(kind);
+	if (kind == TCS_J_CHARGE && type < sizeof types / sizeof *types && *types[type])
+		s = std::string(types[type]) + " " + s;
+	return s;
+}
+
+// From here on, the run measures again: cpu mode, with every controller's
+// own CPU (the record's charges end here).
+static void go_live(Run &run)
+{
+	if (!run.replaying)
+		return;
+	run.replaying = false;
+	run.cfg.mode = TCS_MODE_CPU;
+	for (auto &c : run.ctls) {
+		c->set_page_mode(TCS_MODE_CPU);
+		c->set_page_flag(TCS_PAGE_REPLAY, false);
+	}
+}
+
+static void say_departure(Run &run, Controller &c, const std::string &what)
+{
+	c.departed = true;
+	warn_once(run, "replay: '" + c.name + "' departs from the record " + what + "; the run goes on live from there");
+	go_live(run);
+}
+
+bool replay_stop(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
+{
+	if (!run.replaying || m.kind != TCS_BLOCK_SPIN || c.state != CtlState::Running || c.multithreaded())
+		return false;
+	run.lanes.leave(c);
+	int64_t cpu = charge_point(run, c, m.cpu);
+	c.account(cpu, run.cfg.mode);
+	// Where the record's stop was: no further than the world's next step
+	// or its next timer (the controller's word, held to that).
+	int64_t at = std::clamp(m.deadline, c.v, std::max(c.v, c.spin_limit()));
+	c.charged += at - c.v;
+	c.v = at;
+	c.stats.preemptions++;
+	trace_slice_end(run, c, "preempted", cpu);
+	c.cpu_at_end = cpu;
+	c.wait.seq = m.seq;
+	c.wait.fd = fd;
+	c.wait.tid = tid;
+	c.wait.active = false; // (no wait of the program's)
+	c.wake_arg = 0;
+	wake(run, c, at, TCS_WAKE_DEADLINE);
+	schedule(run);
+	return true;
+}
+
+// Replaying: where c's journal goes on past the coordinator's own entries
+// up to kind `upto` (stops; and the exit, with TCS_J_EXIT).
+static uint64_t next_of_program(const Controller &c, unsigned upto)
+{
+	const tcs_journal *j = c.journal();
+	uint64_t n = std::min<uint64_t>(j->tail, c.journal_capacity());
+	uint64_t at = __atomic_load_n(&j->head, __ATOMIC_RELAXED);
+	while (at < n && tcs_journal_entries(const_cast<tcs_journal *>(j))[at].kind >= TCS_J_STOP &&
+	       tcs_journal_entries(const_cast<tcs_journal *>(j))[at].kind <= upto)
+		at++;
+	return std::min(at, n);
+}
+
+void replay_exit(Run &run, Controller &c)
+{
+	tcs_journal *j = c.journal();
+	if (!run.replaying || !j || !j->replaying || c.departed)
+		return;
+	uint64_t at = next_of_program(c, TCS_J_STOP), n = __atomic_load_n(&j->tail, __ATOMIC_RELAXED);
+	if (at >= n)
+		return;
+	const tcs_journal_entry e = tcs_journal_entries(j)[at];
+	if (e.kind != TCS_J_EXIT || e.value <= c.v)
+		return;
+	c.charged += e.value - c.v;
+	c.v = e.value;
+}
+
+void check_departure(Run &run, Controller &c)
+{
+	tcs_journal *j = c.journal();
+	if (!j || !j->replaying || c.departed || !__atomic_load_n(&j->departed, __ATOMIC_ACQUIRE))
+		return;
+	tcs_journal_departure d = j->departure;
+	char at[64];
+	snprintf(at, sizeof at, "at %.9f s", (double)d.v / 1e9);
+	std::string what = std::string(at) + ": " + what_of(d.kind, d.type);
+	if (d.expected_kind == 0)
+		what += " past the record's end";
+	else if (d.expected_kind == d.kind && d.expected_type == d.type)
+		what += " at " + std::to_string(d.value / 1e9) + " s, where the record has it at " +
+			std::to_string(d.expected_value / 1e9) + " s";
+	else
+		what += " where the record has a " + what_of(d.expected_kind, d.expected_type);
+	say_departure(run, c, what);
+}
+
+void journal_ends(Run &run, Controller &c)
+{
+	tcs_journal *j = c.journal();
+	if (!j)
+		return;
+	if (!j->replaying) {
+		drain_journal(run, c);
+		tcs_journal_entry end = {};
+		end.kind = TCS_J_EXIT;
+		end.value = c.v;
+		c.journal_batch.push_back(end);
+		drain_journal(run, c, true);
+		return;
+	}
+	check_departure(run, c);
+	uint64_t at = next_of_program(c, TCS_J_EXIT), n = __atomic_load_n(&j->tail, __ATOMIC_RELAXED);
+	if (!c.departed && !run.ending && at < n) {
+		char what[96];
+		snprintf(what, sizeof what, "at %.9f s: it ended with %" PRIu64 " of the record's entries not reached",
+			 (double)c.v / 1e9, n - at);
+		say_departure(run, c, what);
+	}
+}
+
+} // namespace tcs

@@ -1,0 +1,113 @@
+// Records (record.h): the settings' JSON, and reading a record back.
+#include "record.h"
+
+#include <cinttypes>
+
+#include "json.h"
+#include "mcap_reader.h"
+
+namespace tcs {
+
+namespace {
+// A journal's entries at most (a controller is untrusted, and so is a file):
+// 2^28 entries are 4 GiB of replay table.
+constexpr size_t kMostEntries = size_t(1) << 28;
+} // namespace
+
+std::string record_run_json(const Record &r)
+{
+	char buf[512];
+	snprintf(buf, sizeof buf,
+		 "{\"cpu_scale\":%.17g,\"step_ns\":%" PRId64 ",\"mono_origin_ns\":%" PRId64 ",\"real_origin_ns\":%" PRId64
+		 ",\"tai_origin_ns\":%" PRId64 ",\"seed\":%" PRIu64 ",\"slack\":%s,\"program\":[",
+		 r.cpu_scale, r.step_ns, r.mono_origin_ns, r.real_origin_ns, r.tai_origin_ns, r.seed ? *r.seed : 0,
+		 r.slack ? "true" : "false");
+	std::string s = buf;
+	for (size_t i = 0; i < r.program.size(); i++) {
+		if (i)
+			s += ',';
+		json_append_string(s, r.program[i]);
+	}
+	return s + "]}";
+}
+
+static Status take_settings(const std::string &path, const JsonValue &j, Record *r)
+{
+	r->cpu_scale = j.get_number("cpu_scale", 1.0);
+	r->step_ns = j.get_int("step_ns");
+	r->mono_origin_ns = j.get_int("mono_origin_ns");
+	r->real_origin_ns = j.get_int("real_origin_ns");
+	r->tai_origin_ns = j.get_int("tai_origin_ns");
+	if (const JsonValue *seed = j.get("seed"); seed && seed->is_integer && seed->integer != 0)
+		r->seed = (uint64_t)seed->integer;
+	r->slack = j.get_bool("slack", true);
+	if (!(r->cpu_scale > 0) || r->step_ns <= 0)
+		return Error{ path + ": the record's settings are not valid (cpu_scale, step_ns)" };
+	if (const JsonValue *p = j.get("program"); p && p->type == JsonValue::Type::Array)
+		for (const JsonValue &a : p->array)
+			r->program.push_back(a.string);
+	return Ok{};
+}
+
+static Status take_journal(const std::string &path, const JsonValue &j, Record *r)
+{
+	const JsonValue *entries = j.get("entries");
+	int64_t controller = j.get_int("controller", -1);
+	if (controller < 1 || controller > 1 << 20 || !entries || entries->type != JsonValue::Type::Array)
+		return Error{ path + ": a journal message without its controller or entries" };
+	std::vector<tcs_journal_entry> &out = r->journals[(int)controller];
+	for (const JsonValue &e : entries->array) {
+		bool ok = e.type == JsonValue::Type::Array && e.array.size() == 5;
+		for (size_t i = 0; ok && i < 5; i++)
+			ok = e.array[i].is_integer;
+		if (!ok || e.array[0].integer < 1 || e.array[0].integer >= TCS_J_KINDS || e.array[1].integer < 0 ||
+		    e.array[1].integer > 0xffff || e.array[2].integer < 0 || e.array[2].integer > 0xffffffffLL)
+			return Error{ path + ": a journal entry that is not [kind, type, thread, value, arg]" };
+		if (out.size() == kMostEntries)
+			return Error{ path + ": more journal entries than a replay takes" };
+		tcs_journal_entry x = {};
+		x.kind = (uint16_t)e.array[0].integer;
+		x.type = (uint16_t)e.array[1].integer;
+		x.thread = (uint32_t)e.array[2].integer;
+		x.value = e.array[3].integer;
+		x.arg = e.array[4].integer;
+		out.push_back(x);
+	}
+	return Ok{};
+}
+
+Result<Record> read_record(const std::string &path)
+{
+	McapReader reader;
+	if (auto s = reader.open(path); !s)
+		return s.error();
+	Record r;
+	bool settings = false;
+	McapMessage m;
+	for (;;) {
+		auto more = reader.next(&m);
+		if (!more)
+			return more.error();
+		if (!*more)
+			break;
+		const std::string &topic = m.channel->topic;
+		if (topic != "/tcs/record/run" && topic != "/tcs/record/journal")
+			continue;
+		auto j = json_parse(m.data);
+		if (!j)
+			return Error{ path + ": " + topic + ": " + j.error().message };
+		if (topic == "/tcs/record/run") {
+			if (auto s = take_settings(path, *j, &r); !s)
+				return s.error();
+			settings = true;
+		} else if (auto s = take_journal(path, *j, &r); !s) {
+			return s.error();
+		}
+	}
+	if (!settings)
+		return Error{ path + ": not a record (a trace written without --record)" };
+	r.truncated = reader.truncated();
+	return r;
+}
+
+} // namespace tcs

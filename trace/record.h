@@ -1,0 +1,37 @@
+// A record (tcs-run --record, docs/DESIGN.md §2): a trace that also holds
+// what a replay needs, its settings (/tcs/record/run) and each controller's
+// journal (/tcs/record/journal: every clock value it read and the time of
+// every request, tcs/journal.h). Read back whole for --replay.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "error.h"
+#include "tcs/journal.h"
+
+namespace tcs {
+
+struct Record {
+	double cpu_scale = 1.0;
+	int64_t step_ns = 0;
+	int64_t mono_origin_ns = 0, real_origin_ns = 0, tai_origin_ns = 0;
+	std::optional<uint64_t> seed;
+	bool slack = true;
+	std::vector<std::string> program; // the recorded controller's command line
+	// Each controller's journal, by its number in the run (1: the first).
+	std::map<int, std::vector<tcs_journal_entry>> journals;
+	bool truncated = false; // the file stops short (the recorded run was killed)
+};
+
+// The settings as the record's JSON message.
+std::string record_run_json(const Record &r);
+
+// Reads a record. Errors: "PATH: ..." (not a file, not MCAP, damaged), or
+// "PATH: not a record (a trace written without --record)".
+Result<Record> read_record(const std::string &path);
+
+} // namespace tcs
