@@ -249,6 +249,7 @@ public:
 	tcs_journal_entry journal_stop = {}; // a stop that goes after entry journal_stop_after - 1
 	uint64_t journal_stop_after = 0;
 	bool departed = false; // replaying: its departure has been said
+	size_t commands_replayed = 0; // replaying: its commands compared so far
 	void set_page_mode(int mode);
 	// Ended: its descriptors and shared memory go back (a daemon serves
 	// controllers for as long as it runs); what the report needs stays.

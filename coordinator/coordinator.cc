@@ -14,6 +14,7 @@
 #include "children.h"
 #include "clock_ns.h"
 #include "exits.h"
+#include "journals.h"
 #include "messages.h"
 #include "record.h"
 #include "remote.h"
@@ -130,6 +131,10 @@ Status Coordinator::init()
 		run.world = std::move(*w);
 	}
 	auto warn = [&run](const std::string &w) { warn_once(run, w); };
+	if (run.cfg.replay)
+		run.devices.on_command = [&run](Controller &c, const std::string &path, const std::vector<double> *values) {
+			replay_command(run, c, path, values);
+		};
 	if (auto s = run.devices.bind(run.cfg.devices, run.world.get(), warn); !s)
 		return s;
 	if (!run.cfg.trace_path.empty()) {
@@ -174,6 +179,7 @@ Status Coordinator::init()
 		r.seed = run.cfg.seed;
 		r.slack = run.cfg.slack;
 		r.program = run.cfg.record_program;
+		r.devices = run.cfg.record_devices;
 		run.trace.record_run(record_run_json(r));
 	}
 	if (run.cfg.mode == TCS_MODE_LOCKSTEP && !run.cfg.replay)

@@ -46,6 +46,7 @@ struct CoordinatorConfig {
 	std::string record_path;
 	std::vector<std::string> record_program;
 	double record_scale = 1.0;
+	std::vector<std::string> record_devices; // the world's device paths
 	// --replay: the record, whose settings (scale, origins, seed, slack)
 	// this run takes and whose journals its controllers replay.
 	std::shared_ptr<const Record> replay;

@@ -141,11 +141,15 @@ bool DeviceServer::take_commands(Controller &c, OpenDevice &d, bool written_lazi
 				v = std::clamp(v, -*dev.cfg.limit, *dev.cfg.limit);
 		if (trace.is_open())
 			trace.command(c.id, dev.cfg.path, c.v, values, false);
+		if (on_command)
+			on_command(c, dev.cfg.path, &values);
 		commands_.emplace_back(c.v, &dev, std::move(values));
 	}
 	if (!ok) {
 		if (trace.is_open())
 			trace.command(c.id, dev.cfg.path, c.v, {}, true);
+		if (on_command)
+			on_command(c, dev.cfg.path, nullptr);
 		dev.malformed++;
 		// The preload vouched for a lazy write's records: only a write
 		// around its hooks (a raw system call) can get here.

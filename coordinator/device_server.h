@@ -29,6 +29,10 @@ public:
 	Status bind(const std::vector<DeviceConfig> &devices, const SimWorld *world, Warn warn);
 	std::vector<BoundDevice> &bound() { return devices_; }
 
+	// Each command as it is taken (values; null: a malformed record), for
+	// a replay to compare with the record's (may be empty).
+	std::function<void(Controller &, const std::string &path, const std::vector<double> *values)> on_command;
+
 	// A stream's records due before `until`, made from the world as it is.
 	void make_records(OpenDevice &d, int64_t until, const SimWorld *world);
 	void fill_streams(const std::vector<std::unique_ptr<Controller>> &ctls, int64_t until, const SimWorld *world);

@@ -7,6 +7,7 @@
 #include <cinttypes>
 #include <cstdio>
 
+#include "record.h"
 #include "slices.h"
 #include "waits.h"
 #include "world_steps.h"
@@ -103,10 +104,11 @@ static void go_live(Run &run)
 	}
 }
 
-static void say_departure(Run &run, Controller &c, const std::string &what)
+static void say_departure(Run &run, Controller &c, const std::string &what, bool ended = false)
 {
 	c.departed = true;
-	warn_once(run, "replay: '" + c.name + "' departs from the record " + what + "; the run goes on live from there");
+	warn_once(run, "replay: '" + c.name + "' departs from the record " + what +
+			       (ended ? "" : "; the run goes on live from there"));
 	go_live(run);
 }
 
@@ -163,6 +165,41 @@ void replay_exit(Run &run, Controller &c)
 	c.v = e.value;
 }
 
+static std::string values_text(const std::vector<double> *values)
+{
+	if (!values)
+		return "a malformed record";
+	std::string s;
+	for (double v : *values) {
+		char buf[32];
+		snprintf(buf, sizeof buf, "%s%.9g", s.empty() ? "" : " ", v);
+		s += buf;
+	}
+	return "'" + s + "'";
+}
+
+void replay_command(Run &run, Controller &c, const std::string &path, const std::vector<double> *values)
+{
+	if (!run.replaying || c.departed || !c.journal())
+		return;
+	auto all = run.cfg.replay->commands.find(c.id);
+	size_t i = c.commands_replayed++;
+	const RecordedCommand *r =
+		all != run.cfg.replay->commands.end() && i < all->second.size() ? &all->second[i] : nullptr;
+	if (r && r->path == path && r->v == c.v && r->malformed == !values && (!values || r->values == *values))
+		return;
+	char at[64];
+	snprintf(at, sizeof at, "at %.9f s: ", (double)c.v / 1e9);
+	std::string what = std::string(at) + "command " + values_text(values) + " to " + path;
+	if (!r)
+		what += " past the record's last command";
+	else
+		what += " where the record has " + values_text(r->malformed ? nullptr : &r->values) +
+			(r->path != path ? " to " + r->path : "") +
+			(r->v != c.v ? " at " + std::to_string(r->v / 1e9) + " s" : "");
+	say_departure(run, c, what);
+}
+
 void check_departure(Run &run, Controller &c)
 {
 	tcs_journal *j = c.journal();
@@ -202,7 +239,7 @@ void journal_ends(Run &run, Controller &c)
 		char what[96];
 		snprintf(what, sizeof what, "at %.9f s: it ended with %" PRIu64 " of the record's entries not reached",
 			 (double)c.v / 1e9, n - at);
-		say_departure(run, c, what);
+		say_departure(run, c, what, true);
 	}
 }
 

@@ -16,6 +16,9 @@ void journal_stop(Run &run, Controller &c);
 // Replaying: if c has departed from the record, says where, once, and the
 // run goes on live from there.
 void check_departure(Run &run, Controller &c);
+// Replaying: c's command (values; null: malformed) to path, taken: one the
+// record does not have there is its departure.
+void replay_command(Run &run, Controller &c, const std::string &path, const std::vector<double> *values);
 // Replaying: a spin stop of c's (TCS_BLOCK_SPIN) that stands for one of the
 // record's preemptions, taken as one (true): its slice ends at the stop's
 // time, all of it charged, and it goes on once the world is there.

@@ -36,7 +36,8 @@ namespace tcs {
 Status add_controller(Run &run, const ControllerSpec &spec)
 {
 	ControllerSpec traced = spec;
-	traced.report_misses = run.trace.is_open();
+	// (A replay waits as its record did, which was traced.)
+	traced.report_misses = run.trace.is_open() || run.cfg.replay;
 	// Each controller a stream of its own, by its place in the run.
 	if (run.cfg.seed)
 		traced.random_key = tcs_random_key(*run.cfg.seed, run.ctls.size() + 1);

@@ -71,10 +71,8 @@ int tcs_become_child(int parent_channel, int64_t fork_v, int v_known)
 	struct tcs_clock_page *old = tcs_rt.page;
 	if (tcs_register_child(parent_channel, tcs_rt.channel_fd, tcs_rt.page_fd, fork_v, v_known) < 0)
 		return -1;
-	if (old) {
-		tcs_journal_forget(); /* (its parent's) */
+	if (old)
 		tcs_sys2(SYS_munmap, old, TCS_SHARED_SIZE);
-	}
 	tcs_rt.page = NULL;
 	long m = tcs_sys6(SYS_mmap, NULL, TCS_SHARED_SIZE, PROT_READ | PROT_WRITE, MAP_SHARED, tcs_rt.page_fd, 0);
 	if (m < 0 && m > -4096)
@@ -100,6 +98,8 @@ static void tcs_atfork_child(void)
 {
 	if (tcs_rt.state != TCS_ON)
 		return;
+	/* The journal is its parent's: not a word of it is this process's. */
+	tcs_journal_forget();
 	if (tcs_become_child(tcs_rt.channel_fd, tcs_fork_v, 1) == 0)
 		return;
 	tcs_rt.state = TCS_DETACHED;

@@ -212,9 +212,11 @@ static long tcs_device_read_journalled(int fd, void *buf, size_t n)
 		return e.arg;
 	size_t want = (size_t)e.arg < n ? (size_t)e.arg : n;
 	long got = tcs_sys6(SYS_recvfrom, fd, buf, want, MSG_DONTWAIT, 0, 0);
+	if (got == -EAGAIN)
+		got = 0;
 	if (got >= 0 && (size_t)got < want) {
-		/* Put there by a stop that came a little later here than there
-		 * (at the world's step, not past it): what is due by now. */
+		/* The world puts records in as it steps, whenever that is in
+		 * real time: what is due by now, asked for. */
 		tcs_replay_inner_begin();
 		long r = tcs_before_read(fd);
 		tcs_replay_inner_end();

@@ -17,8 +17,9 @@ static __thread uint32_t tcs_journal_thread; /* its number + 1 (0: none yet) */
 /* Recording: the request whose charge point was taken, journalled when its
  * WAKE says at what time it was charged. */
 static __thread unsigned tcs_pending_request;
-/* Replaying: a wait of the replay's own (reaching the record's time) is
- * under way, whose charge point is no request of the program's. */
+/* A wait of tcs's own is under way (reaching the record's time, or asking
+ * the world's after the coordinator stepped it aside), whose charge point
+ * is no request of the program's: neither journalled nor replayed. */
 static __thread int tcs_replay_inner;
 
 int tcs_start_journal(void)
@@ -227,7 +228,7 @@ int tcs_replay_clock(unsigned kind, int64_t *value)
 void tcs_journal_request(unsigned type)
 {
 	struct tcs_journal *j = tcs_rt.journal;
-	if (!j || type == TCS_MSG_EARLY)
+	if (!j || type == TCS_MSG_EARLY || tcs_replay_inner)
 		return;
 	if (!j->replaying) {
 		tcs_pending_request = type;

@@ -21,8 +21,8 @@ int tcs_replay_take(unsigned kind, unsigned type, struct tcs_journal_entry *out)
 /* Replaying: virtual time v is reached, by a wait of the replay's own where
  * the world must step first (tcs_spin_to); not from inside a hook. */
 void tcs_replay_reach(int64_t v) TCS_HIDDEN;
-/* Requests made between these are the replay's own, not the program's: no
- * entry of the record is taken for them. */
+/* Requests made between these are tcs's own, not the program's: none is
+ * journalled, and no entry of a record is taken for them. */
 void tcs_replay_inner_begin(void) TCS_HIDDEN;
 void tcs_replay_inner_end(void) TCS_HIDDEN;
 

@@ -134,8 +134,10 @@ static void tcs_catch_up_in_wait(void)
 	if (tcs_catching_up)
 		return;
 	tcs_catching_up = 1;
+	tcs_replay_inner_begin(); /* (what the world's time is, the record says) */
 	struct tcs_wait_time t = { 0, 1, 0, 0, 0, 0 };
 	(void)tcs_wait(&t, TCS_BLOCK_SLEEP, TCS_BLOCK_ASK, NULL, 0, NULL);
+	tcs_replay_inner_end();
 	tcs_catching_up = 0;
 }
 

@@ -114,6 +114,7 @@ int main(int argc, char **argv)
 	double cpu_scale = 1.0;
 	bool quiet = false, list_signals = false, scale_given = false;
 	std::string world_file, connect_socket, replay_file;
+	std::vector<std::string> argv_owned; // --replay without a PROGRAM: the record's
 	std::vector<std::string> given; // options that belong to the world's owner
 	int opt;
 	opterr = 0;
@@ -213,8 +214,21 @@ int main(int argc, char **argv)
 		if (!record)
 			return fail(record.error().message);
 		if (scale_given && cpu_scale != record->cpu_scale)
-			return usage_error("--cpu-scale " + std::to_string(cpu_scale) + " differs from the record's " +
-					   std::to_string(record->cpu_scale) + " (a replay takes the record's)");
+			return usage_error(format_number("--cpu-scale %g", cpu_scale) +
+					   format_number(" differs from the record's %g (a replay takes the record's)",
+							 record->cpu_scale));
+		std::vector<std::string> devices;
+		for (const auto &d : setup->devices)
+			devices.push_back(d.path);
+		if (devices != record->devices)
+			return fail(replay_file + ": recorded in another world (its devices differ from " +
+				    (world_file.empty() ? std::string("the built-in scenario") : world_file) +
+				    "'s): replay it with the record's scenario");
+		if (optind == argc && scenario->controllers.empty()) {
+			// The recorded program, as it was run.
+			for (const auto &a : record->program)
+				argv_owned.push_back(a);
+		}
 		if (cfg.seed && cfg.seed != record->seed)
 			return usage_error("--seed differs from the record's (a replay takes the record's)");
 		cpu_scale = record->cpu_scale;
@@ -222,15 +236,18 @@ int main(int argc, char **argv)
 		cfg.replay = std::make_shared<const Record>(std::move(*record));
 	}
 	cfg.record_scale = cpu_scale;
+	for (const auto &d : setup->devices)
+		cfg.record_devices.push_back(d.path);
 	cfg.models = setup->models;
 	cfg.devices = setup->devices;
 	cfg.step_ns = setup->step_ns;
 
+	for (int i = optind; i < argc; i++)
+		argv_owned.push_back(argv[i]);
 	std::vector<ControllerSpec> specs;
-	if (optind < argc) {
+	if (!argv_owned.empty()) {
 		ControllerSpec spec;
-		for (int i = optind; i < argc; i++)
-			spec.argv.push_back(argv[i]);
+		spec.argv = argv_owned;
 		spec.cpu_scale = cpu_scale;
 		specs.push_back(spec);
 		cfg.record_program = spec.argv;

@@ -23,11 +23,16 @@ std::string record_run_json(const Record &r)
 		 r.cpu_scale, r.step_ns, r.mono_origin_ns, r.real_origin_ns, r.tai_origin_ns, r.seed ? *r.seed : 0,
 		 r.slack ? "true" : "false");
 	std::string s = buf;
-	for (size_t i = 0; i < r.program.size(); i++) {
-		if (i)
-			s += ',';
-		json_append_string(s, r.program[i]);
-	}
+	auto strings = [&s](const std::vector<std::string> &v) {
+		for (size_t i = 0; i < v.size(); i++) {
+			if (i)
+				s += ',';
+			json_append_string(s, v[i]);
+		}
+	};
+	strings(r.program);
+	s += "],\"devices\":[";
+	strings(r.devices);
 	return s + "]}";
 }
 
@@ -46,6 +51,9 @@ static Status take_settings(const std::string &path, const JsonValue &j, Record 
 	if (const JsonValue *p = j.get("program"); p && p->type == JsonValue::Type::Array)
 		for (const JsonValue &a : p->array)
 			r->program.push_back(a.string);
+	if (const JsonValue *d = j.get("devices"); d && d->type == JsonValue::Type::Array)
+		for (const JsonValue &a : d->array)
+			r->devices.push_back(a.string);
 	return Ok{};
 }
 
@@ -76,6 +84,25 @@ static Status take_journal(const std::string &path, const JsonValue &j, Record *
 	return Ok{};
 }
 
+static Status take_command(const std::string &path, const JsonValue &j, Record *r)
+{
+	int64_t controller = j.get_int("controller", -1);
+	const JsonValue *values = j.get("values");
+	if (controller < 1 || controller > 1 << 20 || !values || values->type != JsonValue::Type::Array)
+		return Error{ path + ": a command without its controller or values" };
+	auto &out = r->commands[(int)controller];
+	if (out.size() == kMostEntries)
+		return Error{ path + ": more commands than a replay takes" };
+	RecordedCommand c;
+	c.path = std::string(j.get_string("path"));
+	c.v = j.get_int("v_ns");
+	c.malformed = j.get_bool("malformed");
+	for (const JsonValue &v : values->array)
+		c.values.push_back(v.number);
+	out.push_back(std::move(c));
+	return Ok{};
+}
+
 Result<Record> read_record(const std::string &path)
 {
 	McapReader reader;
@@ -91,12 +118,15 @@ Result<Record> read_record(const std::string &path)
 		if (!*more)
 			break;
 		const std::string &topic = m.channel->topic;
-		if (topic != "/tcs/record/run" && topic != "/tcs/record/journal")
+		if (topic != "/tcs/record/run" && topic != "/tcs/record/journal" && topic != "/tcs/device")
 			continue;
 		auto j = json_parse(m.data);
 		if (!j)
 			return Error{ path + ": " + topic + ": " + j.error().message };
-		if (topic == "/tcs/record/run") {
+		if (topic == "/tcs/device") {
+			if (auto s = take_command(path, *j, &r); !s)
+				return s.error();
+		} else if (topic == "/tcs/record/run") {
 			if (auto s = take_settings(path, *j, &r); !s)
 				return s.error();
 			settings = true;

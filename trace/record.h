@@ -15,6 +15,14 @@
 
 namespace tcs {
 
+// An actuator command in the record (its /tcs/device topic).
+struct RecordedCommand {
+	std::string path;
+	int64_t v = 0;
+	std::vector<double> values;
+	bool malformed = false;
+};
+
 struct Record {
 	double cpu_scale = 1.0;
 	int64_t step_ns = 0;
@@ -22,8 +30,10 @@ struct Record {
 	std::optional<uint64_t> seed;
 	bool slack = true;
 	std::vector<std::string> program; // the recorded controller's command line
+	std::vector<std::string> devices; // the world's devices' paths (a replay's must be the same)
 	// Each controller's journal, by its number in the run (1: the first).
 	std::map<int, std::vector<tcs_journal_entry>> journals;
+	std::map<int, std::vector<RecordedCommand>> commands; // each controller's, in order
 	bool truncated = false; // the file stops short (the recorded run was killed)
 };
 

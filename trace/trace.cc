@@ -52,7 +52,8 @@ const char kClockSchema[] = R"({"type":"object","title":"rosgraph_msgs/Clock","p
 const char kRecordRunSchema[] = R"({"type":"object","title":"tcs record: the run's settings","properties":{
 "cpu_scale":{"type":"number"},"step_ns":{"type":"integer"},"mono_origin_ns":{"type":"integer"},
 "real_origin_ns":{"type":"integer"},"tai_origin_ns":{"type":"integer"},"seed":{"type":"integer"},
-"slack":{"type":"boolean"},"program":{"type":"array","items":{"type":"string"}}}})";
+"slack":{"type":"boolean"},"program":{"type":"array","items":{"type":"string"}},
+"devices":{"type":"array","items":{"type":"string"}}}})";
 
 const char kJournalSchema[] = R"json({"type":"object","title":"tcs record: a controller's journal","properties":{
 "controller":{"type":"integer"},"entries":{"type":"array","description":"[kind, type, thread, value, arg]: kind 1 clock read (value: virtual ns), 2 CPU-time clock, 3 thread CPU-time clock, 4 request (type: its message type; value: virtual ns), 5 device read (value: virtual ns; arg: bytes read)",
