@@ -1,7 +1,9 @@
 // Records (record.h): the settings' JSON, and reading a record back.
 #include "record.h"
 
+#include <cerrno>
 #include <cinttypes>
+#include <cstdlib>
 
 #include "json.h"
 #include "mcap_reader.h"
@@ -19,7 +21,7 @@ std::string record_run_json(const Record &r)
 	char buf[512];
 	snprintf(buf, sizeof buf,
 		 "{\"cpu_scale\":%.17g,\"step_ns\":%" PRId64 ",\"mono_origin_ns\":%" PRId64 ",\"real_origin_ns\":%" PRId64
-		 ",\"tai_origin_ns\":%" PRId64 ",\"seed\":%" PRIu64 ",\"slack\":%s,\"program\":[",
+		 ",\"tai_origin_ns\":%" PRId64 ",\"seed\":\"%" PRIu64 "\",\"slack\":%s,\"program\":[",
 		 r.cpu_scale, r.step_ns, r.mono_origin_ns, r.real_origin_ns, r.tai_origin_ns, r.seed ? *r.seed : 0,
 		 r.slack ? "true" : "false");
 	std::string s = buf;
@@ -43,8 +45,17 @@ static Status take_settings(const std::string &path, const JsonValue &j, Record 
 	r->mono_origin_ns = j.get_int("mono_origin_ns");
 	r->real_origin_ns = j.get_int("real_origin_ns");
 	r->tai_origin_ns = j.get_int("tai_origin_ns");
-	if (const JsonValue *seed = j.get("seed"); seed && seed->is_integer && seed->integer != 0)
-		r->seed = (uint64_t)seed->integer;
+	// (A string: a seed takes all 64 bits, JSON's integers 63.)
+	std::string seed(j.get_string("seed"));
+	if (!seed.empty()) {
+		char *end = nullptr;
+		errno = 0;
+		unsigned long long v = strtoull(seed.c_str(), &end, 10);
+		if (errno || *end || seed[0] == '-')
+			return Error{ path + ": the record's seed is not a whole number" };
+		if (v != 0)
+			r->seed = v;
+	}
 	r->slack = j.get_bool("slack", true);
 	if (!(r->cpu_scale > 0) || r->step_ns <= 0)
 		return Error{ path + ": the record's settings are not valid (cpu_scale, step_ns)" };

@@ -51,7 +51,7 @@ const char kClockSchema[] = R"({"type":"object","title":"rosgraph_msgs/Clock","p
 // A record's (trace/record.h).
 const char kRecordRunSchema[] = R"({"type":"object","title":"tcs record: the run's settings","properties":{
 "cpu_scale":{"type":"number"},"step_ns":{"type":"integer"},"mono_origin_ns":{"type":"integer"},
-"real_origin_ns":{"type":"integer"},"tai_origin_ns":{"type":"integer"},"seed":{"type":"integer"},
+"real_origin_ns":{"type":"integer"},"tai_origin_ns":{"type":"integer"},"seed":{"type":"string","description":"--seed in decimal, 0 for none"},
 "slack":{"type":"boolean"},"program":{"type":"array","items":{"type":"string"}},
 "devices":{"type":"array","items":{"type":"string"}}}})";
 
