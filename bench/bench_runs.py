@@ -193,17 +193,25 @@ def peak_memory(b):
 
 
 def trace_cost(b):
+    """--trace and --record (a trace with every clock value and request's
+    time, for --replay) against the same cpu-mode run without, interleaved."""
     pd = b.path("examples", "pendulum_pd")
-    trace = os.path.join(b.tmp, "cost.mcap")
+    trace, record = os.path.join(b.tmp, "cost.mcap"), os.path.join(b.tmp, "cost-record.mcap")
     seconds = 10 if b.quick else 30
     m, _ = b.interleaved([
         ("plain", lambda: b.run(b.tcs("-q", "-d", "%ds" % seconds, pd))[1]),
         ("traced", lambda: b.run(b.tcs("-q", "-d", "%ds" % seconds, "-t", trace, pd))[1]),
+        ("recorded", lambda: b.run(b.tcs("-q", "-d", "%ds" % seconds, "--record", record, pd))[1]),
     ])
     kb = os.path.getsize(trace) / 1e3 / seconds  # per 1000 cycles
+    record_kb = os.path.getsize(record) / 1e3 / seconds
     return [row("--trace, 1 kHz pendulum", m["traced"], "s wall", m["plain"], "the same run untraced",
                 m["traced"] / m["plain"], "< 1.10x", m["traced"] / m["plain"] < 1.10,
-                "%.0f KB of trace per 1,000 cycles" % kb)]
+                "%.0f KB of trace per 1,000 cycles" % kb),
+            row("--record, 1 kHz pendulum", m["recorded"], "s wall", m["plain"], "the same run unrecorded",
+                m["recorded"] / m["plain"], "< 1.15x", m["recorded"] / m["plain"] < 1.15,
+                "%.0f KB of record per 1,000 cycles (%.2fx the trace's wall time)" %
+                (record_kb, m["recorded"] / m["traced"]))]
 
 
 def pendulums_world(b, n, work_us=0):
