@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 #define TCS_PROTO_MAGIC 0x31736374u /* "tcs1" */
-#define TCS_PROTO_VERSION 8u
+#define TCS_PROTO_VERSION 9u
 
 /* Environment through which tcs-run hands the channel to the preload. */
 #define TCS_ENV_CHANNEL_FD "TCS_CHANNEL_FD"
