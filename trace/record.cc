@@ -114,11 +114,8 @@ static Status take_command(const std::string &path, const JsonValue &j, Record *
 	return Ok{};
 }
 
-Result<Record> read_record(const std::string &path)
+static Result<Record> read_from(McapReader &reader, const std::string &path)
 {
-	McapReader reader;
-	if (auto s = reader.open(path); !s)
-		return s.error();
 	Record r;
 	bool settings = false;
 	McapMessage m;
@@ -134,21 +131,34 @@ Result<Record> read_record(const std::string &path)
 		auto j = json_parse(m.data);
 		if (!j)
 			return Error{ path + ": " + topic + ": " + j.error().message };
-		if (topic == "/tcs/device") {
-			if (auto s = take_command(path, *j, &r); !s)
-				return s.error();
-		} else if (topic == "/tcs/record/run") {
-			if (auto s = take_settings(path, *j, &r); !s)
-				return s.error();
-			settings = true;
-		} else if (auto s = take_journal(path, *j, &r); !s) {
+		Status s = topic == "/tcs/device"	   ? take_command(path, *j, &r)
+			   : topic == "/tcs/record/run" ? take_settings(path, *j, &r)
+							: take_journal(path, *j, &r);
+		if (!s)
 			return s.error();
-		}
+		settings = settings || topic == "/tcs/record/run";
 	}
 	if (!settings)
 		return Error{ path + ": not a record (a trace written without --record)" };
 	r.truncated = reader.truncated();
 	return r;
+}
+
+Result<Record> read_record(const std::string &path)
+{
+	McapReader reader;
+	if (auto s = reader.open(path); !s)
+		return s.error();
+	return read_from(reader, path);
+}
+
+Result<Record> read_record_bytes(std::string name, std::string bytes)
+{
+	McapReader reader;
+	std::string path = name;
+	if (auto s = reader.open_bytes(std::move(name), std::move(bytes)); !s)
+		return s.error();
+	return read_from(reader, path);
 }
 
 } // namespace tcs

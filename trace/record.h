@@ -43,5 +43,7 @@ std::string record_run_json(const Record &r);
 // Reads a record. Errors: "PATH: ..." (not a file, not MCAP, damaged), or
 // "PATH: not a record (a trace written without --record)".
 Result<Record> read_record(const std::string &path);
+// The same from bytes in memory; name stands for the path in messages.
+Result<Record> read_record_bytes(std::string name, std::string bytes);
 
 } // namespace tcs
