@@ -43,28 +43,28 @@ static int64_t tcs_thread_cpu_scaled(clockid_t id)
 
 /* What the program's clock reads say, virtual time and CPU time: journalled
  * when recording, the record's when replaying (journal.h). */
+static int64_t tcs_journalled(unsigned kind, int64_t (*live)(void))
+{
+	int64_t v;
+	if (tcs_replay_clock(kind, &v))
+		return v;
+	v = live();
+	tcs_journal_note(kind, 0, v, 0);
+	return v;
+}
+
 static int64_t tcs_program_time(void)
 {
 	if (__builtin_expect(!tcs_journal_on(), 1))
 		return tcs_program_vnow();
-	int64_t v;
-	if (tcs_replay_clock(TCS_J_CLOCK, &v))
-		return v;
-	v = tcs_program_vnow();
-	tcs_journal_note(TCS_J_CLOCK, 0, v, 0);
-	return v;
+	return tcs_journalled(TCS_J_CLOCK, tcs_program_vnow);
 }
 
 static int64_t tcs_program_cpu(void)
 {
 	if (__builtin_expect(!tcs_journal_on(), 1))
 		return tcs_charged_now();
-	int64_t ns;
-	if (tcs_replay_clock(TCS_J_CPU, &ns))
-		return ns;
-	ns = tcs_charged_now();
-	tcs_journal_note(TCS_J_CPU, 0, ns, 0);
-	return ns;
+	return tcs_journalled(TCS_J_CPU, tcs_charged_now);
 }
 
 /* The virtual value of clock id in *ns, or 1 when the clock is not one tcs

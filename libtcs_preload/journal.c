@@ -129,15 +129,23 @@ static void tcs_replay_stop(int64_t v, int held)
 		tcs_wait_leave();
 }
 
+/* Replaying: the cursor in *at, the end of the table in *n (within the
+ * mapping, whatever the coordinator wrote). */
+static void tcs_replay_bounds(const struct tcs_journal *j, uint64_t *at, uint64_t *n)
+{
+	*at = __atomic_load_n(&j->head, __ATOMIC_RELAXED);
+	*n = __atomic_load_n(&j->tail, __ATOMIC_RELAXED);
+	if (*n > tcs_journal_capacity)
+		*n = tcs_journal_capacity;
+}
+
 int tcs_replay_take(unsigned kind, unsigned type, struct tcs_journal_entry *out)
 {
 	struct tcs_journal *j = tcs_rt.journal;
 	if (!tcs_replaying(j))
 		return 0;
-	uint64_t at = __atomic_load_n(&j->head, __ATOMIC_RELAXED);
-	uint64_t n = __atomic_load_n(&j->tail, __ATOMIC_RELAXED);
-	if (n > tcs_journal_capacity)
-		n = tcs_journal_capacity;
+	uint64_t at, n;
+	tcs_replay_bounds(j, &at, &n);
 	/* The coordinator's stops before it, each where it was: a request's
 	 * hook may wait for them (held), any other call outside a hook. */
 	int held = kind == TCS_J_CHARGE;
@@ -172,10 +180,8 @@ int tcs_replay_next(unsigned kind, unsigned type)
 	struct tcs_journal *j = tcs_rt.journal;
 	if (!tcs_replaying(j))
 		return 0;
-	uint64_t at = __atomic_load_n(&j->head, __ATOMIC_RELAXED);
-	uint64_t n = __atomic_load_n(&j->tail, __ATOMIC_RELAXED);
-	if (n > tcs_journal_capacity)
-		n = tcs_journal_capacity;
+	uint64_t at, n;
+	tcs_replay_bounds(j, &at, &n);
 	while (at < n && tcs_journal_entries(j)[at].kind == TCS_J_STOP)
 		at++; /* (the coordinator's, taken as the next entry is) */
 	if (at >= n)

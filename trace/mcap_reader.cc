@@ -288,4 +288,29 @@ std::string McapReader::message(std::string_view body, McapMessage *out)
 	return "";
 }
 
+Status for_each_message(McapReader &reader, const std::function<Status(const McapMessage &)> &f, bool *truncated)
+{
+	McapMessage m;
+	for (;;) {
+		auto more = reader.next(&m);
+		if (!more)
+			return more.error();
+		if (!*more)
+			break;
+		if (auto s = f(m); !s)
+			return s;
+	}
+	if (truncated)
+		*truncated = reader.truncated();
+	return Ok{};
+}
+
+Status for_each_message(const std::string &path, const std::function<Status(const McapMessage &)> &f, bool *truncated)
+{
+	McapReader reader;
+	if (auto s = reader.open(path); !s)
+		return s;
+	return for_each_message(reader, f, truncated);
+}
+
 } // namespace tcs

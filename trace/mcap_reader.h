@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -87,5 +88,14 @@ private:
 	uint64_t chunk_at_ = 0;
 	McapChunkUnpacker unpacker_;
 };
+
+// Calls f on each message of reader (opened), in file order, up to f's first
+// error. truncated, if given, says whether the file stopped before its
+// footer.
+Status for_each_message(McapReader &reader, const std::function<Status(const McapMessage &)> &f,
+			bool *truncated = nullptr);
+// The same for the MCAP file at path.
+Status for_each_message(const std::string &path, const std::function<Status(const McapMessage &)> &f,
+			bool *truncated = nullptr);
 
 } // namespace tcs

@@ -118,29 +118,22 @@ static Result<Record> read_from(McapReader &reader, const std::string &path)
 {
 	Record r;
 	bool settings = false;
-	McapMessage m;
-	for (;;) {
-		auto more = reader.next(&m);
-		if (!more)
-			return more.error();
-		if (!*more)
-			break;
+	auto take = [&](const McapMessage &m) -> Status {
 		const std::string &topic = m.channel->topic;
 		if (topic != "/tcs/record/run" && topic != "/tcs/record/journal" && topic != "/tcs/device")
-			continue;
+			return Ok{};
 		auto j = json_parse(m.data);
 		if (!j)
 			return Error{ path + ": " + topic + ": " + j.error().message };
-		Status s = topic == "/tcs/device"	   ? take_command(path, *j, &r)
-			   : topic == "/tcs/record/run" ? take_settings(path, *j, &r)
-							: take_journal(path, *j, &r);
-		if (!s)
-			return s.error();
 		settings = settings || topic == "/tcs/record/run";
-	}
+		return topic == "/tcs/device"	      ? take_command(path, *j, &r)
+		       : topic == "/tcs/record/run" ? take_settings(path, *j, &r)
+						    : take_journal(path, *j, &r);
+	};
+	if (auto s = for_each_message(reader, take, &r.truncated); !s)
+		return s.error();
 	if (!settings)
 		return Error{ path + ": not a record (a trace written without --record)" };
-	r.truncated = reader.truncated();
 	return r;
 }
 

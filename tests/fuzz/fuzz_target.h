@@ -5,10 +5,14 @@
 // out for them (--write-seeds, --write-dict).
 #pragma once
 
+#include <sys/mman.h>
+#include <unistd.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -49,6 +53,23 @@ inline uint64_t get_le(const std::string &s, size_t at, int bytes = 8)
 	for (int i = 0; i < bytes && at + i < s.size(); i++)
 		v |= uint64_t(uint8_t(s[at + i])) << (8 * i);
 	return v;
+}
+
+// What write(path) writes to a file at path, which is a memfd's (a seed made
+// in memory: no file left behind); empty if there is none.
+inline std::string written_file(const std::function<void(const std::string &path)> &write)
+{
+	int fd = memfd_create("tcs_fuzz_seed", MFD_CLOEXEC);
+	if (fd < 0)
+		return {};
+	write("/proc/self/fd/" + std::to_string(fd));
+	std::string out;
+	char buf[65536];
+	ssize_t n;
+	for (off_t at = 0; (n = pread(fd, buf, sizeof buf, at)) > 0; at += n)
+		out.append(buf, size_t(n));
+	close(fd);
+	return out;
 }
 
 // Writes what fits of a little-endian field.

@@ -6,9 +6,6 @@
 // naming the file. Its seeds are records as --record writes them (a
 // settings message, journals, commands; uncompressed), one cut in half, and
 // one without settings: a plain trace.
-#include <sys/mman.h>
-#include <unistd.h>
-
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -24,26 +21,18 @@ using tcs_fuzz::check;
 
 // A record as tcs-run --record writes one (its three topics, the JSON as
 // Trace writes it), uncompressed so that mutations reach the JSON, in
-// memory (a memfd stands in for the file).
+// memory.
 std::string written_record(int cycles, bool settings)
 {
-	int fd = memfd_create("record_fuzz", MFD_CLOEXEC);
-	if (fd < 0)
-		return {};
-	std::string path = "/proc/self/fd/" + std::to_string(fd);
-	{
+	return tcs_fuzz::written_file([&](const std::string &path) {
 		tcs::McapWriter w(tcs::McapWriterOptions{ .chunk_size = 400, .compression = tcs::McapCompression::none });
-		if (!w.open(path, "", "tcs").ok()) {
-			::close(fd);
-			return {};
-		}
+		if (!w.open(path, "", "tcs").ok())
+			return;
 		auto run = w.add_channel("/tcs/record/run", 0);
 		auto journal = w.add_channel("/tcs/record/journal", 0);
 		auto device = w.add_channel("/tcs/device", 0);
-		if (!run.ok() || !journal.ok() || !device.ok()) {
-			::close(fd);
-			return {};
-		}
+		if (!run.ok() || !journal.ok() || !device.ok())
+			return;
 		tcs::Record r;
 		r.cpu_scale = 6;
 		r.step_ns = 1000000;
@@ -64,14 +53,7 @@ std::string written_record(int cycles, bool settings)
 					      (i % 7 == 3 ? "true" : "false") + "}");
 		}
 		(void)w.close();
-	}
-	std::string out;
-	char buf[65536];
-	ssize_t n;
-	for (off_t at = 0; (n = pread(fd, buf, sizeof buf, at)) > 0; at += n)
-		out.append(buf, size_t(n));
-	::close(fd);
-	return out;
+	});
 }
 
 } // namespace

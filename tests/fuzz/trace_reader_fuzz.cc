@@ -160,19 +160,13 @@ std::vector<size_t> records(const std::string &f)
 	return out;
 }
 
-// A trace as tcs writes them, in memory (a memfd stands in for the file).
+// A trace as tcs writes them, in memory.
 std::string written_trace(tcs::McapCompression compression, int messages)
 {
-	int fd = memfd_create("trace_reader_fuzz", MFD_CLOEXEC);
-	if (fd < 0)
-		return {};
-	std::string path = "/proc/self/fd/" + std::to_string(fd);
-	{
+	return tcs_fuzz::written_file([&](const std::string &path) {
 		tcs::McapWriter w(tcs::McapWriterOptions{ .chunk_size = 300, .compression = compression });
-		if (!w.open(path, "x-tcs", "fuzz").ok()) {
-			::close(fd);
-			return {};
-		}
+		if (!w.open(path, "x-tcs", "fuzz").ok())
+			return;
 		auto schema = w.add_schema("tcs.Slice", R"({"type":"object"})");
 		auto a = w.add_channel("/tcs/slices", schema.ok() ? *schema : 0, { { "controller", "pd" } });
 		auto b = w.add_channel("/clock", 0);
@@ -184,14 +178,7 @@ std::string written_trace(tcs::McapCompression compression, int messages)
 			(void)w.write(i % 3 ? *b : *a, uint64_t(i), uint64_t(i), json);
 		}
 		(void)w.close();
-	}
-	std::string out;
-	char buf[65536];
-	ssize_t n;
-	for (off_t at = 0; (n = pread(fd, buf, sizeof buf, at)) > 0; at += n)
-		out.append(buf, size_t(n));
-	::close(fd);
-	return out;
+	});
 }
 
 // The same trace with its chunks' CRCs zeroed ("not computed"), so that

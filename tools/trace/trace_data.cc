@@ -201,26 +201,6 @@ int64_t TraceData::wall_ns() const
 	return w;
 }
 
-Status for_each_message(const std::string &path, const std::function<Status(const McapMessage &)> &f, bool *truncated)
-{
-	McapReader reader;
-	if (auto s = reader.open(path); !s)
-		return s;
-	McapMessage m;
-	for (;;) {
-		auto more = reader.next(&m);
-		if (!more)
-			return more.error();
-		if (!*more)
-			break;
-		if (auto s = f(m); !s)
-			return s;
-	}
-	if (truncated)
-		*truncated = reader.truncated();
-	return Ok{};
-}
-
 Result<TraceData> load_trace(const std::string &path)
 {
 	TraceData t;

@@ -74,12 +74,6 @@ struct TraceData {
 	int64_t wall_ns() const;
 };
 
-// Calls f on each message of the MCAP file at path, in file order, up to
-// f's first error. truncated, if given, says whether the file stopped before
-// its footer.
-Status for_each_message(const std::string &path, const std::function<Status(const McapMessage &)> &f,
-			bool *truncated = nullptr);
-
 // Errors: the reader's, "PATH: not a tcs trace (...)", and
 // "PATH: TOPIC message N: what is wrong".
 Result<TraceData> load_trace(const std::string &path);
