@@ -25,7 +25,7 @@ extern "C" {
 /* Where the journal begins in the shared memory (after the device table). */
 #define TCS_JOURNAL_OFFSET TCS_SHARED_SIZE
 #define TCS_JOURNAL_HEADER 256
-/* Recording: the ring's size (4 MiB: 174762 entries, more clock reads than
+/* Recording: the ring's size (4 MiB: 174752 entries, more clock reads than
  * a program makes between two of its stops). */
 #define TCS_JOURNAL_RING_BYTES (4u << 20)
 
