@@ -28,6 +28,7 @@ namespace {
 const char kUsage[] =
 	"Usage: tcs-run [OPTIONS] [--] PROGRAM [ARG...]\n"
 	"       tcs-run -w SCENARIO [OPTIONS]      (runs the scenario's controllers)\n"
+	"       tcs-run --replay RECORD [OPTIONS] [[--] PROGRAM [ARG...]]\n"
 	"Run PROGRAM, unmodified, under virtual time beside a simulated world.\n"
 	"\n"
 	"  -w, --world FILE       scenario (default: the built-in pendulum)\n"
