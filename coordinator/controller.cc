@@ -41,7 +41,7 @@ Result<UniqueFd> Controller::make_page(const ControllerSpec &spec, int mode, con
 	page_->flags = (spec.report_misses ? TCS_PAGE_REPORT_MISSES : 0) | (rt.cpu_estimate() ? TCS_PAGE_CPU_ESTIMATE : 0) |
 		       (rt.ticks == EstimateTicks::Vdso ? TCS_PAGE_TICKS_VDSO : 0) |
 		       (rt.fifo && rt.cpu >= 0 ? TCS_PAGE_FIFO | TCS_PAGE_SHARES_CORE : 0) |
-		       (spec.record ? TCS_PAGE_RECORD : 0) | (spec.replay ? TCS_PAGE_REPLAY : 0);
+		       (spec.replay ? TCS_PAGE_REPLAY : 0);
 	page_->journal_bytes = journal_bytes_;
 	page_->tick_mult = rt.tick_mult;
 	page_->tick_resync = rt.tick_resync;

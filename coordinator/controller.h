@@ -155,7 +155,7 @@ struct OwnWait {
 	pid_t tid = 0;            // the thread that sent it
 	uint16_t flags = 0;       // its TCS_BLOCK_* flags
 	const char *kind = "";    // the trace's name for it
-	int64_t requested_at = 0; // the virtual time it was asked at
+	int64_t requested_at = 0; // the virtual time it was asked at (its WAKE says)
 	bool absolute = false;    // an absolute deadline (a periodic loop's)
 	int64_t deadline = 0;     // when Blocked: when its timeout ends it
 	int64_t asked = 0;        // the deadline asked for (deadline less its slack)
@@ -240,14 +240,12 @@ public:
 	uint64_t quick_waits() const;
 	uint64_t past_deadlines() const;
 	// --record, --replay: its journal (null: none), and how many entries
-	// it holds; recording, the next entry to drain, and entries it said it
-	// could not keep (journals.cc).
+	// it holds; recording, the next entry to drain (journals.cc).
 	tcs_journal *journal() const { return journal_; }
 	uint64_t journal_capacity() const { return journal_capacity_; }
-	uint64_t journal_tail = 0, journal_lost = 0;
+	uint64_t journal_tail = 0;
+	bool journal_lost = false; // recording: it could not keep an entry (said)
 	std::vector<tcs_journal_entry> journal_batch; // drained, not yet in the record
-	tcs_journal_entry journal_stop = {}; // a stop that goes after entry journal_stop_after - 1
-	uint64_t journal_stop_after = 0;
 	bool departed = false; // replaying: its departure has been said
 	size_t commands_replayed = 0; // replaying: its commands compared so far
 	void set_page_mode(int mode);
@@ -264,7 +262,6 @@ public:
 	int64_t hello_nonce = 0; // the current image's HELLO
 	int64_t v = 0;          // virtual time (exact whenever not Running)
 	int64_t charged = 0;    // virtual CPU charged
-	int64_t request_v = 0;  // the time its last request was charged at (its WAKE says)
 	int64_t budget = 0;     // real CPU this slice may use (cpu mode)
 	// Where the current scheduling slice began, for the trace (a device
 	// request answered at once restarts the accounting slice, not this).

@@ -37,13 +37,13 @@ void reply_now(Run &run, Controller &c, int64_t arg)
 // request (its budget less what it has used), as after any wait.
 void restart_slice(Run &run, Controller &c, int64_t request_cpu)
 {
-	c.request_v = c.v;
+	c.wait.requested_at = c.v;
 	if (c.state != CtlState::Running)
 		return;
 	int64_t at = charge_point(run, c, request_cpu);
 	int64_t used = c.slice_cpu(at);
 	c.account(at, run.cfg.mode);
-	c.request_v = c.v;
+	c.wait.requested_at = c.v;
 	c.publish_slice(at);
 	start_slice_clock(run, c);
 	c.budget = std::max<int64_t>(c.budget - used, 1);

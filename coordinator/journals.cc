@@ -19,7 +19,7 @@ namespace {
 constexpr size_t kBatch = 4096;
 } // namespace
 
-void journal_stop(Run &run, Controller &c)
+void journal_stop(Run &run, Controller &c, int64_t overshoot)
 {
 	tcs_journal *j = c.journal();
 	if (!j || j->replaying)
@@ -28,15 +28,22 @@ void journal_stop(Run &run, Controller &c)
 	tcs_journal_entry stop = {};
 	stop.kind = TCS_J_STOP;
 	stop.value = c.v;
-	// A slot claimed before the stop, not yet filled (stopped in the
-	// middle of its append): the stop comes after it.
-	uint64_t head = __atomic_load_n(&j->head, __ATOMIC_ACQUIRE);
-	if (head != c.journal_tail && head - c.journal_tail <= c.journal_capacity()) {
-		c.journal_stop = stop;
-		c.journal_stop_after = head;
-		return;
-	}
+	stop.arg = overshoot;
 	c.journal_batch.push_back(stop);
+}
+
+// An entry drained, in its place: a call's time is never after a stop that
+// came later, so one whose time is before stops already in the batch was
+// made before them, and journalled after (a request answered at once is
+// journalled as its answer comes, and the stop may fall in between; or the
+// stop fell in the middle of its append).
+static void keep_in_order(std::vector<tcs_journal_entry> &batch, const tcs_journal_entry &e)
+{
+	size_t at = batch.size();
+	if (e.kind == TCS_J_CLOCK || e.kind == TCS_J_CHARGE || e.kind == TCS_J_READ)
+		while (at > 0 && batch[at - 1].kind == TCS_J_STOP && batch[at - 1].value > e.value)
+			at--;
+	batch.insert(batch.begin() + (long)at, e);
 }
 
 void drain_journal(Run &run, Controller &c, bool flush)
@@ -59,22 +66,18 @@ void drain_journal(Run &run, Controller &c, bool flush)
 		copy.kind = kind;
 		__atomic_store_n(&e->kind, (uint16_t)0, __ATOMIC_RELAXED);
 		if (kind < TCS_J_STOP)
-			c.journal_batch.push_back(copy);
-		if (c.journal_stop.kind != 0 && tail + 1 == c.journal_stop_after) {
-			c.journal_batch.push_back(c.journal_stop); // (in its place)
-			c.journal_stop.kind = 0;
-		}
+			keep_in_order(c.journal_batch, copy);
 	}
 	c.journal_tail = tail;
 	__atomic_store_n(&j->tail, tail, __ATOMIC_RELEASE);
-	uint64_t lost = __atomic_load_n(&j->lost, __ATOMIC_RELAXED);
-	if (lost != c.journal_lost && !c.departed) {
-		c.departed = true; // (said once)
+	if (!c.journal_lost && __atomic_load_n(&j->lost, __ATOMIC_RELAXED) != 0) {
+		c.journal_lost = true; // (said once)
 		warn_once(run, "record: '" + c.name + "' read its clocks more often between two stops than its journal holds; "
 			  "the record is incomplete from " + std::to_string(c.v / 1e9) + " s, where a replay departs");
 	}
-	c.journal_lost = lost;
-	if (c.journal_batch.size() >= kBatch || (flush && !c.journal_batch.empty())) {
+	// (Not with a stop last: what it drains next may go before it.)
+	bool full = c.journal_batch.size() >= kBatch && c.journal_batch.back().kind != TCS_J_STOP;
+	if (full || (flush && !c.journal_batch.empty())) {
 		run.trace.journal(c.id, std::move(c.journal_batch));
 		c.journal_batch.clear();
 	}
@@ -131,7 +134,17 @@ bool replay_stop(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	c.charged += at - c.v;
 	c.v = at;
 	c.stats.preemptions++;
-	trace_slice_end(run, c, "preempted", cpu);
+	// The preload took the record's stop it waits for: the one before its
+	// cursor (its word, checked against the stop it asked for).
+	tcs_journal *j = c.journal();
+	uint64_t taken = __atomic_load_n(&j->head, __ATOMIC_RELAXED) - 1;
+	int64_t overshoot = 0;
+	if (taken < std::min<uint64_t>(j->tail, c.journal_capacity())) {
+		const tcs_journal_entry &e = tcs_journal_entries(j)[taken];
+		if (e.kind == TCS_J_STOP && e.value == at)
+			overshoot = e.arg;
+	}
+	trace_slice_end(run, c, "preempted", cpu, -1, overshoot);
 	c.cpu_at_end = cpu;
 	c.wait.seq = m.seq;
 	c.wait.fd = fd;
@@ -144,16 +157,17 @@ bool replay_stop(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 }
 
 // Replaying: where c's journal goes on past the coordinator's own entries
-// up to kind `upto` (stops; and the exit, with TCS_J_EXIT).
-static uint64_t next_of_program(const Controller &c, unsigned upto)
+// up to kind `upto` (stops; and the exit, with TCS_J_EXIT), and in *n where
+// it ends (both within the table, whatever the controller wrote).
+static uint64_t next_of_program(Controller &c, unsigned upto, uint64_t *n)
 {
-	const tcs_journal *j = c.journal();
-	uint64_t n = std::min<uint64_t>(j->tail, c.journal_capacity());
+	tcs_journal *j = c.journal();
+	const tcs_journal_entry *e = tcs_journal_entries(j);
+	*n = std::min<uint64_t>(j->tail, c.journal_capacity());
 	uint64_t at = __atomic_load_n(&j->head, __ATOMIC_RELAXED);
-	while (at < n && tcs_journal_entries(const_cast<tcs_journal *>(j))[at].kind >= TCS_J_STOP &&
-	       tcs_journal_entries(const_cast<tcs_journal *>(j))[at].kind <= upto)
+	while (at < *n && e[at].kind >= TCS_J_STOP && e[at].kind <= upto)
 		at++;
-	return std::min(at, n);
+	return std::min(at, *n);
 }
 
 void replay_exit(Run &run, Controller &c)
@@ -161,7 +175,7 @@ void replay_exit(Run &run, Controller &c)
 	tcs_journal *j = c.journal();
 	if (!run.replaying || !j || !j->replaying || c.departed)
 		return;
-	uint64_t at = next_of_program(c, TCS_J_STOP), n = __atomic_load_n(&j->tail, __ATOMIC_RELAXED);
+	uint64_t n, at = next_of_program(c, TCS_J_STOP, &n);
 	if (at >= n)
 		return;
 	const tcs_journal_entry e = tcs_journal_entries(j)[at];
@@ -240,7 +254,7 @@ void journal_ends(Run &run, Controller &c)
 		return;
 	}
 	check_departure(run, c);
-	uint64_t at = next_of_program(c, TCS_J_EXIT), n = __atomic_load_n(&j->tail, __ATOMIC_RELAXED);
+	uint64_t n, at = next_of_program(c, TCS_J_EXIT, &n);
 	if (!c.departed && !run.ending && at < n) {
 		char what[96];
 		snprintf(what, sizeof what, "at %.9f s: it ended with %" PRIu64 " of the record's entries not reached",

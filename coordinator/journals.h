@@ -10,9 +10,10 @@ namespace tcs {
 // Recording: what c journalled since the last time goes into the record
 // (kept in batches; flush: now).
 void drain_journal(Run &run, Controller &c, bool flush = false);
-// Recording: c was preempted (its slice ends at c.v): the stop goes into the
-// record after what it journalled before.
-void journal_stop(Run &run, Controller &c);
+// Recording: c was preempted (its slice ends at c.v, overshoot ns of real
+// CPU past its budget): the stop goes into the record after what it
+// journalled before.
+void journal_stop(Run &run, Controller &c, int64_t overshoot);
 // Replaying: if c has departed from the record, says where, once, and the
 // run goes on live from there.
 void check_departure(Run &run, Controller &c);

@@ -44,7 +44,8 @@ Status add_controller(Run &run, const ControllerSpec &spec)
 	const int id = (int)run.ctls.size() + 1;
 	traced.record = !run.cfg.record_path.empty();
 	if (run.cfg.replay) {
-		traced.cpu_scale = run.cfg.replay->cpu_scale;
+		auto scale = run.cfg.replay->scales.find(id);
+		traced.cpu_scale = scale != run.cfg.replay->scales.end() ? scale->second : run.cfg.replay->cpu_scale;
 		auto j = run.cfg.replay->journals.find(id);
 		static const std::vector<tcs_journal_entry> none;
 		traced.replay = j != run.cfg.replay->journals.end() ? &j->second : &none;

@@ -349,7 +349,7 @@ void preempt(Run &run, Controller &c, bool held)
 	c.account(cpu, run.cfg.mode);
 	c.cpu_at_end = cpu;
 	trace_slice_end(run, c, "preempted", cpu, budget, overshoot);
-	journal_stop(run, c);
+	journal_stop(run, c, overshoot);
 	if (!run.ending)
 		c.raise_due_timers(); // pending until it continues
 }

@@ -59,7 +59,7 @@ void send_wake(Run &run, Controller &c)
 	m.flags = TCS_WAKE_STARTS_SLICE;
 	m.v = c.v;
 	m.arg = c.wake_arg;
-	m.deadline = c.request_v; // (what a recording controller journals: tcs/journal.h)
+	m.deadline = c.wait.requested_at; // (what a recording controller journals: tcs/journal.h)
 	send_answer(run, c, fd, m, c.wake_fd);
 	if (c.wake_fd >= 0) {
 		close(c.wake_fd);
@@ -145,7 +145,6 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		trace_slice_end(run, c, "blocked", cpu);
 		c.cpu_at_end = cpu;
 	}
-	c.request_v = c.v;
 	// (Ready: the budget ran out just as it began to wait; SIGSTOP has
 	// already closed its slice.)
 	c.stats.count_wait(m);

@@ -195,7 +195,7 @@ static long tcs_device_read_live(int fd, void *buf, size_t n);
 static long tcs_device_read_journalled(int fd, void *buf, size_t n)
 {
 	struct tcs_journal_entry e;
-	if (!tcs_replay_next(TCS_J_CHARGE, TCS_MSG_DEV_SYNC) && !tcs_replay_next(TCS_J_READ, 0)) {
+	if (!tcs_replaying()) {
 		long got = tcs_device_read_live(fd, buf, n);
 		tcs_journal_note(TCS_J_READ, 0, tcs_vnow(), got); /* (after the sync it made) */
 		return got;
@@ -205,7 +205,7 @@ static long tcs_device_read_journalled(int fd, void *buf, size_t n)
 		if (r < 0)
 			return r;
 	}
-	if (!tcs_replay_take(TCS_J_READ, 0, &e))
+	if (!tcs_replay_take(TCS_J_READ, 0, &e)) /* (the record has another call: departed) */
 		return tcs_device_read_live(fd, buf, n);
 	tcs_replay_reach(e.value);
 	if (e.arg <= 0)
@@ -254,6 +254,14 @@ static long tcs_device_read_live(int fd, void *buf, size_t n)
 
 long tcs_device_readv(int fd, const struct iovec *iov, int n)
 {
+	/* Journalled, into its first buffer only: a short read, as a socket's
+	 * readv may be, and one the record has whole. */
+	if (__builtin_expect(tcs_journal_on(), 0)) {
+		int i = 0;
+		while (i < n && iov[i].iov_len == 0)
+			i++;
+		return i < n ? tcs_device_read_journalled(fd, iov[i].iov_base, iov[i].iov_len) : 0;
+	}
 	long r = tcs_before_read(fd);
 	if (r < 0)
 		return r;

@@ -15,8 +15,10 @@ static uint64_t tcs_journal_capacity;
 static uint32_t tcs_journal_threads;
 static __thread uint32_t tcs_journal_thread; /* its number + 1 (0: none yet) */
 /* Recording: the request whose charge point was taken, journalled when its
- * WAKE says at what time it was charged. */
+ * WAKE says at what time it was charged; and the time the program had
+ * reached then. */
 static __thread unsigned tcs_pending_request;
+static __thread int64_t tcs_pending_request_v;
 /* A wait of tcs's own is under way (reaching the record's time, or asking
  * the world's after the coordinator stepped it aside), whose charge point
  * is no request of the program's: neither journalled nor replayed. */
@@ -63,9 +65,14 @@ static uint32_t tcs_thread_number(void)
 	return tcs_journal_thread - 1;
 }
 
-static int tcs_replaying(const struct tcs_journal *j)
+static int tcs_replaying_from(const struct tcs_journal *j)
 {
 	return j && j->replaying && !__atomic_load_n(&j->departed, __ATOMIC_ACQUIRE);
+}
+
+int tcs_replaying(void)
+{
+	return tcs_replaying_from(tcs_rt.journal);
 }
 
 void tcs_journal_note(unsigned kind, unsigned type, int64_t value, int64_t arg)
@@ -142,7 +149,7 @@ static void tcs_replay_bounds(const struct tcs_journal *j, uint64_t *at, uint64_
 int tcs_replay_take(unsigned kind, unsigned type, struct tcs_journal_entry *out)
 {
 	struct tcs_journal *j = tcs_rt.journal;
-	if (!tcs_replaying(j))
+	if (!tcs_replaying_from(j))
 		return 0;
 	uint64_t at, n;
 	tcs_replay_bounds(j, &at, &n);
@@ -178,7 +185,7 @@ int tcs_replay_take(unsigned kind, unsigned type, struct tcs_journal_entry *out)
 int tcs_replay_next(unsigned kind, unsigned type)
 {
 	struct tcs_journal *j = tcs_rt.journal;
-	if (!tcs_replaying(j))
+	if (!tcs_replaying_from(j))
 		return 0;
 	uint64_t at, n;
 	tcs_replay_bounds(j, &at, &n);
@@ -193,7 +200,7 @@ int tcs_replay_next(unsigned kind, unsigned type)
 void tcs_replay_depart(unsigned kind, int64_t value)
 {
 	struct tcs_journal *j = tcs_rt.journal;
-	if (!tcs_replaying(j))
+	if (!tcs_replaying_from(j))
 		return;
 	uint64_t at = __atomic_load_n(&j->head, __ATOMIC_RELAXED);
 	struct tcs_journal_entry e = { 0 };
@@ -238,10 +245,11 @@ void tcs_journal_request(unsigned type)
 		return;
 	if (!j->replaying) {
 		tcs_pending_request = type;
+		tcs_pending_request_v = tcs_vnow();
 		return;
 	}
 	struct tcs_journal_entry e;
-	if (tcs_replay_inner || !tcs_replay_take(TCS_J_CHARGE, type, &e))
+	if (!tcs_replay_take(TCS_J_CHARGE, type, &e))
 		return;
 	tcs_replay_to(e.value, 1); /* inside the request's hook, before it is sent */
 }
@@ -251,5 +259,9 @@ void tcs_journal_answered(unsigned type, int64_t v)
 	if (!tcs_pending_request || tcs_pending_request != type)
 		return;
 	tcs_pending_request = 0;
-	tcs_journal_note(TCS_J_CHARGE, type, v, 0);
+	/* Never before what the program had seen: a request the coordinator
+	 * found its controller not running for (two controllers starting, seen)
+	 * is charged at its last slice's end, and the program's clock reads
+	 * since were later. */
+	tcs_journal_note(TCS_J_CHARGE, type, v > tcs_pending_request_v ? v : tcs_pending_request_v, 0);
 }

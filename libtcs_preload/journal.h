@@ -26,6 +26,8 @@ void tcs_replay_reach(int64_t v) TCS_HIDDEN;
 void tcs_replay_inner_begin(void) TCS_HIDDEN;
 void tcs_replay_inner_end(void) TCS_HIDDEN;
 
+/* Replaying, and not departed. */
+int tcs_replaying(void) TCS_HIDDEN;
 /* Replaying, and not departed: whether the record's next entry is of this
  * kind and type (it stays there). */
 int tcs_replay_next(unsigned kind, unsigned type) TCS_HIDDEN;

@@ -210,6 +210,8 @@ int main(int argc, char **argv)
 		}
 		return 0;
 	}
+	for (const auto &d : setup->devices)
+		cfg.record_devices.push_back(d.path);
 	if (!replay_file.empty()) {
 		auto record = read_record(replay_file);
 		if (!record)
@@ -218,10 +220,7 @@ int main(int argc, char **argv)
 			return usage_error(format_number("--cpu-scale %g", cpu_scale) +
 					   format_number(" differs from the record's %g (a replay takes the record's)",
 							 record->cpu_scale));
-		std::vector<std::string> devices;
-		for (const auto &d : setup->devices)
-			devices.push_back(d.path);
-		if (devices != record->devices)
+		if (cfg.record_devices != record->devices)
 			return fail(replay_file + ": recorded in another world (its devices differ from " +
 				    (world_file.empty() ? std::string("the built-in scenario") : world_file) +
 				    "'s): replay it with the record's scenario");
@@ -232,13 +231,10 @@ int main(int argc, char **argv)
 		}
 		if (cfg.seed && cfg.seed != record->seed)
 			return usage_error("--seed differs from the record's (a replay takes the record's)");
-		cpu_scale = record->cpu_scale;
-		scale_given = true;
+		cpu_scale = record->cpu_scale; // (each controller's own: the coordinator's add_controller)
 		cfg.replay = std::make_shared<const Record>(std::move(*record));
 	}
 	cfg.record_scale = cpu_scale;
-	for (const auto &d : setup->devices)
-		cfg.record_devices.push_back(d.path);
 	cfg.models = setup->models;
 	cfg.devices = setup->devices;
 	cfg.step_ns = setup->step_ns;

@@ -3,6 +3,7 @@
 
 #include <cerrno>
 #include <cinttypes>
+#include <cmath>
 #include <cstdlib>
 
 #include "json.h"
@@ -114,21 +115,37 @@ static Status take_command(const std::string &path, const JsonValue &j, Record *
 	return Ok{};
 }
 
+static Status take_controller(const std::string &path, const JsonValue &j, Record *r)
+{
+	int64_t controller = j.get_int("controller", -1);
+	double scale = j.get_number("cpu_scale", 0);
+	if (controller < 1 || controller > 1 << 20 || !(scale > 0) || !std::isfinite(scale))
+		return Error{ path + ": a controller without its number or CPU scale" };
+	r->scales[(int)controller] = scale;
+	return Ok{};
+}
+
 static Result<Record> read_from(McapReader &reader, const std::string &path)
 {
 	Record r;
 	bool settings = false;
 	auto take = [&](const McapMessage &m) -> Status {
 		const std::string &topic = m.channel->topic;
-		if (topic != "/tcs/record/run" && topic != "/tcs/record/journal" && topic != "/tcs/device")
-			return Ok{};
-		auto j = json_parse(m.data);
-		if (!j)
-			return Error{ path + ": " + topic + ": " + j.error().message };
-		settings = settings || topic == "/tcs/record/run";
-		return topic == "/tcs/device"	      ? take_command(path, *j, &r)
-		       : topic == "/tcs/record/run" ? take_settings(path, *j, &r)
-						    : take_journal(path, *j, &r);
+		static const struct {
+			const char *topic;
+			Status (*take)(const std::string &, const JsonValue &, Record *);
+		} takers[] = { { "/tcs/record/run", take_settings }, { "/tcs/record/journal", take_journal },
+			       { "/tcs/device", take_command }, { "/tcs/controller", take_controller } };
+		for (const auto &t : takers) {
+			if (topic != t.topic)
+				continue;
+			auto j = json_parse(m.data);
+			if (!j)
+				return Error{ path + ": " + topic + ": " + j.error().message };
+			settings = settings || t.take == take_settings;
+			return t.take(path, *j, &r);
+		}
+		return Ok{};
 	};
 	if (auto s = for_each_message(reader, take, &r.truncated); !s)
 		return s.error();

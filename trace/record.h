@@ -34,6 +34,7 @@ struct Record {
 	// Each controller's journal, by its number in the run (1: the first).
 	std::map<int, std::vector<tcs_journal_entry>> journals;
 	std::map<int, std::vector<RecordedCommand>> commands; // each controller's, in order
+	std::map<int, double> scales; // each controller's CPU scale (its /tcs/controller)
 	bool truncated = false; // the file stops short (the recorded run was killed)
 };
 

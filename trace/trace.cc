@@ -59,7 +59,7 @@ const char kRecordRunSchema[] = R"({"type":"object","title":"tcs record: the run
 "devices":{"type":"array","items":{"type":"string"}}}})";
 
 const char kJournalSchema[] = R"json({"type":"object","title":"tcs record: a controller's journal","properties":{
-"controller":{"type":"integer"},"entries":{"type":"array","description":"[kind, type, thread, value, arg]: kind 1 clock read (value: virtual ns), 2 CPU-time clock, 3 thread CPU-time clock, 4 request (type: its message type; value: virtual ns), 5 device read (value: virtual ns; arg: bytes read)",
+"controller":{"type":"integer"},"entries":{"type":"array","description":"[kind, type, thread, value, arg]: kind 1 clock read (value: virtual ns), 2 CPU-time clock, 3 thread CPU-time clock, 4 request (type: its message type; value: virtual ns), 5 device read (value: virtual ns; arg: bytes read), 6 the coordinator's preemption (value: virtual ns; arg: real CPU past its budget), 7 the process's end (value: virtual ns)",
 "items":{"type":"array","items":{"type":"integer"}}}}})json";
 
 void append(std::string &s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));

@@ -75,6 +75,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 	}
 	for (const auto &[controller, commands] : r->commands)
 		check(controller >= 1);
+	for (const auto &[controller, scale] : r->scales)
+		check(controller >= 1 && scale > 0 && std::isfinite(scale));
 	return 0;
 }
 

@@ -7,6 +7,7 @@ first departure, once, and the run goes on live. Records that cannot be
 replayed are refused with exit 2."""
 
 import os
+import re
 import tempfile
 
 from harness import PYTHON, TCS_TRACE, check, main, run, tcs, trace_rows
@@ -64,7 +65,7 @@ def summary(path):
     tcs's own overhead)."""
     r = run([TCS_TRACE, "summary", path])
     check(r.returncode == 0, "tcs-trace summary %s" % path, r)
-    return [line.split(" (pid")[0] for line in r.stdout.splitlines()
+    return [re.sub(r" \(pid \d+\)", "", line) for line in r.stdout.splitlines()
             if "wall" not in line and "timing error" not in line]
 
 
@@ -109,6 +110,32 @@ def test_cpp_and_python_controllers_replay():
     finally:
         if os.path.exists(path):
             os.unlink(path)
+
+
+def test_a_scenarios_controllers_replay_each_at_its_own_scale():
+    # Two pendulums, each its own controller; the slower at the scenario's
+    # CPU scale 2, the other at tcs-run's 1: each replays its own journal at
+    # its own scale (the record's /tcs/controller), without --cpu-scale.
+    world = os.path.join(os.environ.get("TCS_SCENARIOS", "."), "two_pendulums.toml")
+    env = dict(os.environ, PATH=EXAMPLES + os.pathsep + os.environ.get("PATH", ""))
+    path, again = tmp("two.mcap"), tmp("two-again.mcap")
+    try:
+        r = tcs("-w", world, "-d", "1s", "--record", path, timeout=120, env=env)
+        check(r.returncode == 0 and "warning: record:" not in r.stderr, "two controllers recorded", r)
+        p = tcs("-w", world, "-d", "1s", "--replay", path, "-t", again, timeout=120, env=env)
+        check(p.returncode == 0 and "departs" not in p.stderr, "their replay keeps to the record", p)
+        check(sorted(p.stdout.splitlines()) == sorted(r.stdout.splitlines()) and len(r.stdout.splitlines()) == 4,
+              "both print what they printed (in the order they ended)", p)
+        check(commands(again) == commands(path), "the same commands, both controllers'")
+        check(summary(again) == summary(path), "tcs-trace summary agrees, each controller's CPU scale too",
+              (summary(path), summary(again)))
+        check([line for line in summary(again) if line.startswith("controller ")] ==
+              ["controller 1: pendulum_pd", "controller 2: pendulum_pd, CPU scale 2"],
+              "each at its own scale, the slower at 2 (scale 1 goes unsaid)", summary(again))
+    finally:
+        for f in (path, again):
+            if os.path.exists(f):
+                os.unlink(f)
 
 
 def test_a_changed_controller_is_reported_at_its_first_departure():

@@ -67,13 +67,10 @@ enum tcs_mode {
  * one on its core (lockstep): a request through the mailbox is parked at
  * once rather than spun for, so that the next one has the core. */
 #define TCS_PAGE_QUEUED 128u
-/* flags: --record: the controller appends to its journal (tcs/journal.h)
- * every clock value it reads and the time of every request. */
-#define TCS_PAGE_RECORD 256u
 /* flags: --replay: clock values and the times of requests come from the
  * journal, a record's, until the program departs from it (mode is
  * lockstep meanwhile: virtual time moves as the record says, and only so). */
-#define TCS_PAGE_REPLAY 512u
+#define TCS_PAGE_REPLAY 256u
 
 /* The seqlock-protected part: where the current slice started. */
 struct tcs_slice {

@@ -6,9 +6,9 @@
  * clock page's journal_bytes say how much). Recording, it is a ring: the
  * controller appends (any thread: a slot is claimed, filled, then marked
  * with its kind), the coordinator drains it into the record at each request
- * and each stop, adding its own entries (stops, the end) in their place. Replaying, it is a table the coordinator filled from the
- * record before the controller ran, which the controller walks with its own
- * cursor. Nothing the controller writes here is trusted: the coordinator
+ * and each stop, adding its own entries (stops, the end) in their place.
+ * Replaying, it is a table the coordinator filled from the record before
+ * the controller ran, which the controller walks with its own cursor. Nothing the controller writes here is trusted: the coordinator
  * reads each entry once, checks its kind, and bounds what it takes. */
 #ifndef TCS_JOURNAL_H
 #define TCS_JOURNAL_H
@@ -41,7 +41,8 @@ enum tcs_journal_kind {
 			       * -errno) */
 	/* The coordinator's own, never a controller's: */
 	TCS_J_STOP = 6,       /* the coordinator stopped it at value (a preemption:
-			       * the world stepped there) */
+			       * the world stepped there), arg = the real CPU it ran
+			       * past its budget (the trace's overshoot) */
 	TCS_J_EXIT = 7,       /* the process ended at value (its last slice's end) */
 	TCS_J_KINDS = 8,
 };
