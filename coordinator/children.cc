@@ -210,7 +210,8 @@ bool has_real_time_child(Run &run, Controller &c)
 // step (if nothing else has a next event, virtual time passes at the speed
 // of real time meanwhile). After a child ended unseen (the program looked
 // for it just before, and the exit came between its look and its wait), it
-// re-checks at once.
+// re-checks at once, at the child's end if that is later (what it finds
+// then must not have ended in its future).
 void child_wait_begins(Run &run, Controller &c, const ::tcs_msg &m, SideWait *side)
 {
 	if (!(m.flags & TCS_BLOCK_CHILD))
@@ -229,7 +230,7 @@ void child_wait_begins(Run &run, Controller &c, const ::tcs_msg &m, SideWait *si
 	if (side)
 		side->wake_reason = TCS_WAKE_RECHECK;
 	else
-		wake(run, c, c.v, TCS_WAKE_RECHECK);
+		wake(run, c, std::max(c.v, c.child_ended_at), TCS_WAKE_RECHECK);
 }
 
 } // namespace tcs

@@ -295,6 +295,7 @@ public:
 	// A thread's wait w ends by virtual time `at` (the world at sim_ns).
 	bool side_due(const SideWait &w, int64_t at, int64_t sim_ns) const;
 	bool child_ended = false;     // a child ended while it was not waiting for one
+	int64_t child_ended_at = 0;   // the latest such child's virtual time at its end
 	bool outside = false;         // its program runs without the preload: real time
 	// Children seen running outside tcs: when first seen (wall ns; -1: said).
 	std::map<pid_t, int64_t> unregistered_children;

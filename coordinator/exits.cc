@@ -108,8 +108,11 @@ void on_exit(Run &run, Controller &c, int wait_status)
 		} else if (p->state == CtlState::Blocked) {
 			p->kick(std::max(p->v, c.v));
 		}
-		// Not waiting for it now: its next wait for a child re-checks.
+		// Not waiting for it now: its next wait for a child re-checks,
+		// no earlier than the child's end.
 		p->child_ended = !seen;
+		if (!seen)
+			p->child_ended_at = std::max(p->child_ended_at, c.v);
 	}
 	run.loop.remove(c.channel.get());
 	for (auto &t : c.threads)

@@ -175,10 +175,14 @@ void begin_end(Run &run, EndReason reason, int signo)
 			continue;
 		kill(c->pid, SIGTERM);
 		if (c->state == CtlState::Blocked) {
-			// It waited through to the end: that is where it stands now.
+			// It waited through to the end: that is where it stands now,
+			// and where its clocks go on from (its page still held the
+			// slice before its wait: a program's last reads went back).
 			c->v = std::max(c->v, std::min(c->wait.deadline, run.sim_ns));
 			c->wake_pending = true;
 			c->wake_reason = TCS_WAKE_DEADLINE;
+			c->publish_slice(c->cpu_at_end >= 0 ? c->cpu_at_end : c->cpu_now());
+			c->cpu_at_end = -1;
 		}
 		if (c->sync)
 			complete_sync(run, *c); // the world has stopped: a read gets its last state

@@ -152,9 +152,15 @@ static long tcs_wait_child(idtype_t type, id_t id, siginfo_t *info, int options,
 		 * program loads; under SCHED_FIFO on our one core it runs only if
 		 * we step back (our answer may come without our ever blocking). */
 		tcs_sys0(SYS_sched_yield);
-		/* Woken when a child ends; and every 100 ms all the same, for a
-		 * child the coordinator could not take on (it runs in real time). */
-		struct tcs_wait_time t = { 100 * TCS_NS_PER_MS, 1, 0, 0, 0, 0 };
+		/* Woken when a child ends, at its virtual time (a child in real
+		 * time, outside tcs, is looked for at each step: the coordinator's
+		 * re-check). No time-out of our own: one that came first would
+		 * find a child ended here that has not ended yet in virtual time
+		 * (seen: a child computing while its parent waits, ended 160 us
+		 * past the time-out). A stop or continue is no news of the
+		 * coordinator's: waits for those look every 100 ms. */
+		int changes = options & (WUNTRACED | WCONTINUED);
+		struct tcs_wait_time t = { changes ? 100 * TCS_NS_PER_MS : TCS_NEVER, changes != 0, 0, 0, 0, 0 };
 		long w = tcs_wait(&t, TCS_BLOCK_POLL, TCS_BLOCK_CHILD, NULL, 0, NULL);
 		tcs_wait_leave();
 		if (w == -EINTR)

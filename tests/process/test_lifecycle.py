@@ -7,7 +7,7 @@ import signal
 import subprocess
 import time
 
-from harness import (TCS_RUN, assert_nothing_left, calibrate, check, main, periodic_on_time, prog, run, session_processes,
+from harness import (PYTHON, TCS_RUN, assert_nothing_left, calibrate, check, main, periodic_on_time, prog, run, session_processes,
                      start, tcs)
 
 
@@ -26,6 +26,31 @@ def test_duration_ends_the_run_with_0():
     check("2.000 s virtual" in r.stderr and "ended with the run" in r.stderr, "the summary says so", r)
     r = tcs("-q", "-m", "lockstep", "-d", "250ms", prog("periodic"), "1000", "100", "0", timeout=20)
     check(r.returncode == 0, "a periodic loop stopped by --duration exits 0", r)
+
+
+def test_a_program_asleep_at_the_end_reads_the_ends_time():
+    # Asleep from 0.9 s to 1.2 s when a 1 s run ends: woken by SIGTERM at
+    # 1 s, where its clocks go on from (they read 0.9 s here once: the
+    # page still held the slice before its sleep).
+    script = """
+import signal, sys, time
+def done(*_):
+    print("end_ns=%d" % (time.monotonic_ns() - 100000 * 10**9))
+    sys.exit(0)
+signal.signal(signal.SIGTERM, done)
+while True:
+    time.sleep(0.3 - time.monotonic() % 0.3)
+"""
+    for mode in ("lockstep", "cpu"):
+        r = tcs("-m", mode, "--epoch", "0", "-d", "1s", "--", PYTHON, "-c", script, timeout=30)
+        v = r.values()
+        check(r.returncode == 0 and "end_ns" in v, "%s: the handler prints" % mode, r)
+        end = int(v["end_ns"])
+        print("  %-8s the handler read %.9f s" % (mode, end / 1e9))
+        # Lockstep: the handler's read follows the wake, at no cost; cpu
+        # mode: after the handler's own CPU (well under 50 ms).
+        ok = end == 10**9 if mode == "lockstep" else 10**9 <= end <= 10**9 + 50 * 10**6
+        check(ok, "%s: a program asleep at the end reads the end's time, 1 s: %d ns" % (mode, end), r)
 
 
 def signal_run(sig, mode):
