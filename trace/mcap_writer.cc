@@ -27,6 +27,12 @@ constexpr size_t kMessageHead = 1 + 8 + 2 + 4 + 8 + 8;
 
 bool fits_u32(size_t n) { return uint64_t(n) <= UINT32_MAX; }
 
+// Bytes of a chunk compressed at a time: some 15 us of zstd's level 1 on
+// JSON, the longest a write() of a small message takes (the coordinator
+// writes between requests: docs/PERFORMANCE.md). Each piece ends a zstd
+// block; the chunk stays one frame, its history kept.
+constexpr size_t kFeedPiece = 8192;
+
 } // namespace
 
 McapWriter::McapWriter(McapWriterOptions options) : options_(options) {}
@@ -68,6 +74,9 @@ void McapWriter::reset_state()
 	chunk_count_ = 0;
 	chunk_gen_ = 1;
 	chunk_.clear();
+	fed_ = 0;
+	chunk_crc_ = 0;
+	zpos_ = 0;
 	chunk_channels_.clear();
 	chunk_start_time_ = UINT64_MAX;
 	chunk_end_time_ = 0;
@@ -94,7 +103,9 @@ Status McapWriter::open(const std::string &path, std::string_view profile, std::
 		if (level < ZSTD_minCLevel() || level > ZSTD_maxCLevel())
 			return Error{ path + ": zstd level " + std::to_string(level) + " is not in " +
 				      std::to_string(ZSTD_minCLevel()) + ".." + std::to_string(ZSTD_maxCLevel()) };
-		size_t r = ZSTD_CCtx_setParameter(zstd_, ZSTD_c_compressionLevel, level);
+		size_t r = ZSTD_CCtx_reset(zstd_, ZSTD_reset_session_only); // (a frame a failed file left open)
+		if (!ZSTD_isError(r))
+			r = ZSTD_CCtx_setParameter(zstd_, ZSTD_c_compressionLevel, level);
 		if (ZSTD_isError(r))
 			return Error{ path + ": zstd level " + std::to_string(level) + ": " + ZSTD_getErrorName(r) };
 	}
@@ -203,7 +214,36 @@ Status McapWriter::write(uint16_t channel_id, uint64_t log_time_ns, uint64_t pub
 
 	if (chunk_.size() >= options_.chunk_size)
 		return finish_chunk();
+	if (chunk_.size() - fed_ >= kFeedPiece)
+		return feed(ZSTD_e_flush);
 	return Ok{};
+}
+
+// What the chunk holds past fed_, into its CRC and (compressing) into
+// compressed_: with ZSTD_e_flush, compressed now as a block of the chunk's
+// frame; with ZSTD_e_end, the frame ended.
+Status McapWriter::feed(int directive)
+{
+	const uint8_t *from = chunk_.data() + fed_;
+	const size_t n = chunk_.size() - fed_;
+	chunk_crc_ = mcap_crc32(chunk_crc_, from, n);
+	fed_ = chunk_.size();
+	if (!zstd_)
+		return Ok{};
+	ZSTD_inBuffer in = { from, n, 0 };
+	for (;;) {
+		if (compressed_.size() - zpos_ < ZSTD_compressBound(in.size - in.pos) + 64)
+			compressed_.resize(std::max(2 * compressed_.size(), zpos_ + ZSTD_compressBound(in.size - in.pos) + 64));
+		ZSTD_outBuffer out = { compressed_.data(), compressed_.size(), zpos_ };
+		size_t left = ZSTD_compressStream2(zstd_, &out, &in, ZSTD_EndDirective(directive));
+		zpos_ = out.pos;
+		if (ZSTD_isError(left)) {
+			error_ = Error{ path_ + ": zstd compression failed: " + ZSTD_getErrorName(left) };
+			return *error_;
+		}
+		if (left == 0 && in.pos == in.size)
+			return Ok{};
+	}
 }
 
 Status McapWriter::flush()
@@ -258,26 +298,18 @@ Status McapWriter::finish_chunk()
 	if (chunk_.empty())
 		return Ok{};
 	const uint64_t uncompressed_size = chunk_.size();
-	const uint32_t crc = mcap_crc32(0, chunk_.data(), chunk_.size());
+	if (Status s = feed(ZSTD_e_end); !s)
+		return s;
+	const uint32_t crc = chunk_crc_;
 
 	const uint8_t *payload = chunk_.data();
 	uint64_t payload_size = uncompressed_size;
 	std::string_view compression;
-	if (options_.compression == McapCompression::zstd) {
-		size_t bound = ZSTD_compressBound(chunk_.size());
-		if (compressed_.size() < bound)
-			compressed_.resize(bound);
-		size_t z = ZSTD_compress2(zstd_, compressed_.data(), compressed_.size(), chunk_.data(), chunk_.size());
-		if (ZSTD_isError(z)) {
-			error_ = Error{ path_ + ": zstd compression failed: " + ZSTD_getErrorName(z) };
-			return *error_;
-		}
-		// Incompressible data is stored as it is (readers decide per chunk).
-		if (z < chunk_.size()) {
-			payload = compressed_.data();
-			payload_size = z;
-			compression = "zstd";
-		}
+	// Incompressible data is stored as it is (readers decide per chunk).
+	if (zstd_ && zpos_ < chunk_.size()) {
+		payload = compressed_.data();
+		payload_size = zpos_;
+		compression = "zstd";
 	}
 
 	chunk_head_.clear();
@@ -345,6 +377,9 @@ Status McapWriter::finish_chunk()
 	}
 	chunk_channels_.clear();
 	chunk_.clear();
+	fed_ = 0;
+	chunk_crc_ = 0;
+	zpos_ = 0;
 	chunk_gen_++;
 	chunk_start_time_ = UINT64_MAX;
 	chunk_end_time_ = 0;

@@ -2,6 +2,9 @@
 // messages with JSON schemas, in zstd-compressed chunks, indexed for random
 // access (docs/DESIGN.md §6).
 //
+// A chunk is compressed as it fills, a piece at a time (kFeedPiece bytes),
+// so that no one write() stalls its caller for a whole chunk's compression.
+//
 // Every chunk is written with write(2) as soon as it is full, followed by its
 // Message Index records, and is self-contained: the Schema and Channel
 // records its messages need are repeated inside it. A run killed at any point
@@ -126,6 +129,7 @@ private:
 	Error set_error(const std::string &what, int err);
 	Status failed_status() const;
 	Status write_all(const ::iovec *iov, int count);
+	Status feed(int directive);
 	Status finish_chunk();
 	void reset_state();
 
@@ -144,13 +148,17 @@ private:
 	uint64_t start_time_ = UINT64_MAX, end_time_ = 0;
 	uint32_t chunk_count_ = 0;
 
-	// The chunk being filled.
+	// The chunk being filled, and how much of it was fed to the CRC and
+	// the compressor, whose output so far is compressed_[0, zpos_).
 	uint64_t chunk_gen_ = 1;
 	std::vector<uint8_t> chunk_;
+	size_t fed_ = 0;
+	uint32_t chunk_crc_ = 0;
+	size_t zpos_ = 0;
 	std::vector<uint16_t> chunk_channels_; // channels with messages in it
 	uint64_t chunk_start_time_ = UINT64_MAX, chunk_end_time_ = 0;
 
-	// Reused while writing a chunk out.
+	// Reused from chunk to chunk.
 	std::vector<uint8_t> compressed_;
 	std::vector<uint8_t> chunk_head_;
 	std::vector<uint8_t> message_indexes_;

@@ -120,7 +120,7 @@ void append_fields(std::string &s, std::initializer_list<std::pair<const char *,
 
 } // namespace
 
-Status Trace::open(const std::string &path, int avoid_cpu, bool record)
+Status Trace::open(const std::string &path, Writing how, bool record)
 {
 	if (auto s = writer_.open(path, "", "tcs"); !s)
 		return s;
@@ -150,7 +150,9 @@ Status Trace::open(const std::string &path, int avoid_cpu, bool record)
 	}
 	json_.reserve(4096);
 	open_ = true;
-	thread_ = std::thread([this, avoid_cpu] { writer_loop(avoid_cpu); });
+	pumped_ = how.pumped;
+	if (!pumped_)
+		thread_ = std::thread([this, avoid = how.avoid_cpu] { writer_loop(avoid); });
 	return Ok{};
 }
 
@@ -158,19 +160,37 @@ Status Trace::close()
 {
 	if (!open_)
 		return Ok{};
-	{
-		std::lock_guard<std::mutex> lk(mu_);
-		stop_ = true;
+	if (pumped_) {
+		while (!pending_.empty())
+			write_oldest();
+	} else {
+		{
+			std::lock_guard<std::mutex> lk(mu_);
+			stop_ = true;
+		}
+		cv_.notify_one();
+		thread_.join();
 	}
-	cv_.notify_one();
-	thread_.join();
 	open_ = false;
 	auto s = writer_.close();
 	return status_ ? s : status_;
 }
 
+// Past this many messages waiting, the coordinator writes as it emits: a
+// run that never leaves it idle (a world stepped back to back) keeps its
+// trace's memory bounded all the same.
+constexpr size_t kMostPending = 8192;
+
 void Trace::emit(Event &&e)
 {
+	if (pumped_) {
+		pending_.push_back(std::move(e));
+		if (pending_.size() > kMostPending) {
+			write_oldest();
+			write_oldest();
+		}
+		return;
+	}
 	{
 		std::lock_guard<std::mutex> lk(mu_);
 		queue_.push_back(std::move(e));
@@ -178,6 +198,21 @@ void Trace::emit(Event &&e)
 			return;
 	}
 	cv_.notify_one();
+}
+
+void Trace::write_oldest()
+{
+	if (status_)
+		write_event(pending_.front());
+	pending_.pop_front();
+}
+
+bool Trace::pump()
+{
+	if (pending_.empty())
+		return false;
+	write_oldest();
+	return true;
 }
 
 void Trace::writer_loop(int avoid_cpu)

@@ -13,6 +13,7 @@
 
 #include <condition_variable>
 #include <cstdint>
+#include <deque>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -24,15 +25,28 @@
 
 namespace tcs {
 
+// How a trace is written: by a thread of its own, kept off the
+// coordinator's core (avoid_cpu; -1: anywhere), where it takes what time the
+// controllers leave; or by the coordinator itself (pumped), a message at a
+// time in its idle moments (Trace::pump()), on a core of its own where a
+// thread could only run while it sleeps (two cores: the controller's and
+// the coordinator's, each spinning while the other works,
+// docs/PERFORMANCE.md).
+struct TraceWriting {
+	bool pumped = false;
+	int avoid_cpu = -1;
+};
+
 class Trace {
 public:
-	// Opens path; the file is written by a thread of its own kept off core
-	// avoid_cpu (the controllers' core; -1: anywhere), so that compression
-	// and writing do not take time from the run.
-	// A record (--record) has the record's topics too.
-	Status open(const std::string &path, int avoid_cpu = -1, bool record = false);
+	using Writing = TraceWriting;
+	// Opens path. A record (--record) has the record's topics too.
+	Status open(const std::string &path, Writing how = Writing{}, bool record = false);
 	bool is_open() const { return open_; }
 	Status close();
+	// Pumped: writes the oldest message not yet written (false: none was
+	// waiting). Some 2 us, or 15 us where a piece of a chunk is compressed.
+	bool pump();
 
 	// Once per controller, before its first slice. name must outlive the
 	// trace (the controller's does).
@@ -77,6 +91,7 @@ private:
 		std::vector<tcs_journal_entry> entries; // a journal's batch
 	};
 	void emit(Event &&e);
+	void write_oldest();
 	void writer_loop(int avoid_cpu);
 	void write_event(const Event &e); // in the writer thread
 
@@ -89,9 +104,14 @@ private:
 	std::vector<std::string> joint_names_;
 	std::string json_; // the writer thread's formatting buffer
 
+	// Pumped: what is not yet written, all on the coordinator's thread.
+	bool pumped_ = false;
+	std::deque<Event> pending_;
+
+	// With a thread: what it has not yet taken.
 	std::mutex mu_;
 	std::condition_variable cv_;
-	std::vector<Event> queue_; // not yet written
+	std::vector<Event> queue_;
 	bool stop_ = false;
 	std::thread thread_;
 	Status status_ = Ok{}; // the writer thread's first error (it stops writing then)

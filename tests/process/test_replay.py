@@ -51,8 +51,11 @@ def replay(path, argv, *options):
 
 
 def commands(path):
-    """Every command: its virtual time, device and values."""
-    return trace_rows(path, "/tcs/device")
+    """Every command: its virtual time, device and values; each
+    controller's in its order (two controllers' are logged as the
+    coordinator takes them, in whichever order they ran on their cores)."""
+    rows = trace_rows(path, "/tcs/device")
+    return sorted(rows, key=lambda row: int(row["controller"]))
 
 
 def joints(path):

@@ -67,6 +67,43 @@ def chunks_begun(path):
     return chunks
 
 
+def peak_rss_kb(args, timeout):
+    """The most memory tcs-run (the coordinator in it) held in the run."""
+    p = start(args)
+    deadline = time.monotonic() + timeout
+    while True:
+        pid, status, usage = os.wait4(p.pid, os.WNOHANG)
+        if pid:
+            break
+        if time.monotonic() > deadline:
+            os.killpg(p.pid, signal.SIGKILL)
+            os.wait4(p.pid, 0)
+            raise AssertionError("%s: no end after %d s" % (args, timeout))
+        time.sleep(0.05)
+    p.returncode = os.waitstatus_to_exitcode(status)
+    assert_nothing_left(p.pid)
+    check(p.returncode == 0, "%s: exit 0" % args)
+    return usage.ru_maxrss
+
+
+def test_a_long_traced_run_holds_no_more_memory_than_a_short_one():
+    # The trace is written as the run goes, not held until its end: the
+    # writer once ran only where the coordinator and controller left a core
+    # idle, on two cores never in a cpu-mode run, and 120 s of a 1 kHz
+    # pendulum held 124 MB by its end.
+    path = "/tmp/tcs-test-long-%d.mcap" % os.getpid()
+    try:
+        kb = {}
+        for seconds in (10, 60):
+            kb[seconds] = peak_rss_kb([TCS_RUN, "-q", "-m", "cpu", "-d", "%ds" % seconds, "-t", path, "--", PD],
+                                      timeout=120)
+        print("  peak memory: %d kB for 10 s, %d kB for 60 s of a traced 1 kHz run" % (kb[10], kb[60]))
+        check(kb[60] < 1.5 * kb[10], "60 s hold no more than 10 s (but for noise): %s kB" % kb)
+    finally:
+        if os.path.exists(path):
+            os.unlink(path)
+
+
 def test_trace_survives_sigkill():
     path = "/tmp/tcs-test-killed-%d.mcap" % os.getpid()
     try:

@@ -53,14 +53,20 @@ tcs_journal_entry entry(uint16_t kind, uint16_t type, int64_t value, int64_t arg
 
 const std::string kTorque = "/dev/tcs/pendulum/torque";
 
-// A record of two controllers, the first's journal in two batches.
-std::string write_record(const std::string &name)
+// A record of two controllers, the first's journal in two batches; pumped,
+// its first messages written by pump() (as the coordinator does when idle),
+// the rest by close().
+std::string write_record(const std::string &name, bool pumped = false)
 {
 	std::string path = test_path(name);
 	tcs::Trace t;
-	CHECK_OK(t.open(path, -1, true));
+	CHECK_OK(t.open(path, tcs::TraceWriting{ .pumped = pumped }, true));
 	t.record_run(tcs::record_run_json(settings()));
 	t.journal(1, { entry(TCS_J_CLOCK, 0, 10), entry(TCS_J_CHARGE, TCS_MSG_DEV_OPEN, 20) });
+	if (pumped) {
+		assert_true(t.pump() && t.pump());
+		assert_false(t.pump()); // (all written)
+	}
 	t.journal(2, { entry(TCS_J_READ, 0, 30, 652) });
 	t.command(1, kTorque, 40, { 1.5, -0.25 }, false);
 	t.command(1, kTorque, 50, {}, true);
@@ -69,9 +75,17 @@ std::string write_record(const std::string &name)
 	return path;
 }
 
+void check_whole(const std::string &path);
+
 void test_a_record_reads_back_whole(void **)
 {
-	tcs::Record r = MUST(tcs::read_record(write_record("whole.mcap")));
+	for (bool pumped : { false, true })
+		check_whole(write_record(pumped ? "whole-pumped.mcap" : "whole.mcap", pumped));
+}
+
+void check_whole(const std::string &path)
+{
+	tcs::Record r = MUST(tcs::read_record(path));
 	tcs::Record want = settings();
 	assert_true(r.cpu_scale == 6.0);
 	assert_int_equal(r.step_ns, want.step_ns);
@@ -111,7 +125,7 @@ void test_a_record_without_a_seed_has_none(void **)
 	tcs::Record s = settings();
 	s.seed.reset();
 	tcs::Trace t;
-	CHECK_OK(t.open(path, -1, true));
+	CHECK_OK(t.open(path, {}, true));
 	t.record_run(tcs::record_run_json(s));
 	CHECK_OK(t.close());
 	assert_false(MUST(tcs::read_record(path)).seed.has_value());
@@ -123,7 +137,7 @@ void test_a_record_cut_short_reads_as_far_as_it_goes(void **)
 	// written first, are in the first).
 	std::string path = test_path("long.mcap");
 	tcs::Trace t;
-	CHECK_OK(t.open(path, -1, true));
+	CHECK_OK(t.open(path, {}, true));
 	t.record_run(tcs::record_run_json(settings()));
 	const size_t batches = 200, per = 1000;
 	for (size_t b = 0; b < batches; b++) {
@@ -149,7 +163,7 @@ void test_what_is_not_a_record_is_refused(void **)
 {
 	std::string plain = test_path("plain.mcap");
 	tcs::Trace t;
-	CHECK_OK(t.open(plain, -1, false));
+	CHECK_OK(t.open(plain, {}, false));
 	t.command(1, kTorque, 40, { 1.0 }, false);
 	CHECK_OK(t.close());
 	auto r = tcs::read_record(plain);
