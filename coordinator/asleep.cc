@@ -133,7 +133,10 @@ bool still_asleep(Run &run, Controller &c, int64_t at)
 // it is Ready as if it had been stopped. It was waiting all along, as in
 // any wait: its time is at least the world's now (a reader of a pipe sees
 // the data no earlier than it was written; TCS_PAGE_ASLEEP makes it ask
-// before it looks at its clock).
+// before it looks at its clock). Not held as a stopped one is, it is
+// answered only as it is resumed (answer()): answered at once, it ran on
+// uncharged until its turn (18 us of a replayed run's start went missing
+// from its record's first slice).
 void wake_from_asleep(Run &run, Controller &c)
 {
 	int64_t cpu = c.cpu_now();
@@ -141,6 +144,7 @@ void wake_from_asleep(Run &run, Controller &c)
 	c.v = std::max(c.v, run.sim_ns);
 	c.publish_slice(cpu);
 	c.asleep = false;
+	c.answer_at_resume = true;
 	c.set_page_flag(TCS_PAGE_ASLEEP, false);
 	c.state = CtlState::Ready;
 	c.wait.recheck = false;

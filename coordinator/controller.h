@@ -348,6 +348,7 @@ public:
 	uint64_t random_key_ = 0;
 	uint64_t children_keyed_ = 0;
 	bool asleep = false;        // stepped aside, asleep in the kernel (asleep.cc)
+	bool answer_at_resume = false; // woken from asleep, Ready but not held: answered as resumed
 	// Its lane watchdog's last look at it, running (asleep.cc).
 	struct Look {
 		int64_t cpu = 0;      // its CPU then

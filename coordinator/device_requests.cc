@@ -29,7 +29,7 @@ void reply_now(Run &run, Controller &c, int64_t arg)
 {
 	c.wake_arg = arg;
 	c.wake_reason = TCS_WAKE_DEADLINE;
-	send_wake(run, c);
+	answer(run, c);
 }
 
 // A request answered while the controller's slice goes on: the hook's cost
@@ -133,8 +133,7 @@ void on_dev_sync(Run &run, Controller &c, const ::tcs_msg &m)
 	}
 	bool was_running = c.state == CtlState::Running;
 	if (complete_sync(run, c)) {
-		c.wake_pending = false;
-		send_wake(run, c);
+		answer(run, c);
 		return;
 	}
 	// A blocking read with nothing due: it waits for the next record.

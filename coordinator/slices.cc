@@ -174,6 +174,7 @@ void resume(Run &run, Controller &c, int64_t target, int lane)
 	}
 	deliver(c); // what its sensors have due by now is in their fds
 	c.mark_due = c.wake_pending && !c.multithreaded(); // (roundtrip.c)
+	c.answer_at_resume = false;
 	if (c.wake_pending)
 		send_wake(run, c);
 	end_side_waits(run, c); // other threads' waits due by now

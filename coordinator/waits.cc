@@ -72,6 +72,17 @@ void send_wake(Run &run, Controller &c)
 	c.wake_pending = false;
 }
 
+void answer(Run &run, Controller &c)
+{
+	if (c.state == CtlState::Ready && c.answer_at_resume) {
+		c.wake_pending = true; // (resume sends it)
+		schedule(run);
+		return;
+	}
+	c.wake_pending = false;
+	send_wake(run, c);
+}
+
 void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 {
 	if (replay_stop(run, c, m, fd, tid))
