@@ -139,7 +139,7 @@ Status Coordinator::init()
 		return s;
 	if (!run.cfg.trace_path.empty()) {
 		// The coordinator's core is its own where it polls: it writes there.
-		Trace::Writing how{ .pumped = run.poller.enabled(), .avoid_cpu = run.rt.cpu };
+		TraceWriting how{ .pumped = run.poller.enabled(), .avoid_cpu = run.rt.cpu };
 		if (auto s = run.trace.open(run.cfg.trace_path, how, !run.cfg.record_path.empty()); !s)
 			return s;
 		if (how.pumped)

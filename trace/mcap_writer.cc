@@ -73,10 +73,7 @@ void McapWriter::reset_state()
 	end_time_ = 0;
 	chunk_count_ = 0;
 	chunk_gen_ = 1;
-	chunk_.clear();
-	fed_ = 0;
-	chunk_crc_ = 0;
-	zpos_ = 0;
+	restart_chunk();
 	chunk_channels_.clear();
 	chunk_start_time_ = UINT64_MAX;
 	chunk_end_time_ = 0;
@@ -217,6 +214,14 @@ Status McapWriter::write(uint16_t channel_id, uint64_t log_time_ns, uint64_t pub
 	if (chunk_.size() - fed_ >= kFeedPiece)
 		return feed(ZSTD_e_flush);
 	return Ok{};
+}
+
+void McapWriter::restart_chunk()
+{
+	chunk_.clear();
+	fed_ = 0;
+	chunk_crc_ = 0;
+	zpos_ = 0;
 }
 
 // What the chunk holds past fed_, into its CRC and (compressing) into
@@ -376,10 +381,7 @@ Status McapWriter::finish_chunk()
 		channels_[id].unsorted = false;
 	}
 	chunk_channels_.clear();
-	chunk_.clear();
-	fed_ = 0;
-	chunk_crc_ = 0;
-	zpos_ = 0;
+	restart_chunk();
 	chunk_gen_++;
 	chunk_start_time_ = UINT64_MAX;
 	chunk_end_time_ = 0;

@@ -130,6 +130,7 @@ private:
 	Status failed_status() const;
 	Status write_all(const ::iovec *iov, int count);
 	Status feed(int directive);
+	void restart_chunk(); // empty, nothing fed
 	Status finish_chunk();
 	void reset_state();
 

@@ -120,7 +120,7 @@ void append_fields(std::string &s, std::initializer_list<std::pair<const char *,
 
 } // namespace
 
-Status Trace::open(const std::string &path, Writing how, bool record)
+Status Trace::open(const std::string &path, TraceWriting how, bool record)
 {
 	if (auto s = writer_.open(path, "", "tcs"); !s)
 		return s;

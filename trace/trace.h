@@ -39,9 +39,8 @@ struct TraceWriting {
 
 class Trace {
 public:
-	using Writing = TraceWriting;
 	// Opens path. A record (--record) has the record's topics too.
-	Status open(const std::string &path, Writing how = Writing{}, bool record = false);
+	Status open(const std::string &path, TraceWriting how = TraceWriting{}, bool record = false);
 	bool is_open() const { return open_; }
 	Status close();
 	// Pumped: writes the oldest message not yet written (false: none was
