@@ -54,8 +54,9 @@ if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
 	export DEBIAN_FRONTEND=noninteractive
 	apt-get install -y -qq --no-install-recommends nodejs npm >/dev/null
 fi
-if [[ $what == test && ! -d tests/mcap/node_modules/@mcap/core ]]; then
-	echo "bootstrap: installing the MCAP reader for the tests (npm ci)"
+if [[ $what == test && ( ! -d tests/mcap/node_modules/@mcap/core ||
+	! -d tests/mcap/node_modules/@foxglove/rosmsg2-serialization ) ]]; then
+	echo "bootstrap: installing the MCAP and ROS 2 message readers for the tests (npm ci)"
 	npm ci --prefix tests/mcap --no-audit --no-fund --loglevel=error >/dev/null
 fi
 

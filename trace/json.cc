@@ -1,7 +1,8 @@
-// The JSON parser (RFC 8259) and string escaper for trace messages.
+// The JSON parser (RFC 8259), string escaper and writer for trace messages.
 #include "json.h"
 
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 
 namespace tcs {
@@ -425,6 +426,50 @@ void json_append_string(std::string &out, std::string_view text)
 		i++;
 	}
 	out += '"';
+}
+
+void json_append(std::string &out, const JsonValue &v)
+{
+	char buf[32];
+	switch (v.type) {
+	case JsonValue::Type::Null:
+		out += "null";
+		return;
+	case JsonValue::Type::Bool:
+		out += v.boolean ? "true" : "false";
+		return;
+	case JsonValue::Type::Number:
+		if (v.is_integer)
+			out.append(buf, (size_t)(std::to_chars(buf, buf + sizeof buf, v.integer).ptr - buf));
+		else if (std::isfinite(v.number))
+			out.append(buf, (size_t)(std::to_chars(buf, buf + sizeof buf, v.number).ptr - buf));
+		else
+			out += "null";
+		return;
+	case JsonValue::Type::String:
+		json_append_string(out, v.string);
+		return;
+	case JsonValue::Type::Array:
+		out += '[';
+		for (size_t i = 0; i < v.array.size(); i++) {
+			if (i)
+				out += ',';
+			json_append(out, v.array[i]);
+		}
+		out += ']';
+		return;
+	case JsonValue::Type::Object:
+		out += '{';
+		for (size_t i = 0; i < v.object.size(); i++) {
+			if (i)
+				out += ',';
+			json_append_string(out, v.object[i].first);
+			out += ':';
+			json_append(out, v.object[i].second);
+		}
+		out += '}';
+		return;
+	}
 }
 
 const JsonValue *JsonValue::get(std::string_view key) const

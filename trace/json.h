@@ -41,11 +41,39 @@ struct JsonValue {
 	bool get_bool(std::string_view key, bool fallback = false) const;
 };
 
+// Values to build a document with.
+inline JsonValue json_integer(int64_t v)
+{
+	JsonValue j;
+	j.type = JsonValue::Type::Number;
+	j.number = (double)v;
+	j.is_integer = true;
+	j.integer = v;
+	return j;
+}
+inline JsonValue json_number(double v)
+{
+	JsonValue j;
+	j.type = JsonValue::Type::Number;
+	j.number = v;
+	return j;
+}
+inline JsonValue json_string(std::string_view v)
+{
+	JsonValue j;
+	j.type = JsonValue::Type::String;
+	j.string = std::string(v);
+	return j;
+}
+
 // Parses one JSON text (surrounding whitespace allowed, nothing else).
 // Errors: "at byte N: what is wrong".
 Result<JsonValue> json_parse(std::string_view text);
 
 // Appends text to out as a JSON string literal (quotes included).
 void json_append_string(std::string &out, std::string_view text);
+
+// Appends v to out as JSON text (a number that is not finite as null).
+void json_append(std::string &out, const JsonValue &v);
 
 } // namespace tcs

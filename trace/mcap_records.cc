@@ -81,15 +81,6 @@ bool array_of(Fields &f, size_t entry, Fields *array)
 	return f.ok() && bytes % entry == 0;
 }
 
-// A string from the file, fit to quote in a message.
-std::string printable(std::string_view s)
-{
-	std::string out;
-	for (char c : s.substr(0, 40))
-		out += c >= 0x20 && c < 0x7F ? c : '?';
-	return s.size() > 40 ? out + "..." : out;
-}
-
 std::string hex32(uint32_t v)
 {
 	char buf[16];
@@ -98,6 +89,14 @@ std::string hex32(uint32_t v)
 }
 
 } // namespace
+
+std::string printable(std::string_view s)
+{
+	std::string out;
+	for (char c : s.substr(0, 40))
+		out += c >= 0x20 && c < 0x7F ? c : '?';
+	return s.size() > 40 ? out + "..." : out;
+}
 
 bool mcap_record_at(std::string_view bytes, uint64_t offset, McapRecord *out)
 {

@@ -117,6 +117,10 @@ std::string mcap_decode_summary_offset(std::string_view body, McapSummaryOffset 
 std::string mcap_decode_footer(std::string_view body, McapFooter *out, size_t *known = nullptr);
 std::string mcap_decode_data_end(std::string_view body, uint32_t *data_section_crc, size_t *known = nullptr);
 
+// A string from a file (a name, an encoding), fit to quote in a one-line
+// message: its first 40 bytes, each not printable ASCII as '?'.
+std::string printable(std::string_view s);
+
 // Unpacks Chunks: decompressed (zstd, or none) and CRC-checked. Holds the
 // buffer the records are decompressed into, and zstd's context, made once
 // (making one per chunk costs more than decompressing a small chunk); a

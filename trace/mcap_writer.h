@@ -1,6 +1,6 @@
-// The trace file writer: an MCAP file (https://mcap.dev/spec) of JSON
-// messages with JSON schemas, in zstd-compressed chunks, indexed for random
-// access (docs/DESIGN.md §6).
+// The trace file writer: an MCAP file (https://mcap.dev/spec) of messages
+// with their schemas, in chunks (zstd-compressed, or not), indexed for
+// random access (docs/DESIGN.md §6).
 //
 // A chunk is compressed as it fills, a piece at a time (kFeedPiece bytes),
 // so that no one write() stalls its caller for a whole chunk's compression.

@@ -8,6 +8,7 @@
 
 #include "json.h"
 #include "mcap_reader.h"
+#include "message_decode.h"
 
 namespace tcs {
 
@@ -77,20 +78,26 @@ static Status take_journal(const std::string &path, const JsonValue &j, Record *
 		return Error{ path + ": a journal message without its controller or entries" };
 	std::vector<tcs_journal_entry> &out = r->journals[(int)controller];
 	for (const JsonValue &e : entries->array) {
-		bool ok = e.type == JsonValue::Type::Array && e.array.size() == 5;
+		// {kind, type, thread, value, arg} (CDR), or [kind, type, thread,
+		// value, arg] (a JSON record of an older tcs).
+		static const char *const names[] = { "kind", "type", "thread", "value", "arg" };
+		const JsonValue *f[5] = {};
+		for (size_t i = 0; i < 5; i++)
+			f[i] = e.type == JsonValue::Type::Array ? (i < e.array.size() ? &e.array[i] : nullptr) : e.get(names[i]);
+		bool ok = e.type != JsonValue::Type::Array || e.array.size() == 5;
 		for (size_t i = 0; ok && i < 5; i++)
-			ok = e.array[i].is_integer;
-		if (!ok || e.array[0].integer < 1 || e.array[0].integer >= TCS_J_KINDS || e.array[1].integer < 0 ||
-		    e.array[1].integer > 0xffff || e.array[2].integer < 0 || e.array[2].integer > 0xffffffffLL)
-			return Error{ path + ": a journal entry that is not [kind, type, thread, value, arg]" };
+			ok = f[i] && f[i]->is_integer;
+		if (!ok || f[0]->integer < 1 || f[0]->integer >= TCS_J_KINDS || f[1]->integer < 0 || f[1]->integer > 0xffff ||
+		    f[2]->integer < 0 || f[2]->integer > 0xffffffffLL)
+			return Error{ path + ": a journal entry that is not {kind, type, thread, value, arg}" };
 		if (out.size() == kMostEntries)
 			return Error{ path + ": more journal entries than a replay takes" };
 		tcs_journal_entry x = {};
-		x.kind = (uint16_t)e.array[0].integer;
-		x.type = (uint16_t)e.array[1].integer;
-		x.thread = (uint32_t)e.array[2].integer;
-		x.value = e.array[3].integer;
-		x.arg = e.array[4].integer;
+		x.kind = (uint16_t)f[0]->integer;
+		x.type = (uint16_t)f[1]->integer;
+		x.thread = (uint32_t)f[2]->integer;
+		x.value = f[3]->integer;
+		x.arg = f[4]->integer;
 		out.push_back(x);
 	}
 	return Ok{};
@@ -129,6 +136,7 @@ static Result<Record> read_from(McapReader &reader, const std::string &path)
 {
 	Record r;
 	bool settings = false;
+	MessageDecoder decoder;
 	auto take = [&](const McapMessage &m) -> Status {
 		const std::string &topic = m.channel->topic;
 		static const struct {
@@ -139,7 +147,7 @@ static Result<Record> read_from(McapReader &reader, const std::string &path)
 		for (const auto &t : takers) {
 			if (topic != t.topic)
 				continue;
-			auto j = json_parse(m.data);
+			auto j = decoder.decode(m);
 			if (!j)
 				return Error{ path + ": " + topic + ": " + j.error().message };
 			settings = settings || t.take == take_settings;

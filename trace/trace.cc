@@ -1,15 +1,12 @@
-// Trace: the topics, their JSON Schemas, and JSON written without
+// Trace: the topics, their schemas, and their messages written without
 // allocation on the per-message path (one reused buffer).
 #include "trace.h"
 
+#include "cdr_writer.h"
+#include "json.h"
+
 #include <algorithm>
-#include <charconv>
-#include <initializer_list>
 #include <utility>
-#include <cinttypes>
-#include <cstdarg>
-#include <cmath>
-#include <cstdio>
 
 #include <sched.h>
 
@@ -22,34 +19,56 @@ const char kControllerSchema[] = R"({"type":"object","title":"tcs controller","p
 "cpu_scale":{"type":"number"},"mode":{"type":"string","enum":["cpu","lockstep"]},
 "step_ns":{"type":"integer"}}})";
 
-const char kSliceSchema[] = R"({"type":"object","title":"tcs slice","properties":{
-"controller":{"type":"integer"},"v_start_ns":{"type":"integer"},"v_end_ns":{"type":"integer"},
-"charged_ns":{"type":"integer","description":"virtual CPU charged"},
-"cpu_ns":{"type":"integer","description":"real CPU the process used, tcs hooks included"},
-"wall_start_ns":{"type":"integer"},"wall_end_ns":{"type":"integer"},
-"budget_ns":{"type":"integer","description":"preempted: the real CPU budget; else -1"},
-"overshoot_ns":{"type":"integer","description":"preempted: real CPU used beyond the budget"},
-"sim_ns":{"type":"integer","description":"simulation time when the slice ended"},
-"end":{"type":"string","enum":["blocked","preempted","exited","ended"],
-"description":"ended: the run ended while it ran"}}})";
+// The per-cycle topics: ROS 2 message definitions (ros2msg) of CDR
+// messages, which Foxglove and PlotJuggler decode, and which cost the
+// coordinator a few stores each (JSON cost it more than the run's own
+// work: docs/PERFORMANCE.md).
+const char kSliceSchema[] = R"(# tcs: a stretch of virtual time a controller ran
+int32 controller
+int64 v_start_ns
+int64 v_end_ns
+int64 charged_ns # virtual CPU charged
+int64 cpu_ns # real CPU the process used, tcs hooks included
+int64 wall_start_ns
+int64 wall_end_ns
+int64 budget_ns # preempted: the real CPU budget; else -1
+int64 overshoot_ns # preempted: real CPU used beyond the budget
+int64 sim_ns # simulation time when the slice ended
+string end # blocked, preempted, exited, or ended (the run ended while it ran)
+)";
 
-const char kWaitSchema[] = R"({"type":"object","title":"tcs wait","properties":{
-"controller":{"type":"integer"},"kind":{"type":"string"},"v_request_ns":{"type":"integer"},
-"deadline_ns":{"type":"integer","description":"-1: none"},"v_end_ns":{"type":"integer"},
-"absolute":{"type":"boolean"}}})";
+const char kWaitSchema[] = R"(# tcs: a hooked wait
+int32 controller
+string kind
+int64 v_request_ns
+int64 deadline_ns # -1: none
+int64 v_end_ns
+bool absolute
+)";
 
-const char kDeviceSchema[] = R"({"type":"object","title":"tcs actuator command","properties":{
-"controller":{"type":"integer"},"path":{"type":"string"},"v_ns":{"type":"integer"},
-"values":{"type":"array","items":{"type":"number"}},"malformed":{"type":"boolean"}}})";
+const char kDeviceSchema[] = R"(# tcs: a command written to an actuator
+int32 controller
+string path
+int64 v_ns
+float64[] values
+bool malformed
+)";
 
-const char kStepSchema[] = R"({"type":"object","title":"tcs simulation step","properties":{
-"v_ns":{"type":"integer"},"wall_ns":{"type":"integer","description":"wall time since the run started"},
-"wall_cost_ns":{"type":"integer"},
-"joints":{"type":"object","additionalProperties":{"type":"number"}}}})";
+const char kStepSchema[] = R"(# tcs: a simulation step and the joint states after it
+int64 v_ns
+int64 wall_ns # wall time since the run started
+int64 wall_cost_ns
+string[] joint_names
+float64[] joint_values
+)";
 
 // As ROS 2's rosgraph_msgs/Clock, so tools that follow /clock follow tcs.
-const char kClockSchema[] = R"({"type":"object","title":"rosgraph_msgs/Clock","properties":{
-"clock":{"type":"object","properties":{"sec":{"type":"integer"},"nanosec":{"type":"integer"}}}}})";
+const char kClockSchema[] = R"(builtin_interfaces/Time clock
+================================================================================
+MSG: builtin_interfaces/Time
+int32 sec
+uint32 nanosec
+)";
 
 // A record's (trace/record.h).
 const char kRecordRunSchema[] = R"({"type":"object","title":"tcs record: the run's settings","properties":{
@@ -58,97 +77,62 @@ const char kRecordRunSchema[] = R"({"type":"object","title":"tcs record: the run
 "slack":{"type":"boolean"},"program":{"type":"array","items":{"type":"string"}},
 "devices":{"type":"array","items":{"type":"string"}}}})";
 
-const char kJournalSchema[] = R"json({"type":"object","title":"tcs record: a controller's journal","properties":{
-"controller":{"type":"integer"},"entries":{"type":"array","description":"[kind, type, thread, value, arg]: kind 1 clock read (value: virtual ns), 2 CPU-time clock, 3 thread CPU-time clock, 4 request (type: its message type; value: virtual ns), 5 device read (value: virtual ns; arg: bytes read), 6 the coordinator's preemption (value: virtual ns; arg: real CPU past its budget), 7 the process's end (value: virtual ns)",
-"items":{"type":"array","items":{"type":"integer"}}}}})json";
-
-void append(std::string &s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-void append(std::string &s, const char *fmt, ...)
-{
-	char buf[512];
-	va_list ap;
-	va_start(ap, fmt);
-	int n = vsnprintf(buf, sizeof buf, fmt, ap);
-	va_end(ap);
-	if (n > 0)
-		s.append(buf, (size_t)std::min(n, (int)sizeof buf - 1));
-}
-
-// A JSON string: the paths and names tcs writes are plain, but quote and
-// escape them properly all the same.
-void append_string(std::string &s, const std::string &v)
-{
-	s += '"';
-	for (char c : v) {
-		if (c == '"' || c == '\\')
-			s += '\\';
-		if ((unsigned char)c < 0x20)
-			append(s, "\\u%04x", c);
-		else
-			s += c;
-	}
-	s += '"';
-}
-
-// Numbers: to_chars, not printf (a 1 kHz run writes five messages and a
-// dozen numbers a cycle, and the writer thread shares a busy core). A
-// double is written in the shortest form that reads back the same.
-void append_int(std::string &s, int64_t v)
-{
-	char buf[24];
-	s.append(buf, (size_t)(std::to_chars(buf, buf + sizeof buf, v).ptr - buf));
-}
-
-void append_number(std::string &s, double v)
-{
-	if (!std::isfinite(v)) {
-		s += "null";
-		return;
-	}
-	char buf[32];
-	s.append(buf, (size_t)(std::to_chars(buf, buf + sizeof buf, v).ptr - buf));
-}
-
-// ,"key":v for each (key, v): the keys written with their quotes.
-void append_fields(std::string &s, std::initializer_list<std::pair<const char *, int64_t>> fields)
-{
-	for (const auto &[key, v] : fields) {
-		s += key;
-		append_int(s, v);
-	}
-}
+const char kJournalSchema[] = R"(# tcs record: a controller's journal
+int32 controller
+tcs_msgs/JournalEntry[] entries
+================================================================================
+MSG: tcs_msgs/JournalEntry
+# kind 1 clock read (value: virtual ns), 2 CPU-time clock, 3 thread CPU-time
+# clock, 4 request (type: its message type; value: virtual ns), 5 device read
+# (value: virtual ns; arg: bytes read), 6 the coordinator's preemption
+# (value: virtual ns; arg: real CPU past its budget), 7 the process's end
+# (value: virtual ns)
+uint16 kind
+uint16 type
+uint32 thread
+int64 value
+int64 arg
+)";
 
 } // namespace
 
 Status Trace::open(const std::string &path, TraceWriting how, bool record)
 {
-	if (auto s = writer_.open(path, "", "tcs"); !s)
+	// Written by the coordinator, between its requests: uncompressed, as
+	// compressing cost a 1 kHz run 15 to 25 % more wall time; a thread of
+	// its own compresses off the coordinator's core (docs/PERFORMANCE.md).
+	writer_.emplace(McapWriterOptions{ .compression = how.pumped ? McapCompression::none : McapCompression::zstd,
+					   .zstd_level = 1 });
+	if (auto s = writer_->open(path, "", "tcs"); !s)
 		return s;
+	// JSON for the messages written once, CDR for those written every cycle.
+	constexpr bool json = true, cdr = false;
 	struct Topic {
 		const char *topic, *schema_name, *schema;
+		bool json;
 		uint16_t *id;
 	} topics[] = {
-		{ "/tcs/controller", "tcs.Controller", kControllerSchema, &controller_ },
-		{ "/tcs/slice", "tcs.Slice", kSliceSchema, &slice_ },
-		{ "/tcs/wait", "tcs.Wait", kWaitSchema, &wait_ },
-		{ "/tcs/device", "tcs.Command", kDeviceSchema, &device_ },
-		{ "/tcs/step", "tcs.Step", kStepSchema, &step_ },
-		{ "/clock", "rosgraph_msgs/Clock", kClockSchema, &clock_ },
-		{ "/tcs/record/run", "tcs.RecordRun", kRecordRunSchema, &record_run_ },
-		{ "/tcs/record/journal", "tcs.Journal", kJournalSchema, &journal_ },
+		{ "/tcs/controller", "tcs.Controller", kControllerSchema, json, &controller_ },
+		{ "/tcs/slice", "tcs_msgs/msg/Slice", kSliceSchema, cdr, &slice_ },
+		{ "/tcs/wait", "tcs_msgs/msg/Wait", kWaitSchema, cdr, &wait_ },
+		{ "/tcs/device", "tcs_msgs/msg/Command", kDeviceSchema, cdr, &device_ },
+		{ "/tcs/step", "tcs_msgs/msg/Step", kStepSchema, cdr, &step_ },
+		{ "/clock", "rosgraph_msgs/msg/Clock", kClockSchema, cdr, &clock_ },
+		{ "/tcs/record/run", "tcs.RecordRun", kRecordRunSchema, json, &record_run_ },
+		{ "/tcs/record/journal", "tcs_msgs/msg/Journal", kJournalSchema, cdr, &journal_ },
 	};
 	for (const auto &t : topics) {
 		if (!record && (t.id == &record_run_ || t.id == &journal_))
 			continue;
-		auto schema = writer_.add_schema(t.schema_name, t.schema);
+		auto schema = writer_->add_schema(t.schema_name, t.json ? "jsonschema" : "ros2msg", t.schema);
 		if (!schema)
 			return schema.error();
-		auto channel = writer_.add_channel(t.topic, *schema);
+		auto channel = writer_->add_channel(t.topic, t.json ? "json" : "cdr", *schema);
 		if (!channel)
 			return channel.error();
 		*t.id = *channel;
 	}
-	json_.reserve(4096);
+	buf_.reserve(4096);
 	open_ = true;
 	pumped_ = how.pumped;
 	if (!pumped_)
@@ -172,7 +156,7 @@ Status Trace::close()
 		thread_.join();
 	}
 	open_ = false;
-	auto s = writer_.close();
+	auto s = writer_->close();
 	return status_ ? s : status_;
 }
 
@@ -325,92 +309,92 @@ void Trace::write_event(const Event &e)
 {
 	auto put = [this](uint16_t channel, int64_t v) {
 		uint64_t t = v < 0 ? 0 : (uint64_t)v;
-		if (auto s = writer_.write(channel, t, t, json_); !s)
+		if (auto s = writer_->write(channel, t, t, buf_); !s)
 			status_ = s;
 	};
-	json_.clear();
+	buf_.clear();
 	switch (e.kind) {
-	case Event::ControllerInfo:
-		append(json_, "{\"controller\":%d,\"name\":", e.controller);
-		append_string(json_, *e.path);
-		append(json_, ",\"pid\":%" PRId64 ",\"cpu_scale\":", e.f[0]);
-		append_number(json_, e.scale);
-		append(json_, ",\"mode\":\"%s\",\"step_ns\":%" PRId64 "}", e.text, e.f[1]);
+	case Event::ControllerInfo: {
+		JsonValue msg;
+		msg.type = JsonValue::Type::Object;
+		auto add = [&msg](const char *key, JsonValue x) { msg.object.emplace_back(key, std::move(x)); };
+		add("controller", json_integer(e.controller));
+		add("name", json_string(*e.path));
+		add("pid", json_integer(e.f[0]));
+		add("cpu_scale", json_number(e.scale));
+		add("mode", json_string(e.text));
+		add("step_ns", json_integer(e.f[1]));
+		json_append(buf_, msg);
 		put(controller_, 0);
 		return;
-	case Event::SliceEnd:
-		append_fields(json_, { { "{\"controller\":", e.controller }, { ",\"v_start_ns\":", e.f[0] },
-				       { ",\"v_end_ns\":", e.f[1] }, { ",\"charged_ns\":", e.f[2] }, { ",\"cpu_ns\":", e.f[3] },
-				       { ",\"wall_start_ns\":", e.f[4] }, { ",\"wall_end_ns\":", e.f[5] },
-				       { ",\"budget_ns\":", e.f[6] }, { ",\"overshoot_ns\":", e.f[7] }, { ",\"sim_ns\":", e.f[8] } });
-		json_ += ",\"end\":\"";
-		json_ += e.text;
-		json_ += "\"}";
+	}
+	case Event::SliceEnd: {
+		CdrWriter w(buf_);
+		w.put<int32_t>(e.controller);
+		for (int64_t f : e.f)
+			w.put<int64_t>(f);
+		w.put_string(e.text);
 		put(slice_, e.f[0]);
 		return;
-	case Event::Wait:
-		append_fields(json_, { { "{\"controller\":", e.controller } });
-		json_ += ",\"kind\":\"";
-		json_ += e.text;
-		json_ += '"';
-		append_fields(json_, { { ",\"v_request_ns\":", e.f[0] }, { ",\"deadline_ns\":", e.f[1] },
-				       { ",\"v_end_ns\":", e.f[2] } });
-		json_ += e.flag ? ",\"absolute\":true}" : ",\"absolute\":false}";
+	}
+	case Event::Wait: {
+		CdrWriter w(buf_);
+		w.put<int32_t>(e.controller);
+		w.put_string(e.text);
+		for (int i = 0; i < 3; i++)
+			w.put<int64_t>(e.f[i]);
+		w.put_bool(e.flag);
 		put(wait_, e.f[0]);
 		return;
-	case Event::Command:
-		append_fields(json_, { { "{\"controller\":", e.controller } });
-		json_ += ",\"path\":";
-		append_string(json_, *e.path);
-		append_fields(json_, { { ",\"v_ns\":", e.f[0] } });
-		json_ += ",\"values\":[";
-		for (size_t i = 0; i < e.values.size(); i++) {
-			if (i)
-				json_ += ',';
-			append_number(json_, e.values[i]);
-		}
-		json_ += e.flag ? "],\"malformed\":true}" : "],\"malformed\":false}";
+	}
+	case Event::Command: {
+		CdrWriter w(buf_);
+		w.put<int32_t>(e.controller);
+		w.put_string(*e.path);
+		w.put<int64_t>(e.f[0]);
+		w.put_count(e.values.size());
+		for (double v : e.values)
+			w.put<double>(v);
+		w.put_bool(e.flag);
 		put(device_, e.f[0]);
 		return;
-	case Event::Step:
-		append_fields(json_, { { "{\"v_ns\":", e.f[0] }, { ",\"wall_ns\":", e.f[1] }, { ",\"wall_cost_ns\":", e.f[2] } });
-		json_ += ",\"joints\":{";
-		for (size_t i = 0; i < e.values.size() && i < joint_names_.size(); i++) {
-			if (i)
-				json_ += ',';
-			append_string(json_, joint_names_[i]);
-			json_ += ':';
-			append_number(json_, e.values[i]);
-		}
-		json_ += "}}";
+	}
+	case Event::Step: {
+		const size_t n = std::min(e.values.size(), joint_names_.size());
+		CdrWriter w(buf_);
+		for (int i = 0; i < 3; i++)
+			w.put<int64_t>(e.f[i]);
+		w.put_count(n);
+		for (size_t i = 0; i < n; i++)
+			w.put_string(joint_names_[i]);
+		w.put_count(n);
+		for (size_t i = 0; i < n; i++)
+			w.put<double>(e.values[i]);
 		put(step_, e.f[0]);
-		json_.clear();
-		append_fields(json_, { { "{\"clock\":{\"sec\":", e.f[0] / 1000000000 }, { ",\"nanosec\":", e.f[0] % 1000000000 } });
-		json_ += "}}";
+		CdrWriter clock(buf_);
+		clock.put<int32_t>((int32_t)(e.f[0] / 1000000000));
+		clock.put<uint32_t>((uint32_t)(e.f[0] % 1000000000));
 		put(clock_, e.f[0]);
 		return;
+	}
 	case Event::RecordRun:
-		json_ = e.json;
+		buf_ = e.json;
 		put(record_run_, 0);
 		return;
 	case Event::Journal: {
-		append(json_, "{\"controller\":%d,\"entries\":", e.controller);
+		CdrWriter w(buf_);
+		w.put<int32_t>(e.controller);
+		w.put_count(e.entries.size());
 		int64_t at = 0;
-		json_ += '[';
-		for (size_t i = 0; i < e.entries.size(); i++) {
-			const tcs_journal_entry &j = e.entries[i];
-			json_ += i ? ",[" : "[";
-			const int64_t fields[] = { j.kind, j.type, j.thread, j.value, j.arg };
-			for (size_t f = 0; f < 5; f++) {
-				if (f)
-					json_ += ',';
-				append_int(json_, fields[f]);
-			}
-			json_ += ']';
+		for (const tcs_journal_entry &j : e.entries) {
+			w.put<uint16_t>(j.kind);
+			w.put<uint16_t>(j.type);
+			w.put<uint32_t>(j.thread);
+			w.put<int64_t>(j.value);
+			w.put<int64_t>(j.arg);
 			if (j.kind == TCS_J_CLOCK || j.kind == TCS_J_CHARGE || j.kind == TCS_J_READ)
 				at = j.value;
 		}
-		json_ += "]}";
 		put(journal_, at); // (logged at its last virtual time)
 		return;
 	}

@@ -1,5 +1,6 @@
-// The run's trace (docs/DESIGN.md §6): an MCAP file of JSON messages with JSON
-// Schemas, which Foxglove and PlotJuggler decode, logged at virtual time.
+// The run's trace (docs/DESIGN.md §6): an MCAP file, logged at virtual time,
+// of messages Foxglove and PlotJuggler decode: those written every cycle in
+// CDR with ROS 2 message definitions, the few others JSON with JSON Schemas.
 // Topics: /tcs/controller (each controller: name, pid, CPU scale, mode),
 // /tcs/slice (each stretch a controller ran: virtual and wall start and end,
 // CPU charged and used, the budget and its overshoot when preempted, why it
@@ -15,6 +16,7 @@
 #include <cstdint>
 #include <deque>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -44,7 +46,7 @@ public:
 	bool is_open() const { return open_; }
 	Status close();
 	// Pumped: writes the oldest message not yet written (false: none was
-	// waiting). Some 2 us, or 15 us where a piece of a chunk is compressed.
+	// waiting). Some 1 us: the chunks are not compressed.
 	bool pump();
 
 	// Once per controller, before its first slice. name must outlive the
@@ -94,14 +96,15 @@ private:
 	void writer_loop(int avoid_cpu);
 	void write_event(const Event &e); // in the writer thread
 
-	// The writer thread's, once it runs. zstd level 1: on a 1 kHz run's
-	// messages 7 % less of the thread's work than level 3, and no larger.
-	McapWriter writer_{ McapWriterOptions{ .zstd_level = 1 } };
+	// The writer thread's, once it runs, or the coordinator's. zstd level
+	// 1: on a 1 kHz run's messages 7 % less work than level 3, and no
+	// larger.
+	std::optional<McapWriter> writer_;
 	bool open_ = false;
 	uint16_t controller_ = 0, slice_ = 0, wait_ = 0, device_ = 0, step_ = 0, clock_ = 0;
 	uint16_t record_run_ = 0, journal_ = 0; // a record's
 	std::vector<std::string> joint_names_;
-	std::string json_; // the writer thread's formatting buffer
+	std::string buf_; // the message being written
 
 	// Pumped: what is not yet written, all on the coordinator's thread.
 	bool pumped_ = false;

@@ -1,10 +1,12 @@
 // The fuzz target for the trace reader: an input is read as an MCAP file,
-// every message's data parsed as JSON, and every top-level record decoded
+// every message decoded by its channel's encoding (JSON parsed, CDR by its
+// ros2msg schema) and, JSON or not, parsed as JSON, and every top-level record decoded
 // as its kind (what a streaming read skips too); an input that is not MCAP
 // at all is parsed as one JSON text, so that JSON seeds fuzz the parser
 // directly. Built with libFuzzer (clang) or with standalone_driver.cc;
 // either way a crash, a sanitizer report or a broken promise of the API
-// aborts. Its seeds are traces written by McapWriter (zstd, uncompressed,
+// aborts. Its seeds are a trace and a record written by tcs::Trace (CDR
+// and JSON topics), traces written by McapWriter (zstd, uncompressed,
 // with CRCs zeroed, unchunked, cut in half) and JSON texts; its mutation
 // makes an MCAP record's length, or a chunk's sizes, lie: what the reader
 // trusts least.
@@ -20,10 +22,12 @@
 
 #include "fuzz_target.h"
 #include "json.h"
+#include "message_decode.h"
 #include "mcap_format.h"
 #include "mcap_reader.h"
 #include "mcap_records.h"
 #include "mcap_writer.h"
+#include "trace.h"
 
 namespace {
 
@@ -74,6 +78,19 @@ void parse_json(std::string_view text)
 	check_strings(*v);
 }
 
+// A message as its channel's encoding says: decoded, it writes as JSON that
+// parses; refused, one line says why.
+void decode_message(tcs::MessageDecoder &decoder, const tcs::McapMessage &m)
+{
+	auto v = decoder.decode(m);
+	if (!v.ok()) {
+		check(!v.error().message.empty() && v.error().message.find('\n') == std::string::npos);
+		return;
+	}
+	std::string text;
+	tcs::json_append(text, *v);
+	check(tcs::json_parse(text).ok());
+}
 
 // Every top-level record through the decoder of its kind: what it accepts
 // lies within the record, and what it read is no more than the record.
@@ -181,6 +198,29 @@ std::string written_trace(tcs::McapCompression compression, int messages)
 	});
 }
 
+// A trace (or a record) as tcs::Trace writes a run's: its CDR and JSON
+// topics, small chunks.
+std::string tcs_trace(bool record)
+{
+	return tcs_fuzz::written_file([&](const std::string &path) {
+		tcs::Trace t;
+		if (!t.open(path, tcs::TraceWriting{ .pumped = true }, record).ok())
+			return;
+		static const std::string name = "pd \"ctl\"", torque = "/dev/tcs/p/torque";
+		t.controller(1, name, 42, 1.5, 0, 1000000);
+		t.set_joint_names({ "p.hinge.position", "p.hinge.velocity" });
+		for (int i = 0; i < 3; i++) {
+			int64_t v = 1000000LL * i;
+			t.slice(1, { v, v + 900, 900, 1000, v / 40, v / 40 + 1000, i == 1 ? 5000 : -1, i == 1 ? 7 : 0, v, "blocked" });
+			t.wait(1, "nanosleep", v + 900, v + 1000000, v + 1000050, i % 2);
+			t.command(1, torque, v + 800, { 0.5 * i, -1e300 }, i == 2);
+			t.step(v + 1000000, v / 40, 7000, { 3.1 - 0.01 * i, 0.2 });
+		}
+		t.journal(1, { { 100, 0, 1, 0, 0 }, { 900, 0, 4, 7, 0 }, { 1000900, 12, 5, 3, 0 } });
+		(void)t.close();
+	});
+}
+
 // The same trace with its chunks' CRCs zeroed ("not computed"), so that
 // mutations of their records reach the record and JSON parsers; and with
 // the records taken out of their chunks, as messages outside any chunk.
@@ -223,6 +263,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		return 0;
 	}
 	decode_records(input);
+	tcs::MessageDecoder decoder;
 	for (size_t n = 0; n < kMaxMessages; n++) {
 		tcs::McapMessage m;
 		auto more = reader.next(&m);
@@ -238,6 +279,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 		check(m.channel && m.channel == &reader.channels().at(m.channel->id));
 		check(m.channel->schema_id == 0 ? !m.schema : m.schema == &reader.schemas().at(m.channel->schema_id));
 		parse_json(m.data);
+		decode_message(decoder, m);
 	}
 	return 0;
 }
@@ -252,6 +294,9 @@ std::vector<std::string> tcs_fuzz_seeds()
 	std::string zstd = written_trace(tcs::McapCompression::zstd, 40);
 	std::string none = written_trace(tcs::McapCompression::none, 40);
 	return {
+		tcs_trace(false),
+		tcs_trace(true),
+		without_crcs(tcs_trace(true)), // (its CDR reached by mutations)
 		zstd,
 		none,
 		without_crcs(none),

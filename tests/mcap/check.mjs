@@ -1,7 +1,9 @@
 #!/usr/bin/env node
 // Reads a tcs trace (an MCAP file) with the reference TypeScript readers of
 // @mcap/core and checks that the ecosystem's tools will read it: every
-// channel has a schema, every message decodes (JSON channels are parsed),
+// channel has a schema, every message decodes (JSON channels are parsed, CDR
+// channels read by their ros2msg schema with Foxglove's own rosmsg parser
+// and CDR reader, as Foxglove Studio reads them, to their last byte),
 // and the counts agree between the summary, the indexed reader and the
 // streaming reader. A file without its footer (a run killed mid-way) is read
 // from the start with the streaming reader, as far as its complete chunks.
@@ -12,6 +14,8 @@
 // truncated}; exits 1 with the reason on any failure, and with --complete
 // also when the file is truncated.
 import { McapIndexedReader, McapStreamReader } from "@mcap/core";
+import { parse as parseMessageDefinition } from "@foxglove/rosmsg";
+import { MessageReader } from "@foxglove/rosmsg2-serialization";
 import zstd from "@foxglove/wasm-zstd";
 import { open } from "node:fs/promises";
 import { crc32 } from "node:zlib";
@@ -34,13 +38,38 @@ async function readRange(fh, offset, length) {
   return buf;
 }
 
+// A CDR reader per ros2msg schema, built once.
+const cdrReaders = new Map();
+function cdrReader(channel, schema) {
+  let reader = cdrReaders.get(schema);
+  if (!reader) {
+    check(schema.encoding === "ros2msg", `${channel.topic}: CDR messages with a "${schema.encoding}" schema`);
+    const text = new TextDecoder().decode(schema.data);
+    try {
+      reader = new MessageReader(parseMessageDefinition(text, { ros2: true }));
+    } catch (e) {
+      throw new CheckError(`${channel.topic}: schema ${schema.name} does not parse: ${e.message}`);
+    }
+    cdrReaders.set(schema, reader);
+  }
+  return reader;
+}
+
 // Per-message checks shared by both readers; counts go into `tally`.
 function tallyMessage(tally, channels, schemas, message) {
   const channel = channels.get(message.channelId);
   check(channel, `message on unknown channel ${message.channelId}`);
   check(channel.schemaId !== 0, `channel ${channel.id} (${channel.topic}) has no schema`);
   check(schemas.has(channel.schemaId), `channel ${channel.id} (${channel.topic}): schema ${channel.schemaId} not found`);
-  if (channel.messageEncoding === "json") {
+  if (channel.messageEncoding === "cdr") {
+    const reader = cdrReader(channel, schemas.get(channel.schemaId));
+    try {
+      reader.readMessage(message.data);
+    } catch (e) {
+      throw new CheckError(`${channel.topic} message ${message.sequence} at ${message.logTime} does not decode: ${e.message}`);
+    }
+    check(!reader.lastReadHadTrailingBytes(), `${channel.topic} message ${message.sequence}: bytes past its last field`);
+  } else if (channel.messageEncoding === "json") {
     const text = new TextDecoder("utf-8", { fatal: true }).decode(message.data);
     try {
       JSON.parse(text);

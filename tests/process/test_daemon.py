@@ -431,7 +431,8 @@ def test_ros2_tools_see_the_virtual_clock_on_dds():
     messages = json.loads(r.stdout)["messages"]
     traced = {m["data"]["clock"]["sec"] * 10**9 + m["data"]["clock"]["nanosec"] for m in messages if m["topic"] == "/clock"}
     check(set(times) <= traced, "every time on rt/clock is a step of the trace")
-    steps = {m["data"]["v_ns"]: m["data"]["joints"] for m in messages if m["topic"] == "/tcs/step"}
+    steps = {m["data"]["v_ns"]: dict(zip(m["data"]["joint_names"], m["data"]["joint_values"]))
+             for m in messages if m["topic"] == "/tcs/step"}
     jl = joints.stdout.splitlines()
     check(jl[0] == "type sensor_msgs::msg::dds_::JointState_", "the JointState type name", joints)
     for line in jl[1:]:

@@ -1,10 +1,12 @@
-// load_trace: MCAP messages → typed records, checking each field.
+// load_trace: MCAP messages (JSON or CDR) → typed records, checking each
+// field.
 #include "trace_data.h"
 
 #include <algorithm>
 #include <map>
 
 #include "json.h"
+#include "message_decode.h"
 
 namespace tcs {
 
@@ -142,18 +144,31 @@ Status parse_message(TraceData &t, std::string_view topic, const JsonValue &msg)
 		s.v = f.integer("v_ns");
 		s.wall = f.integer("wall_ns");
 		s.wall_cost = f.integer("wall_cost_ns");
-		const JsonValue &joints = f.member("joints", JsonValue::Type::Object, "an object");
+		// joint_names and joint_values (a JSON trace of an older tcs: a
+		// "joints" object of them)
+		std::vector<std::pair<std::string, const JsonValue *>> joints;
+		if (const JsonValue *o = msg.get("joints"); o && o->type == JsonValue::Type::Object) {
+			for (const auto &[name, value] : o->object)
+				joints.emplace_back(name, &value);
+		} else {
+			const JsonValue &names = f.member("joint_names", JsonValue::Type::Array, "an array");
+			const JsonValue &values = f.member("joint_values", JsonValue::Type::Array, "an array");
+			if (names.array.size() != values.array.size() && f.problem().empty())
+				extra = "joint_names and joint_values differ in length";
+			for (size_t i = 0; i < names.array.size() && i < values.array.size(); i++)
+				joints.emplace_back(names.array[i].string, &values.array[i]);
+		}
 		if (t.steps.empty())
-			for (const auto &[name, value] : joints.object)
+			for (const auto &[name, value] : joints)
 				t.joint_names.push_back(name);
 		// Every step names the same joints in the same order.
-		for (size_t i = 0; i < joints.object.size() && extra.empty(); i++) {
-			const auto &[name, value] = joints.object[i];
+		for (size_t i = 0; i < joints.size() && extra.empty(); i++) {
+			const auto &[name, value] = joints[i];
 			if (i >= t.joint_names.size() || name != t.joint_names[i])
 				extra = "joint \"" + name + "\" not in the first step's list";
-			else if (value.type == JsonValue::Type::Number)
-				s.joints.push_back(value.number);
-			else if (value.type == JsonValue::Type::Null)
+			else if (value->type == JsonValue::Type::Number)
+				s.joints.push_back(value->number);
+			else if (value->type == JsonValue::Type::Null)
 				s.joints.push_back(__builtin_nan(""));
 			else
 				extra = "joint \"" + name + "\" is not a number";
@@ -206,6 +221,7 @@ Result<TraceData> load_trace(const std::string &path)
 	TraceData t;
 	t.path = path;
 	std::map<std::string, uint64_t> counts;
+	MessageDecoder decoder;
 	auto read = for_each_message(
 		path,
 		[&](const McapMessage &m) -> Status {
@@ -215,9 +231,7 @@ Result<TraceData> load_trace(const std::string &path)
 			if (topic.rfind("/tcs/", 0) != 0)
 				return Ok{}; // /clock, or someone else's topic: not needed here
 			auto where = [&] { return path + ": " + topic + " message " + std::to_string(n + 1) + ": "; };
-			if (m.channel->message_encoding != "json")
-				return Error{ where() + "encoded as \"" + m.channel->message_encoding + "\", not json" };
-			auto v = json_parse(m.data);
+			auto v = decoder.decode(m);
 			if (!v)
 				return Error{ where() + v.error().message };
 			if (v->type != JsonValue::Type::Object)

@@ -2,12 +2,14 @@
 // on any topic), Chrome Trace Events from the typed records.
 #include "trace_export.h"
 
+#include <algorithm>
 #include <cinttypes>
 #include <cmath>
 #include <map>
 #include <vector>
 
 #include "json.h"
+#include "message_decode.h"
 #include "trace_data.h"
 
 namespace tcs {
@@ -23,28 +25,56 @@ Status each_message(const std::string &path, const std::string &topic,
 	});
 }
 
-Result<JsonValue> parse_json_message(const std::string &path, const McapMessage &m)
+Result<JsonValue> decode_message(MessageDecoder &decoder, const std::string &path, const McapMessage &m)
 {
-	if (m.channel->message_encoding != "json")
-		return Error{ path + ": " + m.channel->topic + " is encoded as \"" + m.channel->message_encoding +
-			      "\": only JSON messages export" };
-	auto v = json_parse(m.data);
+	auto v = decoder.decode(m);
 	if (!v)
 		return Error{ path + ": " + m.channel->topic + " message " + std::to_string(m.sequence) + ": " +
 			      v.error().message };
 	return v;
 }
 
+// X_names and X_values, arrays of a name for each value (a step's joint
+// states): the values, by name, or null.
+const JsonValue *named_values(const JsonValue &object, const std::string &key)
+{
+	if (key.size() <= 6 || key.compare(key.size() - 6, 6, "_names") != 0)
+		return nullptr;
+	const JsonValue *names = object.get(key);
+	const JsonValue *values = object.get(key.substr(0, key.size() - 6) + "_values");
+	if (!values || names->type != JsonValue::Type::Array || values->type != JsonValue::Type::Array ||
+	    names->array.size() != values->array.size())
+		return nullptr;
+	for (const JsonValue &n : names->array)
+		if (n.type != JsonValue::Type::String)
+			return nullptr;
+	return values;
+}
+
 // Flattens a JSON value into (column, text) pairs: objects by "a.b",
-// arrays by "a[0]".
+// arrays by "a[0]", and X_names with X_values by "X.name" (a column per
+// joint, as a JSON trace's "joints" object gave).
 void flatten(const std::string &prefix, const JsonValue &v, std::vector<std::pair<std::string, std::string>> &out)
 {
 	char buf[64];
 	switch (v.type) {
-	case JsonValue::Type::Object:
-		for (const auto &[k, x] : v.object)
-			flatten(prefix.empty() ? k : prefix + "." + k, x, out);
+	case JsonValue::Type::Object: {
+		std::vector<std::string> paired;
+		for (const auto &[k, x] : v.object) {
+			if (std::find(paired.begin(), paired.end(), k) != paired.end())
+				continue;
+			const std::string key = prefix.empty() ? k : prefix + "." + k;
+			if (const JsonValue *values = named_values(v, k)) {
+				const std::string stem = key.substr(0, key.size() - 6) + ".";
+				for (size_t i = 0; i < values->array.size(); i++)
+					flatten(stem + x.array[i].string, values->array[i], out);
+				paired.push_back(k.substr(0, k.size() - 6) + "_values");
+				continue;
+			}
+			flatten(key, x, out);
+		}
 		return;
+	}
 	case JsonValue::Type::Array:
 		for (size_t i = 0; i < v.array.size(); i++)
 			flatten(prefix + "[" + std::to_string(i) + "]", v.array[i], out);
@@ -91,8 +121,9 @@ Status export_csv(const std::string &path, const std::string &topic, FILE *out)
 	std::map<std::string, size_t> index;
 	uint64_t rows = 0;
 	std::vector<std::pair<std::string, std::string>> cells;
+	MessageDecoder decoder;
 	auto s = each_message(path, topic, [&](const McapMessage &m) -> Status {
-		auto v = parse_json_message(path, m);
+		auto v = decode_message(decoder, path, m);
 		if (!v)
 			return v.error();
 		cells.clear();
@@ -116,7 +147,7 @@ Status export_csv(const std::string &path, const std::string &topic, FILE *out)
 	fputs(line.c_str(), out);
 	std::vector<std::string> row(columns.size());
 	return each_message(path, topic, [&](const McapMessage &m) -> Status {
-		auto v = parse_json_message(path, m);
+		auto v = decode_message(decoder, path, m);
 		if (!v)
 			return v.error();
 		cells.clear();
@@ -144,9 +175,10 @@ Status export_json(const std::string &path, const std::string &topic, FILE *out)
 	fputs(head.c_str(), out);
 	bool first = true;
 	std::string line;
+	MessageDecoder decoder;
 	auto s = each_message(path, topic, [&](const McapMessage &m) -> Status {
-		// Parsed to check it, then written as it was.
-		auto v = parse_json_message(path, m);
+		// Decoded to check it; JSON then written as it was.
+		auto v = decode_message(decoder, path, m);
 		if (!v)
 			return v.error();
 		line = first ? "\n" : ",\n";
@@ -155,7 +187,10 @@ Status export_json(const std::string &path, const std::string &topic, FILE *out)
 		json_append_string(line, m.channel->topic);
 		line += ",\"log_time_ns\":" + std::to_string(m.log_time) + ",\"sequence\":" + std::to_string(m.sequence) +
 			",\"data\":";
-		line.append(m.data.data(), m.data.size());
+		if (m.channel->message_encoding == "json")
+			line.append(m.data.data(), m.data.size());
+		else
+			json_append(line, *v);
 		line += '}';
 		fputs(line.c_str(), out);
 		return Ok{};
