@@ -1,8 +1,8 @@
-// The JSON parser (RFC 8259), string escaper and writer for trace messages.
+// The JSON parser (RFC 8259) for trace messages.
 #include "json.h"
+#include "utf8.h"
 
 #include <charconv>
-#include <cmath>
 #include <cstdio>
 
 namespace tcs {
@@ -13,41 +13,6 @@ namespace {
 // nothing tcs writes nests more than a few levels.
 constexpr int kMaxDepth = 64;
 
-// The length of the valid UTF-8 sequence at s[i] (1 to 4), or 0 when the
-// bytes there are not one: overlong forms, surrogates and code points past
-// U+10FFFF are invalid too.
-size_t utf8_length(std::string_view s, size_t i)
-{
-	const auto at = [&](size_t k) { return i + k < s.size() ? uint8_t(s[i + k]) : 0; };
-	const uint8_t c = at(0);
-	if (c < 0x80)
-		return 1;
-	size_t n;
-	uint8_t lo = 0x80, hi = 0xBF; // the second byte's range
-	if (c >= 0xC2 && c <= 0xDF) {
-		n = 2;
-	} else if (c >= 0xE0 && c <= 0xEF) {
-		n = 3;
-		if (c == 0xE0)
-			lo = 0xA0; // overlong
-		else if (c == 0xED)
-			hi = 0x9F; // surrogates
-	} else if (c >= 0xF0 && c <= 0xF4) {
-		n = 4;
-		if (c == 0xF0)
-			lo = 0x90; // overlong
-		else if (c == 0xF4)
-			hi = 0x8F; // past U+10FFFF
-	} else {
-		return 0;
-	}
-	if (at(1) < lo || at(1) > hi)
-		return 0;
-	for (size_t k = 2; k < n; k++)
-		if (at(k) < 0x80 || at(k) > 0xBF)
-			return 0;
-	return n;
-}
 
 void append_utf8(std::string &out, uint32_t cp)
 {
@@ -385,92 +350,6 @@ Result<JsonValue> json_parse(std::string_view text)
 	return Parser(text).document();
 }
 
-void json_append_string(std::string &out, std::string_view text)
-{
-	static const char hex[] = "0123456789abcdef";
-	out += '"';
-	for (size_t i = 0; i < text.size();) {
-		const uint8_t c = uint8_t(text[i]);
-		if (c == '"' || c == '\\') {
-			out += '\\';
-			out += char(c);
-		} else if (c >= 0x20 && c < 0x80) {
-			out += char(c);
-		} else if (c == '\n') {
-			out += "\\n";
-		} else if (c == '\t') {
-			out += "\\t";
-		} else if (c == '\r') {
-			out += "\\r";
-		} else if (c == '\b') {
-			out += "\\b";
-		} else if (c == '\f') {
-			out += "\\f";
-		} else if (c < 0x20) {
-			out += "\\u00";
-			out += hex[c >> 4];
-			out += hex[c & 15];
-		} else {
-			// Bytes that are not UTF-8 would make the whole text
-			// unreadable to a JSON parser: each becomes U+FFFD.
-			const size_t n = utf8_length(text, i);
-			if (n == 0) {
-				out += "\\ufffd";
-				i++;
-			} else {
-				out.append(text, i, n);
-				i += n;
-			}
-			continue;
-		}
-		i++;
-	}
-	out += '"';
-}
-
-void json_append(std::string &out, const JsonValue &v)
-{
-	char buf[32];
-	switch (v.type) {
-	case JsonValue::Type::Null:
-		out += "null";
-		return;
-	case JsonValue::Type::Bool:
-		out += v.boolean ? "true" : "false";
-		return;
-	case JsonValue::Type::Number:
-		if (v.is_integer)
-			out.append(buf, (size_t)(std::to_chars(buf, buf + sizeof buf, v.integer).ptr - buf));
-		else if (std::isfinite(v.number))
-			out.append(buf, (size_t)(std::to_chars(buf, buf + sizeof buf, v.number).ptr - buf));
-		else
-			out += "null";
-		return;
-	case JsonValue::Type::String:
-		json_append_string(out, v.string);
-		return;
-	case JsonValue::Type::Array:
-		out += '[';
-		for (size_t i = 0; i < v.array.size(); i++) {
-			if (i)
-				out += ',';
-			json_append(out, v.array[i]);
-		}
-		out += ']';
-		return;
-	case JsonValue::Type::Object:
-		out += '{';
-		for (size_t i = 0; i < v.object.size(); i++) {
-			if (i)
-				out += ',';
-			json_append_string(out, v.object[i].first);
-			out += ':';
-			json_append(out, v.object[i].second);
-		}
-		out += '}';
-		return;
-	}
-}
 
 const JsonValue *JsonValue::get(std::string_view key) const
 {

@@ -70,10 +70,6 @@ inline JsonValue json_string(std::string_view v)
 // Errors: "at byte N: what is wrong".
 Result<JsonValue> json_parse(std::string_view text);
 
-// Appends text to out as a JSON string literal (quotes included).
-void json_append_string(std::string &out, std::string_view text);
-
-// Appends v to out as JSON text (a number that is not finite as null).
-void json_append(std::string &out, const JsonValue &v);
-
 } // namespace tcs
+
+#include "json_write.h" // (the writer, for every reader of this header)
