@@ -182,6 +182,7 @@ Status Coordinator::init()
 		r.tai_origin_ns = run.clocks.tai_ns;
 		r.seed = run.cfg.seed;
 		r.slack = run.cfg.slack;
+		r.duration_ns = run.cfg.duration_ns;
 		r.program = run.cfg.record_program;
 		r.devices = run.cfg.record_devices;
 		run.trace.record_run(record_run_json(r));

@@ -231,6 +231,8 @@ int main(int argc, char **argv)
 		}
 		if (cfg.seed && cfg.seed != record->seed)
 			return usage_error("--seed differs from the record's (a replay takes the record's)");
+		if (cfg.duration_ns < 0)
+			cfg.duration_ns = record->duration_ns; // (as long as the recorded run, unless told)
 		cpu_scale = record->cpu_scale; // (each controller's own: the coordinator's add_controller)
 		cfg.replay = std::make_shared<const Record>(std::move(*record));
 	}

@@ -23,9 +23,10 @@ std::string record_run_json(const Record &r)
 	char buf[512];
 	snprintf(buf, sizeof buf,
 		 "{\"cpu_scale\":%.17g,\"step_ns\":%" PRId64 ",\"mono_origin_ns\":%" PRId64 ",\"real_origin_ns\":%" PRId64
-		 ",\"tai_origin_ns\":%" PRId64 ",\"seed\":\"%" PRIu64 "\",\"slack\":%s,\"program\":[",
+		 ",\"tai_origin_ns\":%" PRId64 ",\"seed\":\"%" PRIu64 "\",\"slack\":%s,\"duration_ns\":%" PRId64
+		 ",\"program\":[",
 		 r.cpu_scale, r.step_ns, r.mono_origin_ns, r.real_origin_ns, r.tai_origin_ns, r.seed ? *r.seed : 0,
-		 r.slack ? "true" : "false");
+		 r.slack ? "true" : "false", r.duration_ns);
 	std::string s = buf;
 	auto strings = [&s](const std::vector<std::string> &v) {
 		for (size_t i = 0; i < v.size(); i++) {
@@ -59,6 +60,9 @@ static Status take_settings(const std::string &path, const JsonValue &j, Record 
 			r->seed = v;
 	}
 	r->slack = j.get_bool("slack", true);
+	r->duration_ns = j.get_int("duration_ns", -1); // (a record of an older tcs: none)
+	if (r->duration_ns == 0 || r->duration_ns < -1)
+		return Error{ path + ": the record's duration_ns is not valid" };
 	if (!(r->cpu_scale > 0) || r->step_ns <= 0)
 		return Error{ path + ": the record's settings are not valid (cpu_scale, step_ns)" };
 	if (const JsonValue *p = j.get("program"); p && p->type == JsonValue::Type::Array)

@@ -29,6 +29,7 @@ struct Record {
 	int64_t mono_origin_ns = 0, real_origin_ns = 0, tai_origin_ns = 0;
 	std::optional<uint64_t> seed;
 	bool slack = true;
+	int64_t duration_ns = -1; // --duration; < 0: until the programs ended
 	std::vector<std::string> program; // the recorded controller's command line
 	std::vector<std::string> devices; // the world's devices' paths (a replay's must be the same)
 	// Each controller's journal, by its number in the run (1: the first).

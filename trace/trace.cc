@@ -74,7 +74,8 @@ uint32 nanosec
 const char kRecordRunSchema[] = R"({"type":"object","title":"tcs record: the run's settings","properties":{
 "cpu_scale":{"type":"number"},"step_ns":{"type":"integer"},"mono_origin_ns":{"type":"integer"},
 "real_origin_ns":{"type":"integer"},"tai_origin_ns":{"type":"integer"},"seed":{"type":"string","description":"--seed in decimal, 0 for none"},
-"slack":{"type":"boolean"},"program":{"type":"array","items":{"type":"string"}},
+"slack":{"type":"boolean"},"duration_ns":{"type":"integer","description":"--duration; -1: until the programs ended"},
+"program":{"type":"array","items":{"type":"string"}},
 "devices":{"type":"array","items":{"type":"string"}}}})";
 
 const char kJournalSchema[] = R"(# tcs record: a controller's journal

@@ -36,6 +36,7 @@ tcs::Record settings()
 	r.tai_origin_ns = 1795694449580045744;
 	r.seed = 18446744073709551557ull; // above 2^63: JSON's integers do not hold it
 	r.slack = false;
+	r.duration_ns = 2500000000;
 	r.program = { "pendulum_pd", "--work-us", "300", "a \"quoted\" arg" };
 	r.devices = { "/dev/tcs/pendulum/state", "/dev/tcs/pendulum/torque" };
 	return r;
@@ -94,6 +95,7 @@ void check_whole(const std::string &path)
 	assert_int_equal(r.tai_origin_ns, want.tai_origin_ns);
 	assert_true(r.seed && *r.seed == *want.seed);
 	assert_false(r.slack);
+	assert_int_equal(r.duration_ns, 2500000000);
 	assert_true(r.program == want.program);
 	assert_true(r.devices == want.devices);
 	assert_false(r.truncated);
@@ -208,6 +210,7 @@ void test_entries_a_replay_could_not_take_are_refused(void **)
 		{ R"({"cpu_scale":0,"step_ns":1000000})", "", "the record's settings are not valid" },
 		{ R"({"cpu_scale":1,"step_ns":0})", "", "the record's settings are not valid" },
 		{ R"({"cpu_scale":1,"step_ns":1000000,"seed":"-1"})", "", "the record's seed is not a whole number" },
+		{ R"({"cpu_scale":1,"step_ns":1000000,"duration_ns":-5})", "", "the record's duration_ns is not valid" },
 		{ R"({"cpu_scale":1,"step_ns":1000000,"seed":"18446744073709551616"})", "",
 		  "the record's seed is not a whole number" },
 		{ R"({"cpu_scale":1,)", "", "/tcs/record/run: at byte" },
