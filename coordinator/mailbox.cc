@@ -17,6 +17,11 @@ bool Mailbox::take(unsigned char *buf)
 	return true;
 }
 
+bool Mailbox::requested() const
+{
+	return pending_ || (box_ && (__atomic_load_n(&box_->state, __ATOMIC_ACQUIRE) & TCS_MBOX_REQUEST));
+}
+
 void Mailbox::park()
 {
 	if (box_ && pending_)

@@ -25,6 +25,9 @@ public:
 	// Answers the pending request: true if the mailbox delivered it, false
 	// if it must go on the channel (parked, or nothing pending).
 	bool answer(const tcs_msg &m);
+	// A request posted and not yet taken, or taken and not yet answered:
+	// the controller waits for the coordinator.
+	bool requested() const;
 	// The coordinator's promise to look without being rung. Taken back with
 	// a full barrier: a request posted before is seen by the next take().
 	void set_polling(bool on);
