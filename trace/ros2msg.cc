@@ -202,31 +202,20 @@ private:
 		return true;
 	}
 
+	// A number; an integer type's keeps all its bits (but a uint64 past
+	// int64's range, which JSON's integers do not hold).
 	template <typename T>
-	bool integer(JsonValue *out)
+	bool number(JsonValue *out)
 	{
 		T v;
 		if (!take(&v))
 			return false;
 		out->type = JsonValue::Type::Number;
 		out->number = (double)v;
-		if constexpr (std::is_same_v<T, uint64_t>) {
-			out->is_integer = v <= (uint64_t)INT64_MAX;
-		} else {
-			out->is_integer = true;
+		if constexpr (std::is_integral_v<T>) {
+			out->is_integer = !std::is_same_v<T, uint64_t> || (uint64_t)v <= (uint64_t)INT64_MAX;
+			out->integer = (int64_t)v;
 		}
-		out->integer = (int64_t)v;
-		return true;
-	}
-
-	template <typename T>
-	bool real(JsonValue *out)
-	{
-		T v;
-		if (!take(&v))
-			return false;
-		out->type = JsonValue::Type::Number;
-		out->number = (double)v;
 		return true;
 	}
 
@@ -242,16 +231,16 @@ private:
 			out->boolean = v != 0;
 			break;
 		}
-		case K::Int8: ok = integer<int8_t>(out); break;
-		case K::Uint8: ok = integer<uint8_t>(out); break;
-		case K::Int16: ok = integer<int16_t>(out); break;
-		case K::Uint16: ok = integer<uint16_t>(out); break;
-		case K::Int32: ok = integer<int32_t>(out); break;
-		case K::Uint32: ok = integer<uint32_t>(out); break;
-		case K::Int64: ok = integer<int64_t>(out); break;
-		case K::Uint64: ok = integer<uint64_t>(out); break;
-		case K::Float32: ok = real<float>(out); break;
-		case K::Float64: ok = real<double>(out); break;
+		case K::Int8: ok = number<int8_t>(out); break;
+		case K::Uint8: ok = number<uint8_t>(out); break;
+		case K::Int16: ok = number<int16_t>(out); break;
+		case K::Uint16: ok = number<uint16_t>(out); break;
+		case K::Int32: ok = number<int32_t>(out); break;
+		case K::Uint32: ok = number<uint32_t>(out); break;
+		case K::Int64: ok = number<int64_t>(out); break;
+		case K::Uint64: ok = number<uint64_t>(out); break;
+		case K::Float32: ok = number<float>(out); break;
+		case K::Float64: ok = number<double>(out); break;
 		case K::String: {
 			uint32_t n;
 			if (!take(&n))
