@@ -212,15 +212,19 @@ def trace_cost(b):
         for name, fn in makers:
             got[name].append(fn())
     m = {name: statistics.mean(v) for name, v in got.items()}
+    # Beside the ratio of means, the median of each round's own ratio (its
+    # three runs within a second of each other): the machine's slow and
+    # fast phases, minutes long, move both sides of it alike.
+    per_round = {name: statistics.median(a / p for a, p in zip(got[name], got["plain"])) for name in got}
     kb = os.path.getsize(trace) / 1e3 / seconds  # per 1000 cycles
     record_kb = os.path.getsize(record) / 1e3 / seconds
     return [row("--trace, 1 kHz pendulum", m["traced"], "s wall", m["plain"], "the same run untraced",
                 m["traced"] / m["plain"], "< 1.10x", m["traced"] / m["plain"] < 1.10,
-                "%.0f KB of trace per 1,000 cycles" % kb),
+                "%.0f KB of trace per 1,000 cycles; median round %.2fx" % (kb, per_round["traced"])),
             row("--record, 1 kHz pendulum", m["recorded"], "s wall", m["plain"], "the same run unrecorded",
                 m["recorded"] / m["plain"], "< 1.15x", m["recorded"] / m["plain"] < 1.15,
-                "%.0f KB of record per 1,000 cycles (%.2fx the trace's wall time)" %
-                (record_kb, m["recorded"] / m["traced"]))]
+                "%.0f KB of record per 1,000 cycles (%.2fx the trace's wall time); median round %.2fx" %
+                (record_kb, m["recorded"] / m["traced"], per_round["recorded"]))]
 
 
 def pendulums_world(b, n, work_us=0):
