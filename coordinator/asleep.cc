@@ -11,11 +11,6 @@
 // on its core.
 #include "asleep.h"
 
-#include <poll.h>
-
-#include <algorithm>
-#include <vector>
-
 #include "proc_info.h"
 #include "slices.h"
 #include "threads.h"
@@ -78,27 +73,14 @@ bool look_at(Run &run, Controller &c)
 	return c.look.asleep_times >= 2 && (block_if_all_waiting(run, c) || step_aside_if_asleep(run, c));
 }
 
-// A request of c's not yet served: posted to its mailbox, or in one of its
-// channels, unread. It sleeps waiting for us, not asleep outside the hooks:
-// stepped aside, the world's time would pass over the request (a replay,
-// which has no such stop, then charged those milliseconds as its CPU).
-static bool request_unread(const Controller &c)
-{
-	if (c.mailbox.requested())
-		return true;
-	std::vector<struct pollfd> fds;
-	fds.push_back({ c.channel.get(), POLLIN, 0 });
-	for (const auto &t : c.threads)
-		fds.push_back({ t->fd.get(), POLLIN, 0 });
-	return poll(fds.data(), fds.size(), 0) > 0 &&
-	       std::any_of(fds.begin(), fds.end(), [](const struct pollfd &p) { return p.revents & POLLIN; });
-}
-
 // The running controller, found making no progress: if every thread of it
 // sleeps (and others may want the core), its time stands still and others
 // go on. False if it is not asleep after all.
 bool step_aside_if_asleep(Run &run, Controller &c)
 {
+	// (Not with a request unread: stepped aside, the world's time would
+	// pass over it uncharged, and a replay, which has no such stop,
+	// charged those milliseconds as CPU.)
 	if (alive_controllers(run) < 2 || c.awaiting.pid != 0 || !proc_all_threads_asleep(c.pid) || request_unread(c))
 		return false;
 	if (!c.outside && !proc_maps_library(c.pid, "libtcs_preload")) {

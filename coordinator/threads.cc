@@ -107,6 +107,16 @@ static bool has_unread_message(int fd)
 	return recv(fd, &b, 1, MSG_PEEK | MSG_DONTWAIT) > 0;
 }
 
+bool request_unread(const Controller &c)
+{
+	if (c.mailbox.requested() || (c.channel && has_unread_message(c.channel.get())))
+		return true;
+	for (const auto &t : c.threads)
+		if (has_unread_message(t->fd.get()))
+			return true;
+	return false;
+}
+
 // The requests c's threads have sent and we have not read, heard before
 // time passes for it. Running on a core of their own (not below the
 // coordinator on its core), nothing orders one thread's requests before
@@ -174,7 +184,9 @@ int runnable_threads(Run &run, Controller &c, pid_t also)
 			if (ch->tid == t.tid)
 				channel = ch->fd.get();
 		if (channel >= 0) {
-			if (has_unread_message(channel))
+			// A request not yet read (the main thread's in its mailbox
+			// too): it waits for us, and runs once answered.
+			if (has_unread_message(channel) || (t.tid == c.pid && c.mailbox.requested()))
 				runnable++;
 			continue;
 		}

@@ -17,5 +17,9 @@ void answer_side(Run &run, Controller &c, const SideWait &w);
 bool block_if_all_waiting(Run &run, Controller &c);
 void end_all_side_waits(Run &run, Controller &c);
 int runnable_threads(Run &run, Controller &c, pid_t also);
+// A request of c's not yet served: posted to its mailbox, or unread in one
+// of its channels. The thread that sent it sleeps waiting for us: it is not
+// asleep outside the hooks.
+bool request_unread(const Controller &c);
 
 } // namespace tcs
