@@ -195,10 +195,11 @@ def peak_memory(b):
 def trace_cost(b):
     """--trace and --record (a trace with every clock value and request's
     time, for --replay) against the same cpu-mode run without, interleaved.
-    Means of many short runs, not medians: where the loop's first cycle
-    falls against the stream's records (this machine's start-up CPU)
-    decides whether its read waits each cycle, and the runs' walls come in
-    two modes, 0.26 s and 0.37 s for 10 s here."""
+    Means of many short runs (and the median of each round's own ratio),
+    not medians of the runs: where the loop's first cycle falls against the
+    stream's records (this machine's start-up CPU) decides whether its read
+    waits each cycle, and the runs' walls come in two modes, 0.26 s and
+    0.37 s for 10 s here."""
     pd = b.path("examples", "pendulum_pd")
     trace, record = os.path.join(b.tmp, "cost.mcap"), os.path.join(b.tmp, "cost-record.mcap")
     seconds = 10
