@@ -132,19 +132,33 @@ bool still_asleep(Run &run, Controller &c, int64_t at)
 	return false;
 }
 
+// Whatever woke c in the kernel (a pipe written, a signal sent) was done by
+// the world or by another controller at its time then, which is at most
+// its time now: an upper bound of the cause's time. (Controllers run ahead
+// of the world within a step: a writer at 200.05 ms of a step begun at
+// 200 ms woke a reader that then read 200 ms on its clock, before the write.)
+static int64_t latest_cause(const Run &run, const Controller &c)
+{
+	int64_t at = run.sim_ns;
+	for (const auto &o : run.ctls)
+		if (o.get() != &c)
+			at = std::max(at, o->v_now(run.cfg.mode));
+	return at;
+}
+
 // It woke by itself (or made a request): what it used meanwhile is its, and
 // it is Ready as if it had been stopped. It was waiting all along, as in
-// any wait: its time is at least the world's now (a reader of a pipe sees
-// the data no earlier than it was written; TCS_PAGE_ASLEEP makes it ask
-// before it looks at its clock). Not held as a stopped one is, it is
-// answered only as it is resumed (answer()): answered at once, it ran on
-// uncharged until its turn (18 us of a replayed run's start went missing
-// from its record's first slice).
+// any wait: its time is at least that of what woke it (latest_cause: a
+// reader of a pipe sees the data no earlier than it was written;
+// TCS_PAGE_ASLEEP makes it ask before it looks at its clock). Not held as a
+// stopped one is, it is answered only as it is resumed (answer()): answered
+// at once, it ran on uncharged until its turn (18 us of a replayed run's
+// start went missing from its record's first slice).
 void wake_from_asleep(Run &run, Controller &c)
 {
 	int64_t cpu = c.cpu_now();
 	c.account(cpu, run.cfg.mode);
-	c.v = std::max(c.v, run.sim_ns);
+	c.v = std::max(c.v, latest_cause(run, c));
 	c.publish_slice(cpu);
 	c.asleep = false;
 	c.answer_at_resume = true;

@@ -79,8 +79,7 @@ void on_child(Run &run, Controller &parent, const ::tcs_msg &m, UniqueFd channel
 		int64_t cpu = parent.cpu_now(), claim = parent.fork_claim();
 		if (claim >= 0)
 			cpu = std::min(cpu, claim);
-		parent_v = std::max(parent_v, parent.slice().v_base +
-						      tcs_scale_cpu(parent.slice_cpu(cpu), parent.scale));
+		parent_v = std::max(parent_v, parent.v_at_cpu(cpu));
 	}
 	c.v = std::max((m.flags & TCS_CHILD_V_KNOWN) ? m.v : parent_v, run.sim_ns);
 	c.wait.seq = m.seq;

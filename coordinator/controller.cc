@@ -263,6 +263,18 @@ int64_t Controller::slice_cpu(int64_t cpu) const
 	return tcs_page_slice_cpu(page_, slice_, cpu);
 }
 
+int64_t Controller::v_at_cpu(int64_t cpu) const
+{
+	return tcs_ns_add(slice_.v_base, tcs_scale_cpu(slice_cpu(cpu), scale));
+}
+
+int64_t Controller::v_now(int mode) const
+{
+	if (state != CtlState::Running)
+		return v;
+	return mode == TCS_MODE_CPU ? std::max(v, v_at_cpu(cpu_now())) : spun();
+}
+
 void Controller::account(int64_t cpu, int mode)
 {
 	int64_t used = tcs_scale_cpu(slice_cpu(cpu), scale);

@@ -215,6 +215,11 @@ public:
 	// Real CPU the current slice has used up to cpu (the runtime's own cost
 	// excluded: its hooks' and its CPU-clock reads').
 	int64_t slice_cpu(int64_t cpu) const;
+	// Where its current slice has taken it by CPU cpu (cpu mode's measure).
+	int64_t v_at_cpu(int64_t cpu) const;
+	// Its virtual time now: v, or while it runs, where its slice has
+	// reached (its CPU so far in cpu mode; what spinning reached in lockstep).
+	int64_t v_now(int mode) const;
 	// Closes the slice at cpu: v and charged move forward, never back (in
 	// lockstep, v to what spinning reached: spun()).
 	void account(int64_t cpu, int mode);

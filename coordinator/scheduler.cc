@@ -58,7 +58,7 @@ int64_t run_until(std::span<const Contender> cs, size_t who, int64_t target, int
 	int64_t horizon = TCS_NEVER;
 	for (size_t i = 0; i < cs.size(); i++)
 		if (i != who && !cs[i].exited)
-			horizon = std::min(horizon, cs[i].at);
+			horizon = std::min(horizon, cs[i].rechecks ? target : cs[i].at);
 	if (duration_ns >= 0)
 		horizon = std::min(horizon, duration_ns);
 	return std::max(target, horizon);

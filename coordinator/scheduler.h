@@ -49,7 +49,10 @@ Decision decide(std::span<const Contender> cs, int64_t sim_ns, int64_t step_ns, 
 
 // How far `who` may run before someone else needs the core: another's next
 // turn or the run's end (duration_ns; < 0: none); never short of the step
-// boundary `target`. Stopping a controller costs it real CPU (the timer
+// boundary `target`; one looked at each step (rechecks) is looked at next
+// at the step's end, whatever its `at` says (a controller asleep outside
+// the hooks may have woken meanwhile: while one ran on alone, a reader
+// woken by its write learnt of it 400 ms late). Stopping a controller costs it real CPU (the timer
 // interrupt, the stop and the continue run on its account), so it is not
 // stopped at boundaries nobody needs.
 int64_t run_until(std::span<const Contender> cs, size_t who, int64_t target, int64_t duration_ns);

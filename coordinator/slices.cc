@@ -135,7 +135,7 @@ int64_t request_v(Run &run, Controller &c, const ::tcs_msg &m)
 		return c.v;
 	if (run.cfg.mode == TCS_MODE_LOCKSTEP)
 		return std::clamp(m.v, c.v, c.spun());
-	int64_t heard = tcs_ns_add(c.slice().v_base, tcs_scale_cpu(c.slice_cpu(charge_point(run, c, m.cpu)), c.scale));
+	int64_t heard = c.v_at_cpu(charge_point(run, c, m.cpu));
 	return std::clamp(m.v, c.v, std::max(c.v, heard));
 }
 

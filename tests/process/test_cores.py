@@ -148,6 +148,40 @@ def test_controllers_asleep_among_queued_ones_step_aside():
           (v["after0"], v["after1"]))
 
 
+def test_a_reader_woken_within_a_step_sees_no_time_before_the_write():
+    # A writer runs ahead of the world within a step (it writes at 200.55 ms
+    # of the step begun at 200 ms, then computes on): the reader it wakes,
+    # asleep in open(2) and read(2) outside the hooks, reads a time no
+    # earlier than the write, and at most a step later.
+    d = tempfile.mkdtemp(prefix="tcs-test-cores-")
+    fifo = os.path.join(d, "fifo")
+    os.mkfifo(fifo)
+    reader = os.path.join(d, "reader.py")
+    with open(reader, "w") as f:
+        f.write("import time\nline = open(%r).read().strip()\n"
+                "print('got=%%s read_at=%%.9f' %% (line, time.monotonic()), flush=True)\n" % fifo)
+    writer = os.path.join(d, "writer.py")
+    with open(writer, "w") as f:
+        f.write("import time\ntime.sleep(0.2005)\nf = open(%r, 'w')\nt = time.monotonic()\n"
+                "f.write('hi\\n')\nf.close()\nprint('wrote_at=%%.9f' %% t, flush=True)\n"
+                "sum(i * i for i in range(2000000))  # computing on, the world held at 200 ms\n" % fifo)
+    text = LIGHT.split("[[controller]]")[0] + '[[controller]]\ncommand = "%s %s"\n[[controller]]\ncommand = "%s %s"\n' % (PYTHON, reader, PYTHON, writer)
+    with scenario_file(text) as world:
+        for mode in ("lockstep", "cpu"):
+            r = tcs("-m", mode, "--epoch", "0", "-w", world, timeout=120)
+            check(r.returncode == 0, "the run succeeds", r)
+            v = r.values()
+            check(v.get("got") == "hi", "the reader got the line", r)
+            late = float(v["read_at"]) - float(v["wrote_at"])
+            check(0 <= late <= 0.002, "%s: read %.6f s after the write: never before, two steps late at most" %
+                  (mode, late), r)
+            print("  %s: read %.1f us after the write" % (mode, late * 1e6))
+    os.unlink(fifo)
+    os.unlink(reader)
+    os.unlink(writer)
+    os.rmdir(d)
+
+
 def test_a_controller_on_a_core_of_its_own_hands_off_through_shared_memory():
     # With a core of its own beside the coordinator's, a controller's
     # requests and their answers go through its clock page's mailbox

@@ -177,6 +177,20 @@ void run_until_counts_those_running(void **)
 	assert_int_equal(tcs::run_until(cs, 0, kMs, -1), 1200000);
 }
 
+void run_until_the_next_look_at_one_asleep(void **)
+{
+	// One asleep outside the hooks, already looked at in this step (its
+	// turn says never): the other runs to the step's end, not on for ever,
+	// for the next look.
+	Contender asleep = ready(TCS_NEVER);
+	asleep.rechecks = true;
+	std::vector<Contender> cs = { ready(200000), asleep };
+	assert_int_equal(tcs::run_until(cs, 0, kMs, -1), kMs);
+	// Its own re-checks do not hold it: it runs to the other's turn.
+	cs = { ready(3500000), asleep };
+	assert_int_equal(tcs::run_until(cs, 1, kMs, -1), 3500000);
+}
+
 } // namespace
 
 int main(void)
@@ -195,6 +209,7 @@ int main(void)
 		cmocka_unit_test(a_parent_waits_while_its_child_runs),
 		cmocka_unit_test(run_until_the_next_turn_of_another),
 		cmocka_unit_test(run_until_counts_those_running),
+		cmocka_unit_test(run_until_the_next_look_at_one_asleep),
 	};
 	return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
