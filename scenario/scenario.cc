@@ -12,6 +12,7 @@
 #include "scenario_devices.h"
 #include "scenario_models.h"
 #include "scenario_reader.h"
+#include "scenario_sensors.h"
 #include "scenario_units.h"
 #include "toml_text_shift.h"
 
@@ -74,13 +75,15 @@ Result<Scenario> parse(ScenarioReader &r, std::string_view text)
 	if (!parsed)
 		return r.err((int)parsed.error().source().begin.line, unshift(parsed.error().description()));
 	const toml::table &root = parsed.table();
-	Status s = r.check_keys(root, "at the top level", { "sim", "model", "device", "controller" });
+	Status s = r.check_keys(root, "at the top level", { "sim", "model", "device", "sensor", "controller" });
 	if (s)
 		s = parse_sim(root, r);
 	if (s)
 		s = parse_models(root, r);
 	if (s)
 		s = parse_devices(root, r);
+	if (s)
+		s = parse_sensors(root, r);
 	if (s)
 		s = parse_controllers(root, r);
 	if (!s)
@@ -98,19 +101,24 @@ Error scenario_error(const Scenario &scenario, int line, const std::string &what
 Status check_signals(const Scenario &scenario, const std::vector<std::string> &known)
 {
 	std::unordered_set<std::string_view> set(known.begin(), known.end());
+	std::vector<const SignalRef *> refs;
 	for (const DeviceSpec &d : scenario.devices)
-		for (const SignalRef &s : d.signals) {
-			if (set.count(s.name))
-				continue;
-			std::string model = s.name.substr(0, s.name.find('.'));
-			std::vector<std::string> theirs;
-			for (const std::string &k : known)
-				if (k.size() > model.size() && k.compare(0, model.size(), model) == 0 && k[model.size()] == '.')
-					theirs.push_back(k);
-			return scenario_error(scenario, s.line,
-					      "unknown signal '" + s.name + "' (model '" + model +
-						      (theirs.empty() ? "' has no signals)" : "' has: " + join(theirs) + ")"));
-		}
+		for (const SignalRef &s : d.signals)
+			refs.push_back(&s);
+	for (const SensorModelSpec &sm : scenario.sensors)
+		refs.push_back(&sm.signal);
+	for (const SignalRef *s : refs) {
+		if (set.count(s->name))
+			continue;
+		std::string model = s->name.substr(0, s->name.find('.'));
+		std::vector<std::string> theirs;
+		for (const std::string &k : known)
+			if (k.size() > model.size() && k.compare(0, model.size(), model) == 0 && k[model.size()] == '.')
+				theirs.push_back(k);
+		return scenario_error(scenario, s->line,
+				      "unknown signal '" + s->name + "' (model '" + model +
+					      (theirs.empty() ? "' has no signals)" : "' has: " + join(theirs) + ")"));
+	}
 	return Ok{};
 }
 

@@ -59,6 +59,19 @@ struct DeviceSpec {
 	int line = 0;                // of [[device]]
 };
 
+// A sensor model on a signal (DESIGN §8): what a read of it sees is the
+// value `latency` ago, plus bias and Gaussian noise (seeded: --seed),
+// quantised to `resolution`, sampled at `rate` and held between samples.
+struct SensorModelSpec {
+	SignalRef signal;
+	double noise = 0;      // standard deviation, in the signal's unit
+	double bias = 0;
+	double resolution = 0; // 0: not quantised
+	int64_t latency_ns = 0;
+	double rate_hz = 0; // 0: the signal's own (a robot file sensor's update_rate), else every step
+	int line = 0;       // of [[sensor]]
+};
+
 struct ControllerEntry {
 	std::string command;           // as written
 	std::vector<std::string> argv; // command split: argv[0] is the program, unresolved
@@ -71,6 +84,7 @@ struct Scenario {
 	Sim sim;
 	std::vector<ModelSpec> models; // at least one
 	std::vector<DeviceSpec> devices;
+	std::vector<SensorModelSpec> sensors;
 	std::vector<ControllerEntry> controllers;
 };
 

@@ -29,22 +29,6 @@ bool is_normal_absolute(std::string_view p)
 	return p.find('\0') == std::string_view::npos;
 }
 
-bool has_model(const ScenarioReader &r, std::string_view name)
-{
-	for (const ModelSpec &m : r.sc.models)
-		if (m.name == name)
-			return true;
-	return false;
-}
-
-std::string model_names(const ScenarioReader &r)
-{
-	std::vector<std::string> v;
-	for (const ModelSpec &m : r.sc.models)
-		v.push_back(m.name);
-	return join(v);
-}
-
 Status parse_signals(ScenarioReader &r, const Entry &e, DeviceSpec *d)
 {
 	const toml::array *a = e.node->as_array();
@@ -59,13 +43,9 @@ Status parse_signals(ScenarioReader &r, const Entry &e, DeviceSpec *d)
 		if (!n.is_string())
 			return r.err(line, "signals must be strings, not " + std::string(type_name(n)));
 		const std::string name = unshift(n.as_string()->get());
-		auto parts = split_signal_name(name);
+		auto parts = r.signal_parts(line, name);
 		if (!parts)
-			return r.err(line, "signal '" + name + "' is not <model>.<part>.<field> with field one of "
-							     "position, velocity, effort, pose, twist");
-		if (!has_model(r, parts->model))
-			return r.err(line, "signal '" + name + "': the scenario has no model '" +
-						 std::string(parts->model) + "' (models: " + model_names(r) + ")");
+			return parts.error();
 		if (actuator && parts->field != "effort")
 			return r.err(line, "actuator signal '" + name + "' is not an effort: actuators drive "
 									"<model>.<joint>.effort");

@@ -18,9 +18,14 @@ bool ends_with(std::string_view s, std::string_view tail)
 	return s.size() >= tail.size() && s.substr(s.size() - tail.size()) == tail;
 }
 
+bool is_robot_file(std::string_view path)
+{
+	return ends_with(path, ".urdf") || ends_with(path, ".sdf") || ends_with(path, ".world");
+}
+
 bool is_model_path(std::string_view type)
 {
-	return type.find('/') != std::string_view::npos || ends_with(type, ".sdf") || ends_with(type, ".urdf");
+	return type.find('/') != std::string_view::npos || is_robot_file(type);
 }
 
 std::string resolve_type(const ScenarioReader &r, const std::string &type)
@@ -30,16 +35,68 @@ std::string resolve_type(const ScenarioReader &r, const std::string &type)
 	return r.dir + (r.dir.back() == '/' ? "" : "/") + type;
 }
 
-// A model's numeric parameters: every key of t but those in `skip`.
+// A robot file's placement (DESIGN §8) as numeric parameters, which is
+// all the plug-in ABI carries: fixed = 0/1, pose = six numbers as pose.x
+// ... pose.yaw, a joint's initial position as initial_position.<joint>.
+constexpr const char *kPoseKeys[] = { "pose.x", "pose.y", "pose.z", "pose.roll", "pose.pitch", "pose.yaw" };
+
+Status parse_placement(ScenarioReader &r, const Entry &e, ModelSpec *m)
+{
+	if (e.key == "fixed") {
+		const auto *b = e.node->as_boolean();
+		if (!b)
+			return r.err(e.line, "fixed must be true or false, not " + std::string(type_name(*e.node)));
+		m->params.push_back({ "fixed", b->get() ? 1.0 : 0.0, e.line });
+		return Ok{};
+	}
+	if (e.key == "pose") {
+		const auto *a = e.node->as_array();
+		if (!a || a->size() != 6)
+			return r.err(e.line, "pose must be six numbers: [x, y, z, roll, pitch, yaw] (m, rad)");
+		for (size_t i = 0; i < 6; i++) {
+			auto v = r.get_number(Entry{ e.line, "pose", a->get(i) }, "pose");
+			if (!v)
+				return v.error();
+			m->params.push_back({ kPoseKeys[i], *v, e.line });
+		}
+		return Ok{};
+	}
+	// initial_positions, initial_velocities: { joint = number, ... }
+	const auto *t = e.node->as_table();
+	if (!t)
+		return r.err(e.line, e.key + " must be a table of joint names and numbers, as " + e.key +
+					     " = { joint1 = 0.3 }");
+	const std::string prefix = e.key == "initial_positions" ? "initial_position." : "initial_velocity.";
+	for (const Entry &j : entries(*t)) {
+		auto v = r.get_number(j, e.key + " of joint '" + j.key + "'");
+		if (!v)
+			return v.error();
+		m->params.push_back({ prefix + j.key, *v, j.line });
+	}
+	return Ok{};
+}
+
+bool is_placement(const std::string &key)
+{
+	return key == "fixed" || key == "pose" || key == "initial_positions" || key == "initial_velocities";
+}
+
+// A model's parameters: every key of t but those in `skip`, numbers or a
+// robot file's placement.
 Status parse_params(ScenarioReader &r, const toml::table &t, ModelSpec *m, std::initializer_list<const char *> skip)
 {
 	for (const Entry &e : entries(t)) {
 		if (std::find(skip.begin(), skip.end(), e.key) != skip.end())
 			continue;
-		if ((e.key == "name" || e.key == "type") && !e.node->is_number())
+		if ((e.key == "name" || e.key == "type" || e.key == "file") && !e.node->is_number())
 			return r.err(e.line, "'" + e.key + "' does not belong in [model], which holds the "
 						 "parameters of [sim] model; several models are [[model]] "
-						 "tables with a name and a type");
+						 "tables with a name and a type or file");
+		if (is_placement(e.key)) {
+			if (Status s = parse_placement(r, e, m); !s)
+				return s;
+			continue;
+		}
 		auto v = r.get_number(e, "model parameter '" + e.key + "'");
 		if (!v)
 			return v.error();
@@ -61,9 +118,18 @@ Status parse_model_array(ScenarioReader &r, const toml::array &a, int line)
 		auto es = entries(t);
 		const Entry *name = find_entry(es, "name");
 		const Entry *type = find_entry(es, "type");
+		const Entry *file = find_entry(es, "file");
+		if (type && file)
+			return r.err(file->line, "[[model]] has a type (line " + std::to_string(type->line) +
+							 ") and a file: give one (a built-in type, or a .urdf/.sdf file)");
+		if (!type)
+			type = file;
 		if (!name || !type)
-			return r.err(m.line, std::string("[[model]] needs a ") + (name ? "type" : "name") +
-						   " (and numeric parameters)");
+			return r.err(m.line, std::string("[[model]] needs a ") +
+						   (name ? "type (pendulum, cartpole, double_pendulum, boxes) or a file "
+							   "(.urdf, .sdf)"
+							 : "name") +
+						   " (and parameters)");
 		auto nm = r.get_string(*name, "\"left\"");
 		if (!nm)
 			return nm.error();
@@ -73,14 +139,17 @@ Status parse_model_array(ScenarioReader &r, const toml::array &a, int line)
 			return r.err(name->line, "model name '" + *nm + "' is already used at line " +
 						       std::to_string(seen[*nm]));
 		seen[*nm] = name->line;
-		auto ty = r.get_string(*type, "\"pendulum\"");
+		auto ty = r.get_string(*type, type == file ? "\"robots/arm.urdf\"" : "\"pendulum\"");
 		if (!ty)
 			return ty.error();
 		if (ty->empty())
-			return r.err(type->line, "model type is empty");
+			return r.err(type->line, "model " + type->key + " is empty");
+		if (type == file && !is_robot_file(*ty))
+			return r.err(file->line, "file '" + *ty + "' is not a robot description: a .urdf, .sdf or "
+								  ".world file");
 		m.name = *nm;
 		m.type = resolve_type(r, *ty);
-		if (Status s = parse_params(r, t, &m, { "name", "type" }); !s)
+		if (Status s = parse_params(r, t, &m, { "name", "type", "file" }); !s)
 			return s;
 		r.sc.models.push_back(std::move(m));
 	}

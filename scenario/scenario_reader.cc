@@ -129,4 +129,20 @@ Result<std::vector<const toml::table *>> ScenarioReader::table_array(const toml:
 	return out;
 }
 
+Result<SignalParts> ScenarioReader::signal_parts(int line, const std::string &name) const
+{
+	auto parts = split_signal_name(name);
+	if (!parts)
+		return err(line, "signal '" + name + "' is not <model>.<part>.<field> with field one of " +
+					 signal_fields_text());
+	std::vector<std::string> models;
+	for (const ModelSpec &m : sc.models) {
+		if (m.name == parts->model)
+			return *parts;
+		models.push_back(m.name);
+	}
+	return err(line, "signal '" + name + "': the scenario has no model '" + std::string(parts->model) +
+				 "' (models: " + join(models) + ")");
+}
+
 } // namespace tcs::scenario_parse

@@ -60,6 +60,8 @@ public:
 			  std::initializer_list<const char *> known) const;
 	Result<std::string> get_string(const Entry &e, const std::string &example) const;
 	Result<double> get_number(const Entry &e, const std::string &what) const;
+	// A signal name of one of the models read so far, in its parts.
+	Result<SignalParts> signal_parts(int line, const std::string &name) const;
 	// An array of tables under `key`, written [[key]]; empty if absent.
 	Result<std::vector<const toml::table *>> table_array(const toml::table &root, const char *key) const;
 };

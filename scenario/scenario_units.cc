@@ -2,7 +2,9 @@
 // writes them.
 #include "scenario_units.h"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <string>
 #include <utility>
 
@@ -172,6 +174,14 @@ bool is_identifier(std::string_view s)
 	return true;
 }
 
+std::string signal_fields_text()
+{
+	std::string out;
+	for (std::string_view f : kSignalFields)
+		out += (out.empty() ? "" : ", ") + std::string(f);
+	return out;
+}
+
 std::optional<SignalParts> split_signal_name(std::string_view name)
 {
 	size_t first = name.find('.'), last = name.rfind('.');
@@ -180,8 +190,7 @@ std::optional<SignalParts> split_signal_name(std::string_view name)
 	SignalParts p{ name.substr(0, first), name.substr(first + 1, last - first - 1), name.substr(last + 1) };
 	if (!is_identifier(p.model))
 		return std::nullopt;
-	if (p.field != "position" && p.field != "velocity" && p.field != "effort" && p.field != "pose" &&
-	    p.field != "twist")
+	if (std::find(std::begin(kSignalFields), std::end(kSignalFields), p.field) == std::end(kSignalFields))
 		return std::nullopt;
 	// The part comes from the model (a URDF joint may be "wrist-1"): any
 	// printable ASCII but spaces, and no empty dot-separated piece.

@@ -34,10 +34,18 @@ int64_t rate_period_ns(double hz);
 // first part of its signal names.
 bool is_identifier(std::string_view s);
 
+// The last part of every signal's name (DESIGN §4, §8): a joint's, a
+// link's, then a sensor's of a robot file.
+inline constexpr std::string_view kSignalFields[] = { "position", "velocity", "effort", "pose", "twist",
+						      "orientation", "angular_velocity", "linear_acceleration",
+						      "force", "torque", "count", "range" };
+// "position, velocity, ..., range": for messages.
+std::string signal_fields_text();
+
 // A signal name's three parts; nullopt unless it has the form
 // <model>.<part>.<field>: the model an identifier, the field one of
-// position, velocity, effort, pose, twist, the part anything printable
-// without spaces (it may contain dots: "arm.link.3.pose").
+// kSignalFields, the part anything printable without spaces (it may
+// contain dots: "arm.link.3.pose").
 struct SignalParts {
 	std::string_view model, part, field;
 };

@@ -91,6 +91,16 @@ void check_scenario(const tcs::Scenario &s, const std::string &name)
 			known.push_back(sig.name);
 		}
 	}
+	for (size_t i = 0; i < s.sensors.size(); i++) {
+		const tcs::SensorModelSpec &sm = s.sensors[i];
+		check(sm.line >= 1 && sm.signal.line >= 1 && tcs::split_signal_name(sm.signal.name));
+		check(std::isfinite(sm.noise) && sm.noise >= 0 && std::isfinite(sm.bias));
+		check(std::isfinite(sm.resolution) && sm.resolution >= 0);
+		check(sm.latency_ns >= 0 && sm.latency_ns <= 10000000000LL && sm.rate_hz >= 0 && sm.rate_hz <= 1e9);
+		for (size_t j = 0; j < i; j++)
+			check(s.sensors[j].signal.name != sm.signal.name);
+		known.push_back(sm.signal.name);
+	}
 	for (const tcs::ControllerEntry &c : s.controllers) {
 		check(!c.argv.empty() && c.line >= 1);
 		check(!c.cpu_scale || (*c.cpu_scale > 0 && *c.cpu_scale <= 1e6));
@@ -165,6 +175,11 @@ std::vector<std::string> tcs_fuzz_seeds()
 		head + "[[controller]]\ncommand = '''ctl\n[=x] } \xc3\xa9'''\n",
 		head + "[model]\nx = [ \xe2\x80\xa8 ]\n",
 		head + "\"caf\xc3\xa9\" = 1\n",
+		"[[model]]\nname = \"arm\"\nfile = \"robots/rrbot.urdf\"\nfixed = true\npose = [0, 0, 0.1, 0, 0, 1.5]\n"
+		"initial_positions = { joint1 = 0.3, \"wrist-1\" = -1 }\ninitial_velocities = { joint1 = 0.0 }\n"
+		"[[sensor]]\nsignal = \"arm.joint1.position\"\nnoise = 0.0005\nbias = 0.0\nresolution = 0.0015\n"
+		"latency = \"2ms\"\nrate = \"500Hz\"\n[[sensor]]\nsignal = \"arm.imu.linear_acceleration\"\n",
+		"[sim]\nmodel = \"w.world\"\n[model]\nfixed = false\npose = [1e308, -0, 0, 0, 0, 0]\n",
 		"[sim]\nstep = \"10us\"\nstep = \"1s\"\n",
 		"[\n",
 		"[[[sim]]]\n",
@@ -177,7 +192,10 @@ std::vector<std::string> tcs_fuzz_tokens()
 {
 	return { "[sim]\n", "[model]\n", "[[model]]\n", "[[device]]\n", "[[controller]]\n", "[sim.x]\n",
 		 "step = ", "model = ", "name = ", "type = ", "path = ", "kind = ", "signals = ", "format = ",
-		 "mode = ", "rate = ", "limit = ", "command = ", "cpu_scale = ", "\"sensor\"", "\"actuator\"",
+		 "mode = ", "rate = ", "limit = ", "command = ", "cpu_scale = ", "[[sensor]]\n", "signal = ",
+		 "noise = ", "bias = ", "resolution = ", "latency = ", "file = ", "fixed = ", "pose = ",
+		 "initial_positions = ", "initial_velocities = ", "[0, 0, 0, 0, 0, 0]", "\"a.urdf\"", "\"w.world\"",
+		 "\"arm.imu.linear_acceleration\"", "\"pendulum.rod.orientation\"", "\"sensor\"", "\"actuator\"",
 		 "\"text\"", "\"binary\"", "\"stream\"", "\"latest\"", "\"pendulum\"", "\"cartpole\"",
 		 "\"double_pendulum\"", "\"boxes\"", "\"x.sdf\"", "\"../r.urdf\"", "\"/dev/tcs/a\"",
 		 "\"pendulum.hinge.effort\"", "\"pendulum.hinge.position\"", "[\"pendulum.hinge.velocity\"]",

@@ -77,7 +77,7 @@ void test_toml_traps(void **)
 void test_unknown_keys(void **)
 {
 	expect_error("step = \"1ms\"\n" + kHead, 1,
-		     "unknown key 'step' at the top level (known: sim, model, device, controller)");
+		     "unknown key 'step' at the top level (known: sim, model, device, sensor, controller)");
 	expect_error("[sim]\nmodel = \"pendulum\"\nstpe = \"1ms\"\n", 3, "unknown key 'stpe' in [sim] (known: step, model)");
 	expect_error(kHead + kSensor + "colour = \"red\"\n", 8,
 		     "unknown key 'colour' in [[device]] (known: path, kind, signals, format, mode, rate, limit)");
@@ -333,6 +333,99 @@ void test_controllers(void **)
 	expect_error(kHead + "[[controller]]\ncommand = \"ctl\"\ncpu_scale = \"2\"\n", 5, "cpu_scale must be a number");
 }
 
+// ---- robot files (DESIGN §8) -------------------------------------------------------
+
+double param(const Scenario &s, const std::string &key, int *line = nullptr)
+{
+	for (const auto &p : s.models.at(0).params)
+		if (p.key == key) {
+			if (line)
+				*line = p.line;
+			return p.value;
+		}
+	fail_msg("no parameter '%s'", key.c_str());
+	return 0;
+}
+
+void test_robot_files(void **)
+{
+	// A file, its placement as numeric parameters with their lines.
+	Scenario s = parse_ok("[[model]]\nname = \"arm\"\nfile = \"robots/rrbot.urdf\"\nfixed = true\n"
+			      "pose = [0, 0, 0.1, 0, 0, 1.5]\ninitial_positions = { joint1 = 0.3, \"wrist-1\" = -1 }\n"
+			      "initial_velocities = { joint1 = 2 }\n");
+	assert_string_equal(s.models[0].type.c_str(), "robots/rrbot.urdf");
+	assert_true(param(s, "fixed") == 1.0);
+	int line = 0;
+	assert_true(param(s, "pose.z", &line) == 0.1 && line == 5);
+	assert_true(param(s, "pose.yaw") == 1.5);
+	assert_true(param(s, "initial_position.joint1", &line) == 0.3 && line == 6);
+	assert_true(param(s, "initial_position.wrist-1") == -1.0);
+	assert_true(param(s, "initial_velocity.joint1") == 2.0);
+	assert_true(parse_ok("[[model]]\nname = \"a\"\nfile = \"x.sdf\"\nfixed = false\n").models[0].params[0].value == 0);
+	// The single-model form takes them in [model].
+	s = parse_ok("[sim]\nmodel = \"robots/acrobot.urdf\"\n[model]\nfixed = true\npose = [1, 2, 3, 0, 0, 0]\n");
+	assert_string_equal(s.models[0].name.c_str(), "acrobot");
+	assert_true(param(s, "pose.x") == 1.0);
+	const std::string head = "[[model]]\nname = \"arm\"\n";
+	expect_error(head + "file = \"arm.txt\"\n", 3, "file 'arm.txt' is not a robot description: a .urdf, .sdf or .world file");
+	expect_error(head + "type = \"pendulum\"\nfile = \"a.urdf\"\n", 4, "has a type (line 3) and a file");
+	expect_error(head + "file = 3\n", 3, "file must be a string");
+	expect_error(head + "file = \"\"\n", 3, "model file is empty");
+	expect_error(head + "file = \"a.urdf\"\nfixed = 1\n", 4, "fixed must be true or false, not an integer");
+	expect_error(head + "file = \"a.urdf\"\npose = [0, 0, 0]\n", 4, "pose must be six numbers");
+	expect_error(head + "file = \"a.urdf\"\npose = [0, 0, 0, 0, 0, \"x\"]\n", 4, "pose must be a number");
+	expect_error(head + "file = \"a.urdf\"\npose = [0, 0, 0, 0, 0, nan]\n", 4, "finite");
+	expect_error(head + "file = \"a.urdf\"\ninitial_positions = 3\n", 4, "initial_positions must be a table of joint names");
+	expect_error(head + "file = \"a.urdf\"\ninitial_velocities = { j = \"fast\" }\n", 4,
+		     "initial_velocities of joint 'j' must be a number");
+	expect_error("[[model]]\nfile = \"a.urdf\"\n", 1, "[[model]] needs a name");
+	expect_error("[[model]]\nname = \"a\"\n", 1, "needs a type (pendulum, cartpole, double_pendulum, boxes) or a file");
+}
+
+// ---- [[sensor]] --------------------------------------------------------------------
+
+void test_sensor_models(void **)
+{
+	Scenario s = parse_ok(kHead + "[[sensor]]\nsignal = \"pendulum.hinge.position\"\nnoise = 0.0005\nbias = -0.1\n"
+				      "resolution = 0.0015\nlatency = \"2ms\"\nrate = \"500Hz\"\n");
+	assert_int_equal(s.sensors.size(), 1);
+	const tcs::SensorModelSpec &sm = s.sensors[0];
+	assert_string_equal(sm.signal.name.c_str(), "pendulum.hinge.position");
+	assert_int_equal(sm.line, 3);
+	assert_int_equal(sm.signal.line, 4);
+	assert_true(sm.noise == 0.0005 && sm.bias == -0.1 && sm.resolution == 0.0015);
+	assert_int_equal(sm.latency_ns, 2000000);
+	assert_true(sm.rate_hz == 500);
+	// Defaults: nothing but the signal.
+	s = parse_ok(kHead + "[[sensor]]\nsignal = \"pendulum.rod.pose\"\n");
+	assert_true(s.sensors[0].noise == 0 && s.sensors[0].resolution == 0 && s.sensors[0].latency_ns == 0 &&
+		    s.sensors[0].rate_hz == 0);
+	// A robot file's sensor fields are signal names too.
+	parse_ok("[[model]]\nname = \"arm\"\nfile = \"a.sdf\"\n[[sensor]]\nsignal = \"arm.imu.linear_acceleration\"\n");
+	const std::string sensor = kHead + "[[sensor]]\nsignal = \"pendulum.hinge.position\"\n";
+	expect_error(kHead + "[[sensor]]\nnoise = 1\n", 3, "[[sensor]] needs a signal");
+	expect_error(kHead + "[[sensor]]\nsignal = \"pendulum.hinge\"\n", 4, "is not <model>.<part>.<field>");
+	expect_error(kHead + "[[sensor]]\nsignal = \"arm.hinge.position\"\n", 4, "the scenario has no model 'arm' (models: pendulum)");
+	expect_error(sensor + "noise = -1\n", 5, "noise must be a standard deviation >= 0");
+	expect_error(sensor + "noise = inf\n", 5, "noise must be");
+	expect_error(sensor + "bias = nan\n", 5, "bias must be a finite number");
+	expect_error(sensor + "resolution = 0\n", 5, "resolution must be a quantisation step > 0");
+	expect_error(sensor + "latency = \"-2ms\"\n", 5, "latency:");
+	expect_error(sensor + "latency = \"11s\"\n", 5, "latency '11s' is more than 10 s");
+	expect_error(sensor + "latency = 2\n", 5, "latency must be a string");
+	expect_error(sensor + "rate = \"often\"\n", 5, "rate: 'often' is not a rate");
+	expect_error(sensor + "colour = 1\n", 5, "unknown key 'colour' in [[sensor]]");
+	expect_error(sensor + "[[sensor]]\nsignal = \"pendulum.hinge.position\"\n", 6,
+		     "signal 'pendulum.hinge.position' already has a sensor model (line 3)");
+	expect_error(kHead + "[sensor]\nsignal = \"pendulum.hinge.position\"\n", 3, "'sensor' must be written [[sensor]]");
+	// Checked against the world built: an unknown one is named.
+	Scenario ok = parse_ok(kHead + "[[sensor]]\nsignal = \"pendulum.hinge.torque\"\n");
+	auto st = tcs::check_signals(ok, { "pendulum.hinge.position" });
+	assert_false(st.ok());
+	assert_string_equal(st.error().message.c_str(),
+			    "t.toml:4: unknown signal 'pendulum.hinge.torque' (model 'pendulum' has: pendulum.hinge.position)");
+}
+
 } // namespace
 
 int main(void)
@@ -351,6 +444,8 @@ int main(void)
 		cmocka_unit_test(test_signal_names),
 		cmocka_unit_test(test_check_signals),
 		cmocka_unit_test(test_controllers),
+		cmocka_unit_test(test_robot_files),
+		cmocka_unit_test(test_sensor_models),
 	};
 	return cmocka_run_group_tests(tests, nullptr, nullptr);
 }
