@@ -39,12 +39,32 @@ Result<WorldSetup> world_setup(const Scenario &sc)
 		const std::string pos = ".position";
 		if (s.width == 1 && name.size() > pos.size() && name.compare(name.size() - pos.size(), pos.size(), pos) == 0)
 			out.joints.push_back(name.substr(0, name.size() - pos.size()));
-		char line[256];
-		snprintf(line, sizeof line, "%-36s %u value%s  %-10s %s", s.name, s.width, s.width == 1 ? " " : "s",
-			 s.unit ? s.unit : "", (s.flags & TCS_SIM_SIGNAL_WRITABLE) ? "writable" : "");
-		out.signal_lines.push_back(line);
+		// A sensor's rate (its file's, or its [[sensor]]'s), then whether
+		// a sensor model is on it.
+		double hz = s.rate_hz;
+		const SensorModelSpec *model = nullptr;
+		for (const auto &sm : sc.sensors)
+			if (sm.signal.name == s.name) {
+				model = &sm;
+				hz = sm.rate_hz > 0 ? sm.rate_hz : hz;
+			}
+		char rate[64] = "";
+		if (hz > 0)
+			snprintf(rate, sizeof rate, "%g Hz", hz);
+		char line[512];
+		snprintf(line, sizeof line, "%-36s %u value%s  %-10s %-9s %s%s", s.name, s.width, s.width == 1 ? " " : "s",
+			 s.unit ? s.unit : "", (s.flags & TCS_SIM_SIGNAL_WRITABLE) ? "writable" : "", rate,
+			 model ? (std::string(hz > 0 ? ", " : "") + "sensor model (line " + std::to_string(model->line) + ")").c_str()
+			       : "");
+		std::string text = line;
+		text.erase(text.find_last_not_of(' ') + 1);
+		out.signal_lines.push_back(text);
 	}
 	if (auto st = check_signals(sc, known); !st)
+		return st.error();
+	for (const auto &sm : sc.sensors)
+		out.sensors.push_back({ sm.signal.name, sm.noise, sm.bias, sm.resolution, sm.latency_ns, sm.rate_hz });
+	if (auto st = (*world)->sense(out.sensors, 1); !st)
 		return st.error();
 	for (const auto &d : sc.devices) {
 		DeviceConfig dc;

@@ -14,6 +14,7 @@ namespace tcs {
 struct WorldSetup {
 	std::vector<ModelInstance> models;
 	std::vector<DeviceConfig> devices;
+	std::vector<SensorConfig> sensors;
 	int64_t step_ns = 0;
 	std::vector<std::string> signal_lines; // for --list-signals
 	// Its scalar joints ("<model>.<joint>", those with a .position).

@@ -23,6 +23,7 @@
 #include "slices.h"
 #include "spin_costs.h"
 #include "world_steps.h"
+#include "tcs/random_stream.h"
 
 namespace tcs {
 
@@ -129,6 +130,14 @@ Status Coordinator::init()
 		if (!w)
 			return w.error();
 		run.world = std::move(*w);
+		// Sensor noise repeats with --seed (a key no controller has: theirs
+		// are 1, 2, ...), and is the machine's randomness without.
+		uint64_t key = run.cfg.seed ? tcs_random_key(*run.cfg.seed, 0) : 0;
+		if (key == 0 && getrandom(&key, sizeof key, 0) != (ssize_t)sizeof key)
+			key = (uint64_t)clock_ns(CLOCK_MONOTONIC);
+		key = key ? key : 1;
+		if (auto s = run.world->sense(run.cfg.sensors, key); !s)
+			return s;
 	}
 	auto warn = [&run](const std::string &w) { warn_once(run, w); };
 	if (run.cfg.replay)

@@ -31,6 +31,7 @@ struct CoordinatorConfig {
 	int64_t step_ns = 1000000;          // the simulation step dt
 	std::vector<ModelInstance> models;  // the world (none: an empty world)
 	std::vector<DeviceConfig> devices;  // its virtual devices
+	std::vector<SensorConfig> sensors;  // what its devices' readers see (sensor models)
 	std::string trace_path;             // write an MCAP trace there (empty: none)
 	int64_t duration_ns = -1;           // stop at this virtual time; < 0: when all exit
 	std::optional<int64_t> epoch_ns;    // CLOCK_REALTIME at V = 0; default: now

@@ -166,7 +166,7 @@ bool complete_sync(Run &run, Controller &c)
 	if ((d.dev->cfg.latest || (run.ending && d.queue.empty())) && run.world) {
 		std::vector<double> values;
 		for (size_t i : d.dev->signals)
-			run.world->read(i, values);
+			run.world->read_sensed(i, values);
 		std::string rec = format_record(d.dev->cfg.format, values);
 		(void)!send(d.sock.get(), rec.data(), rec.size(), MSG_DONTWAIT | MSG_NOSIGNAL);
 		c.wake_pending = true;

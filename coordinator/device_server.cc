@@ -54,7 +54,7 @@ void DeviceServer::make_records(OpenDevice &d, int64_t until, const SimWorld *wo
 		return;
 	std::vector<double> values;
 	for (size_t i : dev.signals)
-		world->read(i, values);
+		world->read_sensed(i, values);
 	std::string record = format_record(dev.cfg.format, values);
 	for (; d.next_due < until; d.next_due += dev.cfg.period_ns) {
 		if (d.queue.size() == kMaxQueued) {

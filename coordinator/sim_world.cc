@@ -4,6 +4,7 @@
 #include <time.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "tcs/vtime.h"
 
@@ -56,7 +57,41 @@ Status SimWorld::step()
 	steps_++;
 	if (r != 0)
 		return Error{ std::string("the simulation failed to step: ") + (err[0] ? err : "no reason given") };
+	if (sensors_)
+		sensors_->observe(steps_ * step_ns_, [this](size_t i, double *out) { plugin_->read(sim_, i, out); });
 	return Ok{};
+}
+
+Status SimWorld::sense(const std::vector<SensorConfig> &configs, uint64_t key)
+{
+	std::vector<SensorModel> models;
+	for (const SensorConfig &c : configs) {
+		long i = find(c.signal);
+		if (i < 0)
+			return Error{ "no signal '" + c.signal + "' for a sensor model" };
+		const tcs_sim_signal_info &info = signal((size_t)i);
+		const double hz = c.rate_hz > 0 ? c.rate_hz : info.rate_hz;
+		models.push_back({ c.signal, (size_t)i, info.width, c.noise, c.bias, c.resolution, c.latency_ns,
+				   hz > 0 ? (int64_t)std::llround(1e9 / hz) : 0 });
+	}
+	for (size_t i = 0, n = signal_count(); i < n; i++) {
+		const tcs_sim_signal_info &info = signal(i);
+		if (info.rate_hz > 0 && std::none_of(models.begin(), models.end(), [i](const SensorModel &m) { return m.index == i; }))
+			models.push_back({ info.name, i, info.width, 0, 0, 0, 0, (int64_t)std::llround(1e9 / info.rate_hz) });
+	}
+	if (models.empty()) {
+		sensors_.reset();
+		return Ok{};
+	}
+	sensors_ = std::make_unique<SensorModels>(std::move(models), key);
+	sensors_->observe(steps_ * step_ns_, [this](size_t i, double *out) { plugin_->read(sim_, i, out); });
+	return Ok{};
+}
+
+void SimWorld::read_sensed(size_t index, std::vector<double> &out) const
+{
+	if (!sensors_ || !mirror_.empty() || !sensors_->read(index, out))
+		read(index, out);
 }
 
 size_t SimWorld::signal_count() const

@@ -9,9 +9,18 @@
 #include <vector>
 
 #include "error.h"
+#include "sensor_models.h"
 #include "tcs/simhost.h"
 
 namespace tcs {
+
+// A scenario's [[sensor]]: the model on one signal, by name.
+struct SensorConfig {
+	std::string signal;
+	double noise = 0, bias = 0, resolution = 0;
+	int64_t latency_ns = 0;
+	double rate_hz = 0; // 0: the signal's own rate (tcs_sim_signal_info), else every step
+};
 
 struct ModelInstance {
 	std::string name;
@@ -39,8 +48,15 @@ public:
 	const tcs_sim_signal_info &signal(size_t index) const;
 	// The index of a signal by name, or -1.
 	long find(const std::string &name) const;
-	// Appends signal index's current values to out.
+	// What sensors see from now on: these models, and every signal the
+	// plug-in samples at a rate of its own held between its samples (key:
+	// the run's seed, mixed; never 0). An unknown signal is an error.
+	Status sense(const std::vector<SensorConfig> &configs, uint64_t key);
+	// Appends signal index's current values to out: the truth.
 	void read(size_t index, std::vector<double> &out) const;
+	// The same as a sensor sees it (a device's read): sense()'s model of
+	// it, if it has one.
+	void read_sensed(size_t index, std::vector<double> &out) const;
 	// Sets a writable signal (held from the next step on).
 	void write(size_t index, const double *values);
 	// Every signal's values, in order: the world as read from something
@@ -60,6 +76,7 @@ private:
 	int64_t steps_ = 0;
 	int64_t last_wall_ = 0;
 	const std::vector<size_t> &offsets() const;
+	std::unique_ptr<SensorModels> sensors_; // null: sensors see the truth
 	std::vector<double> mirror_;          // empty: not a mirror
 	mutable std::vector<size_t> offsets_; // see offsets()
 };

@@ -215,6 +215,7 @@ int main(int argc, char **argv)
 		scenario->controllers.clear(); // the host waits for them, not we
 	cfg.models = setup->models;
 	cfg.devices = setup->devices;
+	cfg.sensors = setup->sensors;
 	cfg.step_ns = setup->step_ns;
 	auto preload = find_preload();
 	if (!preload)

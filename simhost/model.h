@@ -24,6 +24,7 @@ struct SignalDesc {
 	uint32_t width;
 	uint32_t flags; // TCS_SIM_SIGNAL_*
 	const char *unit;
+	double rate_hz = 0; // a sensor's own update rate (0: every step)
 };
 
 class Model {

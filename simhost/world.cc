@@ -66,7 +66,7 @@ Result<std::unique_ptr<World>> World::create(const struct tcs_sim_model *models,
 	// descs_ is complete: only now is it safe to point into its strings.
 	w->infos_.reserve(w->descs_.size());
 	for (const SignalDesc &d : w->descs_)
-		w->infos_.push_back({ d.name.c_str(), d.width, d.flags, d.unit });
+		w->infos_.push_back({ d.name.c_str(), d.width, d.flags, d.unit, d.rate_hz });
 	return w;
 }
 

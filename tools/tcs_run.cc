@@ -239,6 +239,7 @@ int main(int argc, char **argv)
 	cfg.record_scale = cpu_scale;
 	cfg.models = setup->models;
 	cfg.devices = setup->devices;
+	cfg.sensors = setup->sensors;
 	cfg.step_ns = setup->step_ns;
 
 	for (int i = optind; i < argc; i++)

@@ -16,7 +16,7 @@
 extern "C" {
 #endif
 
-#define TCS_SIMHOST_ABI_VERSION 1u
+#define TCS_SIMHOST_ABI_VERSION 2u
 
 /* A world instance, opaque to the coordinator. */
 typedef struct tcs_sim tcs_sim;
@@ -37,12 +37,15 @@ enum tcs_sim_signal_flags {
 
 /* What a signal is: its full name, how many values it carries (1 for a
  * joint position/velocity/effort, 7 for a pose x y z qw qx qy qz, 6 for a
- * twist vx vy vz wx wy wz), its unit, and whether it can be written. */
+ * twist vx vy vz wx wy wz), its unit, whether it can be written, and the
+ * rate a sensor of the model's own samples it at (0: every step; the
+ * coordinator holds a sample between updates). Version 2 added rate_hz. */
 struct tcs_sim_signal_info {
 	const char *name;
 	uint32_t width;
 	uint32_t flags;
 	const char *unit;
+	double rate_hz;
 };
 
 struct tcs_simhost_plugin {
