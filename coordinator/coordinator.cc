@@ -132,11 +132,14 @@ Status Coordinator::init()
 		run.world = std::move(*w);
 		// Sensor noise repeats with --seed (a key no controller has: theirs
 		// are 1, 2, ...), and is the machine's randomness without.
-		uint64_t key = run.cfg.seed ? tcs_random_key(*run.cfg.seed, 0) : 0;
+		// A replay's, the record's.
+		uint64_t key = run.cfg.replay ? run.cfg.replay->sensor_key : 0;
+		if (key == 0 && run.cfg.seed)
+			key = tcs_random_key(*run.cfg.seed, 0);
 		if (key == 0 && getrandom(&key, sizeof key, 0) != (ssize_t)sizeof key)
 			key = (uint64_t)clock_ns(CLOCK_MONOTONIC);
-		key = key ? key : 1;
-		if (auto s = run.world->sense(run.cfg.sensors, key); !s)
+		run.sensor_key = key ? key : 1;
+		if (auto s = run.world->sense(run.cfg.sensors, run.sensor_key); !s)
 			return s;
 	}
 	auto warn = [&run](const std::string &w) { warn_once(run, w); };
@@ -190,6 +193,7 @@ Status Coordinator::init()
 		r.real_origin_ns = run.clocks.real_ns;
 		r.tai_origin_ns = run.clocks.tai_ns;
 		r.seed = run.cfg.seed;
+		r.sensor_key = run.sensor_key;
 		r.slack = run.cfg.slack;
 		r.duration_ns = run.cfg.duration_ns;
 		r.program = run.cfg.record_program;

@@ -23,10 +23,10 @@ std::string record_run_json(const Record &r)
 	char buf[512];
 	snprintf(buf, sizeof buf,
 		 "{\"cpu_scale\":%.17g,\"step_ns\":%" PRId64 ",\"mono_origin_ns\":%" PRId64 ",\"real_origin_ns\":%" PRId64
-		 ",\"tai_origin_ns\":%" PRId64 ",\"seed\":\"%" PRIu64 "\",\"slack\":%s,\"duration_ns\":%" PRId64
-		 ",\"program\":[",
+		 ",\"tai_origin_ns\":%" PRId64 ",\"seed\":\"%" PRIu64 "\",\"sensor_key\":\"%" PRIu64
+		 "\",\"slack\":%s,\"duration_ns\":%" PRId64 ",\"program\":[",
 		 r.cpu_scale, r.step_ns, r.mono_origin_ns, r.real_origin_ns, r.tai_origin_ns, r.seed ? *r.seed : 0,
-		 r.slack ? "true" : "false", r.duration_ns);
+		 r.sensor_key, r.slack ? "true" : "false", r.duration_ns);
 	std::string s = buf;
 	auto strings = [&s](const std::vector<std::string> &v) {
 		for (size_t i = 0; i < v.size(); i++) {
@@ -48,17 +48,25 @@ static Status take_settings(const std::string &path, const JsonValue &j, Record 
 	r->mono_origin_ns = j.get_int("mono_origin_ns");
 	r->real_origin_ns = j.get_int("real_origin_ns");
 	r->tai_origin_ns = j.get_int("tai_origin_ns");
-	// (A string: a seed takes all 64 bits, JSON's integers 63.)
-	std::string seed(j.get_string("seed"));
-	if (!seed.empty()) {
+	// (Strings: a seed takes all 64 bits, JSON's integers 63. Absent or 0:
+	// none.)
+	auto whole = [&](const char *key, uint64_t *out) -> Status {
+		std::string text(j.get_string(key));
 		char *end = nullptr;
 		errno = 0;
-		unsigned long long v = strtoull(seed.c_str(), &end, 10);
-		if (errno || *end || seed[0] == '-')
-			return Error{ path + ": the record's seed is not a whole number" };
-		if (v != 0)
-			r->seed = v;
-	}
+		unsigned long long v = text.empty() ? 0 : strtoull(text.c_str(), &end, 10);
+		if (!text.empty() && (errno || *end || text[0] == '-'))
+			return Error{ path + ": the record's " + key + " is not a whole number" };
+		*out = v;
+		return Ok{};
+	};
+	uint64_t seed = 0;
+	if (Status s = whole("seed", &seed); !s)
+		return s;
+	if (seed != 0)
+		r->seed = seed;
+	if (Status s = whole("sensor_key", &r->sensor_key); !s)
+		return s;
 	r->slack = j.get_bool("slack", true);
 	r->duration_ns = j.get_int("duration_ns", -1); // (a record of an older tcs: none)
 	if (r->duration_ns == 0 || r->duration_ns < -1)

@@ -28,6 +28,7 @@ struct Record {
 	int64_t step_ns = 0;
 	int64_t mono_origin_ns = 0, real_origin_ns = 0, tai_origin_ns = 0;
 	std::optional<uint64_t> seed;
+	uint64_t sensor_key = 0; // the sensor models' noise stream (0: none said, a record of an older tcs)
 	bool slack = true;
 	int64_t duration_ns = -1; // --duration; < 0: until the programs ended
 	std::vector<std::string> program; // the recorded controller's command line

@@ -6,7 +6,9 @@ deviation, lies on the declared grid, repeats with --seed and differs with
 another seed."""
 
 import math
+import os
 import statistics
+import tempfile
 
 from harness import check, main, scenario_file, tcs
 
@@ -108,6 +110,26 @@ def test_a_rate_holds_samples_and_latency_delays():
           "the velocity is the truth at the last 4 ms mark, held")
     check(all(seen[k][0] == truth[max(k - 2, 0)][0] for k in range(400)), "the angle is the truth 2 ms before")
     print("  velocity held 4 ms a sample (250 Hz); angle 2 ms late, both exactly")
+
+
+def test_a_record_replays_its_sensor_noise():
+    # Recorded without --seed (the noise is the machine's randomness), the
+    # replay reads the same noisy records: the record keeps the stream.
+    path = os.path.join(tempfile.gettempdir(), "tcs-test-sensors-%d.mcap" % os.getpid())
+    argv = ["head", "-n", "300", "/dev/tcs/pendulum/state"]
+    try:
+        with scenario_file(WORLD) as world:
+            r = tcs("-q", "--record", path, "-w", world, "--", *argv, timeout=60)
+            check(r.returncode == 0 and len(r.stdout.splitlines()) == 300, "a recorded run reads 300 records", r)
+            p = tcs("-q", "--replay", path, "-w", world, "--", *argv, timeout=60)
+            live = tcs("-q", "-w", world, "--", *argv, timeout=60)
+    finally:
+        if os.path.exists(path):
+            os.unlink(path)
+    check(p.returncode == 0 and "departs" not in p.stderr, "the replay keeps to the record", p)
+    check(p.stdout == r.stdout, "the replay reads the recorded noise, byte for byte", p)
+    check(live.stdout != r.stdout, "a live run without --seed reads other noise", live)
+    print("  300 noisy records replayed byte for byte")
 
 
 if __name__ == "__main__":
