@@ -1,10 +1,12 @@
 // A robot description (description.h) as a simulated model: its links as
 // ODE bodies, its joints, collisions and sensors, in an ODE world of its
-// own (as every built-in model has: models never touch each other).
+// own (as every built-in model has: models never touch each other, so a
+// robot touches only its own links, its floor included).
 //
 // Signals, in this order (<name> is the instance's name):
 //  - per moving joint, in the description's order (revolute, continuous,
-//    prismatic, universal; fixed and ball joints have none):
+//    prismatic, universal; fixed and ball joints have none: the child
+//    link's pose and twist say where a ball joint is):
 //    <name>.<joint>.position (rad or m), .velocity (rad/s or m/s),
 //    .effort (N*m or N, writable: the effort held from the next step on,
 //    reading what was applied, that is after saturation at the joint's
@@ -20,13 +22,26 @@
 //         .linear_acceleration (3, m/s^2, sensor frame, what an
 //         accelerometer reads: a - g, +9.81 up at rest);
 //    force_torque: .force (3, N), .torque (3, N*m, about the joint's
-//         anchor): what the joint exerts on its child link, in the child
-//         link's frame;
+//         anchor): what the joint exerts on its child link, constraint
+//         and (hinge, slider) effort and damping, in the child's frame;
 //    contact: .count (1, contact points on the link in the last step),
 //         .force (3, N, world frame, their sum on the link);
 //    ray: .range (1, m, along the sensor's x, range_max when nothing is
-//         hit).
+//         hit; the beam starts at range_min and does not see its own
+//         link).
 //  Every sensor is computed at every step; rates are the coordinator's.
+//
+// Joints: stops on revolute and prismatic joints (a universal joint's on
+// its first axis), within -pi..pi for angles; damping as an explicit
+// torque -d v; Coulomb friction as a motor held at zero velocity with at
+// most `friction` (a ball joint's about each of the child's axes);
+// effort_limit saturates the command; at velocity_limit the command stops
+// pushing further in that direction (a motor's limit, not a stop: gravity
+// may still take the joint past it).
+// Links welded to the world (the model static, the root `fixed`, or
+// joined to the world by fixed joints) get no body: their mass is not
+// used, and they alone may carry planes. Two links collide only when both
+// set self_collide and no joint joins them (Gazebo's rule).
 #pragma once
 
 #include <map>

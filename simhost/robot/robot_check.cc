@@ -306,6 +306,10 @@ Result<Topology> check_robot(const Model &m, const RobotOptions &opts)
 		return s.error();
 
 	find_anchored(m, opts, t);
+	for (size_t j = 0; j < m.joints.size(); j++)
+		if (m.joints[j].kind != Joint::Kind::fixed && t.anchored[t.joint_child[j]] && !m.is_static)
+			return Error{ at(m.joints[j].where) + "joint '" + m.joints[j].name + "' moves link '" +
+				      m.joints[j].child + "', which fixed joints weld to the world" };
 	for (const Sensor &s : m.sensors)
 		if (s.kind == Sensor::Kind::force_torque && t.anchored[t.joint_child[t.joint_index.at(s.joint)]])
 			return Error{ at(s.where) + "sensor '" + s.name + "': joint '" + s.joint +

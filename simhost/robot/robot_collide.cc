@@ -12,13 +12,14 @@ namespace tcs::sim::robot {
 namespace {
 
 constexpr int kMaxContacts = 16; // box-box gives up to 8; meshes more
-// Contacts a little soft (ERP 0.2, CFM 1e-5, a millimetre of allowed
-// overlap): resting bodies stay still without jitter, and the force a
-// resting body bears is still its weight (softness only sets how deep it
-// sinks, microns here).
+// Contacts a little soft: with ERP 0.2 and CFM 1e-5 (at a 1 ms step) a
+// contact is a spring of 2e7 N/m, overdamped, so a resting body sinks a
+// micron or so, stays in contact (no chatter) and bears its weight. No
+// surface layer: within one, only the CFM acts, and a body creeps down
+// through it at CFM * force (0.2 mm/s for 2 kg on one contact).
 constexpr double kContactErp = 0.2;
 constexpr double kContactCfm = 1e-5;
-constexpr double kSurfaceLayer = 0.001;
+constexpr double kSurfaceLayer = 0;
 
 struct RayHit {
 	dGeomID ray;
@@ -168,7 +169,8 @@ void Collider::near(void *data, dGeomID a, dGeomID b)
 		if (sensed) {
 			Sensed &s = self->feedback_.emplace_back();
 			s.link1 = ia->link;
-			s.link2 = bb ? ib->link : SIZE_MAX;
+			s.link2 = ib->link;
+			s.welded2 = bb == nullptr;
 			dJointSetFeedback(j, &s.fb);
 		}
 	}
@@ -192,9 +194,10 @@ void Collider::after_step()
 {
 	std::fill(forces_.begin(), forces_.end(), Vec3{ 0, 0, 0 });
 	for (const Sensed &s : feedback_) {
-		forces_[s.link1] = add(forces_[s.link1], to_vec(s.fb.f1));
-		if (s.link2 != SIZE_MAX)
-			forces_[s.link2] = add(forces_[s.link2], to_vec(s.fb.f2));
+		Vec3 f1 = to_vec(s.fb.f1);
+		forces_[s.link1] = add(forces_[s.link1], f1);
+		// ODE gives no f2 without a body: the reaction, then.
+		forces_[s.link2] = add(forces_[s.link2], s.welded2 ? scale(f1, -1) : to_vec(s.fb.f2));
 	}
 	feedback_.clear();
 	dJointGroupEmpty(contacts_);

@@ -91,6 +91,26 @@ void test_signals(void **)
 	assert_false(bot.signals()[0].flags & TCS_SIM_SIGNAL_WRITABLE);
 }
 
+void test_static_model(void **)
+{
+	// A static model: every link stays where the description puts it
+	// (moved by the scenario's pose), with no joint signals.
+	r::Model m = chain3();
+	m.is_static = true;
+	m.links[1].mass = 0; // a static link needs none
+	RobotOptions o;
+	o.pose = pose(1, 2, 3);
+	Bot bot(m, o);
+	assert_int_equal(bot.signals().size(), 6);
+	bot.step(100);
+	std::vector<double> p = bot.values("l3.pose");
+	expect_near(p[0], 1, 0, "x");
+	expect_near(p[1], 2, 0, "y");
+	expect_near(p[2], 3 - 1.0, 0, "z");
+	for (double v : bot.values("l2.twist"))
+		expect_near(v, 0, 0, "at rest");
+}
+
 void test_refusals(void **)
 {
 	RobotOptions o;
@@ -135,6 +155,9 @@ void test_refusals(void **)
 	expect_contains(refusal(m), "joint 'j1'");
 	m = floor_and_mast();
 	expect_contains(refusal(m), "plane"); // not fixed: the plane would move
+	m = chain3();
+	m.joints.push_back(joint("weld", K::fixed, "world", "l2", pose(0, 0, -0.5)));
+	expect_contains(refusal(m), "joint 'j2' moves link 'l2'");
 }
 
 void test_long_chain(void **)
@@ -179,6 +202,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_initial_state),
 		cmocka_unit_test(test_signals),
+		cmocka_unit_test(test_static_model),
 		cmocka_unit_test(test_refusals),
 		cmocka_unit_test(test_long_chain),
 	};

@@ -94,6 +94,63 @@ void test_compound_pendulum_period(void **)
 	}
 }
 
+void test_ball_pendulum(void **)
+{
+	// The same pendulum on a ball joint, its zero pose tilted by theta
+	// about y (a ball joint takes no initial position): with y a principal
+	// axis through the pivot it swings in the x-z plane, with the hinge's
+	// period. Its angle comes from the link's orientation.
+	const double m = 2.0, d = 0.3, theta = 0.05;
+	const r::Vec3 moments{ 0.05, 0.02, 0.01 };
+	r::Quat tilt = axis_angle({ 0, 1, 0 }, theta);
+	r::Model desc;
+	desc.name = "ball";
+	r::Link l = box_link("bob", m, { 0.1, 0.1, 0.1 }, pose(0, 0, 0, tilt), r::rotate(tilt, { 0, 0, -d }), tilt);
+	l.inertia = { moments[0], moments[1], moments[2], 0, 0, 0 };
+	desc.links.push_back(l);
+	desc.joints.push_back(joint("socket", K::ball, "world", "bob", pose(0, 0, 0)));
+	Bot bot(desc);
+	auto angle = [&] {
+		std::vector<double> p = bot.values("bob.pose");
+		expect_near(p[4], 0, 1e-9, "no turn about x");
+		expect_near(p[6], 0, 1e-9, "no turn about z");
+		return 2 * std::atan2(p[5], p[3]);
+	};
+	std::vector<double> crossings;
+	double prev = angle();
+	for (int i = 1; i <= 20000; i++) {
+		bot.step();
+		double a = angle();
+		if (prev < 0 && a >= 0)
+			crossings.push_back((i - 1 + -prev / (a - prev)) * dt);
+		prev = a;
+	}
+	assert_true(crossings.size() >= 5);
+	double got = (crossings.back() - crossings.front()) / (double)(crossings.size() - 1);
+	double I = moments[1] + m * d * d;
+	double want = 2 * M_PI * std::sqrt(I / (m * g * d)) * (1 + theta * theta / 16);
+	print_message("ball joint: period %.6f s, analysis %.6f s, error %+.5f %%\n", got, want, 100 * (got / want - 1));
+	assert_true(std::fabs(got / want - 1) < 0.005);
+}
+
+void test_gravity_off(void **)
+{
+	// A link with gravity off floats; its neighbour falls as the
+	// integrator's free fall says: z = -g dt^2 n (n + 1) / 2 after n
+	// steps (velocity first, then position).
+	r::Model m;
+	m.name = "pair";
+	r::Link balloon = box_link("balloon", 0.1, { 0.3, 0.3, 0.3 }, pose(0, 0, 2), { 0, 0, 2 });
+	balloon.gravity = false;
+	m.links.push_back(balloon);
+	m.links.push_back(box_link("stone", 1.0, { 0.1, 0.1, 0.1 }, pose(1, 0, 2), { 1, 0, 2 }));
+	Bot bot(m);
+	const int n = 500;
+	bot.step(n);
+	expect_near(bot.values("balloon.pose")[2], 2, 0, "floating");
+	expect_near(bot.values("stone.pose")[2], 2 - g * dt * dt * n * (n + 1) / 2, 1e-12, "falling");
+}
+
 // --- a chain's energy ---
 
 // Kinetic plus potential energy, from the pose and twist signals and the
@@ -315,6 +372,8 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_compound_pendulum_period),
+		cmocka_unit_test(test_ball_pendulum),
+		cmocka_unit_test(test_gravity_off),
 		cmocka_unit_test(test_chain_energy),
 		cmocka_unit_test(test_revolute_stop),
 		cmocka_unit_test(test_prismatic_stop),

@@ -188,29 +188,110 @@ void test_ray(void **)
 	expect_near(bot.get("up.range"), 3, 0, "nothing hit: range_max");
 }
 
+// A cube of edge 2h as a triangle mesh, each triangle wound
+// counter-clockwise seen from outside (ODE takes the normal from it).
+r::Shape cube_mesh(double h)
+{
+	r::Shape s;
+	s.kind = r::Shape::Kind::mesh;
+	s.mesh_uri = "cube";
+	for (int i = 0; i < 8; i++)
+		s.vertices.push_back({ i & 1 ? h : -h, i & 2 ? h : -h, i & 4 ? h : -h });
+	for (int axis = 0; axis < 3; axis++)
+		for (int side = 0; side < 2; side++) {
+			// The face's four corners, in order around it.
+			int a = 1 << ((axis + 1) % 3), b = 1 << ((axis + 2) % 3), f = side ? 1 << axis : 0;
+			unsigned q[4] = { (unsigned)f, (unsigned)(f | a), (unsigned)(f | a | b), (unsigned)(f | b) };
+			r::Vec3 n{ 0, 0, 0 };
+			n[axis] = side ? 1 : -1;
+			r::Vec3 e1 = r::sub(s.vertices[q[1]], s.vertices[q[0]]), e2 = r::sub(s.vertices[q[2]], s.vertices[q[0]]);
+			if (r::dot(r::cross(e1, e2), n) < 0)
+				std::swap(q[1], q[3]);
+			s.indices.insert(s.indices.end(), { q[0], q[1], q[2], q[0], q[2], q[3] });
+		}
+	return s;
+}
+
 void test_contact(void **)
 {
+	// Each shape resting on the floor plane: the contact sensor reads its
+	// weight, up, and it rests at the height its shape gives.
 	const double mass = 2.0;
+	struct Case {
+		const char *what;
+		r::Shape shape;
+		r::Quat turn;
+		double rest; // the centre's height at rest
+	} cases[5];
+	cases[0] = { "box", {}, { 1, 0, 0, 0 }, 0.1 };
+	cases[0].shape.kind = r::Shape::Kind::box;
+	cases[0].shape.size = { 0.2, 0.3, 0.2 };
+	cases[1] = { "sphere", {}, { 1, 0, 0, 0 }, 0.15 };
+	cases[1].shape.kind = r::Shape::Kind::sphere;
+	cases[1].shape.radius = 0.15;
+	cases[2] = { "cylinder (upright)", {}, { 1, 0, 0, 0 }, 0.2 };
+	cases[2].shape.kind = r::Shape::Kind::cylinder;
+	cases[2].shape.radius = 0.1;
+	cases[2].shape.length = 0.4;
+	cases[3] = { "capsule (lying)", {}, axis_angle({ 1, 0, 0 }, M_PI / 2), 0.08 };
+	cases[3].shape.kind = r::Shape::Kind::capsule;
+	cases[3].shape.radius = 0.08;
+	cases[3].shape.length = 0.3;
+	cases[4] = { "mesh (cube)", cube_mesh(0.12), { 1, 0, 0, 0 }, 0.12 };
+	for (const Case &c : cases) {
+		r::Model m = floor_and_mast();
+		double z = c.rest + 0.001; // dropped from a millimetre
+		r::Link thing = box_link("thing", mass, { 0.2, 0.2, 0.2 }, pose(1, 0, z, c.turn), { 1, 0, z });
+		r::Collision col;
+		col.name = "shell";
+		col.pose = pose(1, 0, z, c.turn);
+		col.shape = c.shape;
+		thing.collisions.push_back(col);
+		thing.self_collide = true;
+		m.links.push_back(thing);
+		m.sensors.push_back(sensor("touch", S::contact, "thing", pose(1, 0, z)));
+		m.sensors.push_back(sensor("pressed", S::contact, "floor", pose(0, 0, 0)));
+		RobotOptions o;
+		o.fixed = true;
+		Bot bot(m, o);
+		bot.step(1000);
+		std::vector<double> f = bot.values("touch.force");
+		double h = bot.values("thing.pose")[2];
+		print_message("%-18s on the floor: %g contacts, force %.5f %.5f %.5f N (m g = %.5f), centre at %.6f m "
+			      "(shape: %.6f)\n",
+			      c.what, bot.get("touch.count"), f[0], f[1], f[2], mass * g, h, c.rest);
+		assert_true(bot.get("touch.count") > 0);
+		expect_near(f[0], 0, 1e-6, "force x");
+		expect_near(f[1], 0, 1e-6, "force y");
+		expect_near(f[2], mass * g, 1e-3 * mass * g, "force z");
+		// The floor (welded: no body) bears the reaction.
+		expect_near(bot.values("pressed.force")[2], -mass * g, 1e-3 * mass * g, "the floor's force");
+		// At rest on the plane, sunk by the contacts' softness: m g
+		// over their stiffness (2e7 N/m each), microns.
+		expect_near(h, c.rest, 1e-5, "resting height");
+		expect_near(bot.values("thing.twist")[2], 0, 1e-6, "at rest");
+	}
+}
+
+void test_joined_links_never_collide(void **)
+{
+	// An arm hinged to a base with their shapes overlapping at the hinge,
+	// both self-colliding: the joint keeps them from touching, and the
+	// arm swings through as if the base were not there.
 	r::Model m = floor_and_mast();
-	r::Link crate = box_link("crate", mass, { 0.2, 0.3, 0.2 }, pose(1, 0, 0.1005), { 1, 0, 0.1005 });
-	crate.collisions.push_back(box_collision("shell", { 0.2, 0.3, 0.2 }, pose(1, 0, 0.1005)));
-	crate.self_collide = true;
-	m.links.push_back(crate);
-	m.sensors.push_back(sensor("touch", S::contact, "crate", pose(1, 0, 0.1)));
+	m.links[0].collisions.push_back(box_collision("block", { 0.4, 0.4, 0.4 }, pose(0, 0, 1)));
+	r::Link arm = box_link("arm", 1.0, { 0.6, 0.05, 0.05 }, pose(0, 0, 1), { 0.3, 0, 1 });
+	arm.collisions.push_back(box_collision("bar", { 0.6, 0.05, 0.05 }, pose(0.3, 0, 1)));
+	arm.self_collide = true;
+	m.links.push_back(arm);
+	m.joints.push_back(joint("hinge", K::continuous, "floor", "arm", pose(0, 0, 1), { 0, 1, 0 }));
+	m.sensors.push_back(sensor("touch", S::contact, "arm", pose(0, 0, 1)));
 	RobotOptions o;
 	o.fixed = true;
 	Bot bot(m, o);
-	bot.step(1000);
-	std::vector<double> f = bot.values("touch.force");
-	print_message("crate on the floor: %g contacts, force %.5f %.5f %.5f N (m g = %.5f), at z %.6f m\n",
-		      bot.get("touch.count"), f[0], f[1], f[2], mass * g, bot.values("crate.pose")[2]);
-	assert_true(bot.get("touch.count") > 0);
-	expect_near(f[0], 0, 1e-6, "force x");
-	expect_near(f[1], 0, 1e-6, "force y");
-	expect_near(f[2], mass * g, 1e-3 * mass * g, "force z");
-	// At rest on the plane (within the surface layer and softness).
-	expect_near(bot.values("crate.pose")[2], 0.1, 2e-3, "resting height");
-	expect_near(bot.values("crate.twist")[2], 0, 1e-4, "at rest");
+	bot.step(300);
+	assert_int_equal((int)bot.get("touch.count"), 0);
+	assert_true(bot.get("hinge.position") > 1.0);
 }
 
 void test_self_collide_rule(void **)
@@ -238,6 +319,7 @@ int main(void)
 		cmocka_unit_test(test_force_torque_motor),
 		cmocka_unit_test(test_ray),
 		cmocka_unit_test(test_contact),
+		cmocka_unit_test(test_joined_links_never_collide),
 		cmocka_unit_test(test_self_collide_rule),
 	};
 	return cmocka_run_group_tests(tests, nullptr, nullptr);
