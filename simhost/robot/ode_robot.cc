@@ -67,12 +67,13 @@ public:
 
 	~RobotModel() override
 	{
-		sensors_.reset();  // ray geoms
+		sensors_.reset(); // ray geoms
 		collider_.reset(); // space, geoms, contact joints
 		dWorldDestroy(world_);
 	}
 
-	void build(const robot::Model &desc, const Topology &topo, const Pose &model_in_world, const RobotOptions &opts);
+	void build(const robot::Model &desc, const Topology &topo, const Pose &model_in_world,
+		   const RobotOptions &opts);
 
 	void describe(std::vector<SignalDesc> &out) const override
 	{
@@ -85,7 +86,8 @@ public:
 private:
 	void add_signal(const std::string &what, uint32_t width, bool writable, const char *unit, Channel c)
 	{
-		descs_.push_back({ name_ + "." + what, width, writable ? (uint32_t)TCS_SIM_SIGNAL_WRITABLE : 0u, unit });
+		descs_.push_back(
+			{ name_ + "." + what, width, writable ? (uint32_t)TCS_SIM_SIGNAL_WRITABLE : 0u, unit });
 		channels_.push_back(c);
 	}
 	void describe_signals(const robot::Model &desc);
@@ -101,7 +103,8 @@ private:
 	std::vector<Channel> channels_;
 };
 
-void RobotModel::build(const robot::Model &desc, const Topology &topo, const Pose &model_in_world, const RobotOptions &opts)
+void RobotModel::build(const robot::Model &desc, const Topology &topo, const Pose &model_in_world,
+		       const RobotOptions &opts)
 {
 	collider_ = std::make_unique<Collider>(world_, desc.links.size());
 	links_.reserve(desc.links.size());
@@ -139,8 +142,10 @@ void RobotModel::describe_signals(const robot::Model &desc)
 		add_signal(p + "effort", 1, true, j.effort_unit(), { c.source, c.index, 2 });
 	}
 	for (size_t i = 0; i < links_.size(); i++) {
-		add_signal(links_[i].name + ".pose", 7, false, "m, quaternion", { Channel::Source::link, (uint32_t)i, 0 });
-		add_signal(links_[i].name + ".twist", 6, false, "m/s, rad/s", { Channel::Source::link, (uint32_t)i, 1 });
+		add_signal(links_[i].name + ".pose", 7, false, "m, quaternion",
+			   { Channel::Source::link, (uint32_t)i, 0 });
+		add_signal(links_[i].name + ".twist", 6, false, "m/s, rad/s",
+			   { Channel::Source::link, (uint32_t)i, 1 });
 	}
 	for (size_t i = 0; i < desc.sensors.size(); i++) {
 		auto fields = robot::sensor_fields(desc.sensors[i].kind);
@@ -198,7 +203,8 @@ Status RobotModel::step(double dt)
 	joints_.update();
 	for (const RobotLink &l : links_)
 		if (l.body && !body_finite(l.body))
-			return Error{ "link '" + l.name + "': the state became non-finite (an effort too large for the step?)" };
+			return Error{ "link '" + l.name +
+				      "': the state became non-finite (an effort too large for the step?)" };
 	sensors_->update(dt, links_, *collider_);
 	return Ok{};
 }
@@ -218,7 +224,8 @@ Result<std::unique_ptr<Model>> make_robot_model(const std::string &name, const r
 	Pose model_in_world{ desc.pose.p, robot::normalized(desc.pose.q) };
 	if (opts.pose) {
 		Pose root{ desc.links[0].pose.p, robot::normalized(desc.links[0].pose.q) };
-		model_in_world = robot::compose({ opts.pose->p, robot::normalized(opts.pose->q) }, robot::inverse(root));
+		model_in_world =
+			robot::compose({ opts.pose->p, robot::normalized(opts.pose->q) }, robot::inverse(root));
 	}
 	auto model = std::make_unique<RobotModel>(name, opts.gravity);
 	model->build(desc, *topo, model_in_world, opts);

@@ -81,7 +81,8 @@ Status check_shape(const Collision &c, const std::string &who)
 		break;
 	case Shape::Kind::mesh:
 		if (s.indices.empty() || s.indices.size() % 3 != 0)
-			return Error{ me + "mesh '" + s.mesh_uri + "' has no triangles (or a number of indices not a multiple of 3)" };
+			return Error{ me + "mesh '" + s.mesh_uri +
+				      "' has no triangles (or a number of indices not a multiple of 3)" };
 		for (const Vec3 &v : s.vertices)
 			if (!finite(v))
 				return Error{ me + "mesh '" + s.mesh_uri + "' has a vertex that is not finite" };
@@ -154,9 +155,11 @@ Status check_joint(const Joint &j)
 		bool lo_out = j.lower && (*j.lower < -M_PI || *j.lower > M_PI);
 		bool hi_out = j.upper && (*j.upper < -M_PI || *j.upper > M_PI);
 		if (!wide && (lo_out || hi_out))
-			return Error{ who + "limits beyond +-pi (" + fmt(j.lower.value_or(-INFINITY)) + ", " +
-				      fmt(j.upper.value_or(INFINITY)) +
-				      ") are not supported (ODE's hinge angle wraps there); use -pi..pi, or no limits" };
+			return Error{
+				who + "limits beyond +-pi (" + fmt(j.lower.value_or(-INFINITY)) + ", " +
+				fmt(j.upper.value_or(INFINITY)) +
+				") are not supported (ODE's hinge angle wraps there); use -pi..pi, or no limits"
+			};
 	}
 	for (auto [v, what] : { std::pair{ j.damping, "damping" }, std::pair{ j.friction, "friction" } })
 		if (!std::isfinite(v) || v < 0)
@@ -174,15 +177,17 @@ Status check_sensor(const Sensor &s, const Topology &t, const Model &m)
 		return Error{ who + "its pose is not finite" };
 	if (s.kind == Sensor::Kind::force_torque) {
 		if (!t.joint_index.count(s.joint))
-			return Error{ who + "no joint '" + s.joint + "' to measure (joints: " + name_list(t.joint_index) + ")" };
+			return Error{ who + "no joint '" + s.joint +
+				      "' to measure (joints: " + name_list(t.joint_index) + ")" };
 		if (m.is_static)
 			return Error{ who + "a static model's joints carry no load to measure" };
 		return Ok{};
 	}
 	if (!t.link_index.count(s.link))
-		return Error{ who + "no link '" + s.link + "' to mount it on (links: " + name_list(t.link_index) + ")" };
-	if (s.kind == Sensor::Kind::ray &&
-	    !(std::isfinite(s.range_min) && std::isfinite(s.range_max) && s.range_min >= 0 && s.range_max > s.range_min))
+		return Error{ who + "no link '" + s.link + "' to mount it on (links: " + name_list(t.link_index) +
+			      ")" };
+	if (s.kind == Sensor::Kind::ray && !(std::isfinite(s.range_min) && std::isfinite(s.range_max) &&
+					     s.range_min >= 0 && s.range_max > s.range_min))
 		return Error{ who + "a ray needs 0 <= range_min < range_max (got " + fmt(s.range_min) + ", " +
 			      fmt(s.range_max) + ")" };
 	return Ok{};
@@ -200,7 +205,8 @@ Status check_initial(const std::map<std::string, double> &values, const char *wh
 			return Error{ std::string(what) + ": joint '" + name +
 				      "' is not revolute, continuous or prismatic (only those take one)" };
 		if (m.is_static)
-			return Error{ std::string(what) + ": joint '" + name + "' is in a static model: it does not move" };
+			return Error{ std::string(what) + ": joint '" + name +
+				      "' is in a static model: it does not move" };
 		if (!std::isfinite(v))
 			return Error{ std::string(what) + ": joint '" + name + "': the value is not finite" };
 	}
@@ -312,8 +318,10 @@ Result<Topology> check_robot(const Model &m, const RobotOptions &opts)
 				      m.joints[j].child + "', which fixed joints weld to the world" };
 	for (const Sensor &s : m.sensors)
 		if (s.kind == Sensor::Kind::force_torque && t.anchored[t.joint_child[t.joint_index.at(s.joint)]])
-			return Error{ at(s.where) + "sensor '" + s.name + "': joint '" + s.joint +
-				      "' moves a link welded to the world (the root, fixed): there is no load to measure" };
+			return Error{
+				at(s.where) + "sensor '" + s.name + "': joint '" + s.joint +
+				"' moves a link welded to the world (the root, fixed): there is no load to measure"
+			};
 	for (size_t i = 0; i < m.links.size(); i++) {
 		const Link &l = m.links[i];
 		if (t.anchored[i])

@@ -80,8 +80,8 @@ void Collider::add_link(size_t index, const Link &desc, const RobotLink &link, c
 			std::vector<dTriIndex> &ix = mesh_indices_.emplace_back(s.indices.begin(), s.indices.end());
 			dTriMeshDataID data = dGeomTriMeshDataCreate();
 			meshes_.push_back(data);
-			dGeomTriMeshDataBuildDouble(data, v.data(), 3 * sizeof(double), (int)s.vertices.size(), ix.data(),
-						    (int)ix.size(), 3 * sizeof(dTriIndex));
+			dGeomTriMeshDataBuildDouble(data, v.data(), 3 * sizeof(double), (int)s.vertices.size(),
+						    ix.data(), (int)ix.size(), 3 * sizeof(dTriIndex));
 			g = dCreateTriMesh(space_, data, nullptr, nullptr, nullptr);
 			break;
 		}

@@ -63,7 +63,7 @@ private:
 	struct Sensed {
 		dJointFeedback fb;
 		size_t link1, link2; // the links of body1 and body2
-		bool welded2;        // link2 has no body: it bears -f1
+		bool welded2; // link2 has no body: it bears -f1
 	};
 
 	static void near(void *data, dGeomID a, dGeomID b);

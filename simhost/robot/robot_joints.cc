@@ -164,18 +164,18 @@ RobotJoints make_joints(dWorldID world, const Model &desc, const Topology &topo,
 		dJointID j = nullptr;
 		switch (d.kind) {
 		case Joint::Kind::revolute:
-		case Joint::Kind::continuous:
+		case Joint::Kind::continuous: {
 			j = dJointCreateHinge(world, nullptr);
 			attach(j, links, topo, i);
 			dJointSetHingeAnchor(j, anchor[0], anchor[1], anchor[2]);
 			dJointSetHingeAxis(j, axis[0], axis[1], axis[2]);
 			// A revolute joint limited to all of -pi..pi is a
 			// continuous one (robot_check rejects other wide ones).
-			out.rows += 5 + set_stops_and_friction(dJointSetHingeParam, j, 0, d,
-							       d.kind == Joint::Kind::revolute &&
-								       !((!d.lower || *d.lower <= -M_PI) &&
-									 (!d.upper || *d.upper >= M_PI)));
+			bool all_round = (!d.lower || *d.lower <= -M_PI) && (!d.upper || *d.upper >= M_PI);
+			bool stops = d.kind == Joint::Kind::revolute && !all_round;
+			out.rows += 5 + set_stops_and_friction(dJointSetHingeParam, j, 0, d, stops);
 			break;
+		}
 		case Joint::Kind::prismatic:
 			j = dJointCreateSlider(world, nullptr);
 			attach(j, links, topo, i);

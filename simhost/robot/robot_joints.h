@@ -26,7 +26,9 @@ namespace tcs::sim::robot {
 // child), with efforts held, saturated and damped as Joint1 does.
 class Universal {
 public:
-	Universal(std::string name, dJointID joint, double damping) : name_(std::move(name)), joint_(joint), damping_(damping) {}
+	Universal(std::string name, dJointID joint, double damping)
+		: name_(std::move(name)), joint_(joint), damping_(damping)
+	{}
 
 	const std::string &name() const { return name_; }
 	double position(int i) const;

@@ -15,8 +15,8 @@ namespace tcs::sim::robot {
 struct RobotLink {
 	std::string name;
 	dBodyID body = nullptr; // null: welded to the world, at `fixed_pose`
-	Pose fixed_pose;        // the link frame in the world, when welded
-	Vec3 com{ 0, 0, 0 };    // the centre of mass in the link frame
+	Pose fixed_pose; // the link frame in the world, when welded
+	Vec3 com{ 0, 0, 0 }; // the centre of mass in the link frame
 };
 
 // Makes the link's body in `world` (unless `anchored`) in the pose the

@@ -72,7 +72,8 @@ void Sensors::add(const Sensor &desc, const Model &model, const Topology &topo, 
 		size_t j = topo.joint_index.at(desc.joint);
 		s.link = topo.joint_child[j];
 		s.joint = joints.ode[j];
-		auto it = std::find_if(measured_.begin(), measured_.end(), [&](const auto &m) { return m.first == s.joint; });
+		auto it = std::find_if(measured_.begin(), measured_.end(),
+				       [&](const auto &m) { return m.first == s.joint; });
 		if (it != measured_.end()) {
 			s.fb = it->second;
 		} else {
@@ -85,7 +86,8 @@ void Sensors::add(const Sensor &desc, const Model &model, const Topology &topo, 
 				s.joint1 = &joints.one[m.index];
 		// The anchor in the child's frame (the joint rides on the child:
 		// the same local point in the zero and the initial pose).
-		Pose child0 = compose(model_in_world, { model.links[s.link].pose.p, normalized(model.links[s.link].pose.q) });
+		Pose child0 =
+			compose(model_in_world, { model.links[s.link].pose.p, normalized(model.links[s.link].pose.q) });
 		Vec3 anchor0 = robot::add(model_in_world.p, rotate(model_in_world.q, model.joints[j].pose.p));
 		s.anchor = unrotate(child0.q, sub(anchor0, child0.p));
 	} else {

@@ -46,12 +46,12 @@ private:
 	struct Item {
 		Sensor::Kind kind;
 		size_t link;
-		Pose mount;                 // the sensor frame in the link frame
-		Vec3 last_v{ 0, 0, 0 };     // imu: the mount point's velocity after the last step
+		Pose mount; // the sensor frame in the link frame
+		Vec3 last_v{ 0, 0, 0 }; // imu: the mount point's velocity after the last step
 		dJointFeedback *fb = nullptr; // force_torque
 		dJointID joint = nullptr;
 		const Joint1 *joint1 = nullptr; // force_torque on a hinge or slider: its effort
-		Vec3 anchor{ 0, 0, 0 };     // force_torque: the joint's anchor in the link frame
+		Vec3 anchor{ 0, 0, 0 }; // force_torque: the joint's anchor in the link frame
 		dGeomID ray = nullptr;
 		double range_min = 0, range_max = 0;
 		std::vector<double> values; // the fields, one after the other

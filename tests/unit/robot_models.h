@@ -20,9 +20,10 @@ inline r::Model chain3()
 	const r::Vec3 axes[] = { { 0, 1, 0 }, { 1, 0, 0 }, { 0, 1, 0 } };
 	for (int i = 0; i < 3; i++) {
 		double top = -0.5 * i;
-		m.links.push_back(box_link(links[i], mass[i], { 0.05, 0.08, 0.5 }, pose(0, 0, top), { 0, 0, top - 0.25 }));
-		m.joints.push_back(joint(joints[i], K::continuous, i ? links[i - 1] : "world", links[i], pose(0, 0, top),
-					 axes[i]));
+		m.links.push_back(
+			box_link(links[i], mass[i], { 0.05, 0.08, 0.5 }, pose(0, 0, top), { 0, 0, top - 0.25 }));
+		m.joints.push_back(joint(joints[i], K::continuous, i ? links[i - 1] : "world", links[i],
+					 pose(0, 0, top), axes[i]));
 	}
 	return m;
 }

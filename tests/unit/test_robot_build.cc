@@ -79,11 +79,21 @@ void test_signals(void **)
 	m.joints[1].kind = K::fixed;
 	m.sensors.push_back(sensor("imu", S::imu, "l3", pose(0, 0, -1)));
 	Bot bot(m);
-	std::vector<std::string> want = { "r.j1.position", "r.j1.velocity", "r.j1.effort",
-					  "r.j3.position", "r.j3.velocity", "r.j3.effort",
-					  "r.l1.pose",	   "r.l1.twist",    "r.l2.pose",
-					  "r.l2.twist",	   "r.l3.pose",	    "r.l3.twist",
-					  "r.imu.orientation", "r.imu.angular_velocity", "r.imu.linear_acceleration" };
+	std::vector<std::string> want = { "r.j1.position",
+					  "r.j1.velocity",
+					  "r.j1.effort",
+					  "r.j3.position",
+					  "r.j3.velocity",
+					  "r.j3.effort",
+					  "r.l1.pose",
+					  "r.l1.twist",
+					  "r.l2.pose",
+					  "r.l2.twist",
+					  "r.l3.pose",
+					  "r.l3.twist",
+					  "r.imu.orientation",
+					  "r.imu.angular_velocity",
+					  "r.imu.linear_acceleration" };
 	assert_int_equal(bot.signals().size(), want.size());
 	for (size_t i = 0; i < want.size(); i++)
 		assert_string_equal(bot.signals()[i].name.c_str(), want[i].c_str());
@@ -200,10 +210,8 @@ void test_long_chain(void **)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test(test_initial_state),
-		cmocka_unit_test(test_signals),
-		cmocka_unit_test(test_static_model),
-		cmocka_unit_test(test_refusals),
+		cmocka_unit_test(test_initial_state), cmocka_unit_test(test_signals),
+		cmocka_unit_test(test_static_model),  cmocka_unit_test(test_refusals),
 		cmocka_unit_test(test_long_chain),
 	};
 	return cmocka_run_group_tests(tests, nullptr, nullptr);

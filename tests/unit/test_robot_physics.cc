@@ -129,7 +129,8 @@ void test_ball_pendulum(void **)
 	double got = (crossings.back() - crossings.front()) / (double)(crossings.size() - 1);
 	double I = moments[1] + m * d * d;
 	double want = 2 * M_PI * std::sqrt(I / (m * g * d)) * (1 + theta * theta / 16);
-	print_message("ball joint: period %.6f s, analysis %.6f s, error %+.5f %%\n", got, want, 100 * (got / want - 1));
+	print_message("ball joint: period %.6f s, analysis %.6f s, error %+.5f %%\n", got, want,
+		      100 * (got / want - 1));
 	assert_true(std::fabs(got / want - 1) < 0.005);
 }
 
@@ -236,8 +237,8 @@ void test_prismatic_stop(void **)
 		bot.step();
 		low = std::fmin(low, bot.get("slide.position"));
 	}
-	print_message("prismatic stop at -0.2 m: lowest %.6f m (allowed %.6f), rests at %.8f m\n", low, -0.2 - vmax * dt,
-		      bot.get("slide.position"));
+	print_message("prismatic stop at -0.2 m: lowest %.6f m (allowed %.6f), rests at %.8f m\n", low,
+		      -0.2 - vmax * dt, bot.get("slide.position"));
 	assert_true(low >= -0.2 - vmax * dt - 1e-9);
 	expect_near(bot.get("slide.position"), -0.2, 1e-6, "resting on the stop");
 	// The carriage's pose agrees: its frame 0.2 m below where it started.

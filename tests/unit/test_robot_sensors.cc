@@ -173,7 +173,8 @@ void test_ray(void **)
 	down.range_max = 5;
 	m.sensors.push_back(down);
 	// Slanted 60 degrees from the vertical: reads 0.7 / cos 60.
-	r::Sensor slant = sensor("slant", S::ray, "mast", pose(0, 0, 0.7, axis_angle({ 0, 1, 0 }, M_PI / 2 - M_PI / 3)));
+	r::Sensor slant =
+		sensor("slant", S::ray, "mast", pose(0, 0, 0.7, axis_angle({ 0, 1, 0 }, M_PI / 2 - M_PI / 3)));
 	slant.range_max = 5;
 	m.sensors.push_back(slant);
 	r::Sensor up = sensor("up", S::ray, "mast", pose(0, 0, 0.7, axis_angle({ 0, 1, 0 }, -M_PI / 2)));
@@ -204,7 +205,8 @@ r::Shape cube_mesh(double h)
 			unsigned q[4] = { (unsigned)f, (unsigned)(f | a), (unsigned)(f | a | b), (unsigned)(f | b) };
 			r::Vec3 n{ 0, 0, 0 };
 			n[axis] = side ? 1 : -1;
-			r::Vec3 e1 = r::sub(s.vertices[q[1]], s.vertices[q[0]]), e2 = r::sub(s.vertices[q[2]], s.vertices[q[0]]);
+			r::Vec3 e1 = r::sub(s.vertices[q[1]], s.vertices[q[0]]),
+				e2 = r::sub(s.vertices[q[2]], s.vertices[q[0]]);
 			if (r::dot(r::cross(e1, e2), n) < 0)
 				std::swap(q[1], q[3]);
 			s.indices.insert(s.indices.end(), { q[0], q[1], q[2], q[0], q[2], q[3] });
