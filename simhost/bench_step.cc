@@ -1,7 +1,9 @@
 // Benchmark: the wall-clock cost of one step of the built-in models, as
 // min / median / max over many steps, through the plug-in ABI. For 1000
-// boxes this is the variable cost of the TCS paper's Figure 1. Prints
-// figures; judges nothing.
+// boxes this is the variable cost of the TCS paper's Figure 1. Then the
+// robot model (robot/ode_robot.h) against the built-in double pendulum,
+// 10,000 steps each through Model::step: the same double pendulum built
+// from a description, and a 3-link chain. Prints figures; judges nothing.
 //
 //   simhost_step_bench [--checksum] [STEPS]     (default 1000)
 //
@@ -18,6 +20,10 @@
 #include <string_view>
 #include <vector>
 
+#include "description.h"
+#include "model.h"
+#include "ode_init.h"
+#include "ode_robot.h"
 #include "tcs/simhost.h"
 
 namespace {
@@ -78,6 +84,104 @@ int bench(const char *label, const struct tcs_sim_model &model, int steps, bool 
 	return 0;
 }
 
+namespace r = tcs::sim::robot;
+
+// A uniform rod of `length` along z hanging from `top` (x-z plane), its
+// inertia as the built-in models' thin_rod_mass gives it.
+r::Link rod(const char *name, double mass, double length, double top)
+{
+	r::Link l;
+	l.name = name;
+	l.pose.p = { 0, 0, top };
+	l.mass = mass;
+	l.inertial.p = { 0, 0, top - length / 2 };
+	double perp = mass * length * length / 12, rr = 0.01 * length;
+	l.inertia = { perp, perp, mass * rr * rr / 2, 0, 0, 0 };
+	return l;
+}
+
+r::Joint hinge(const char *name, const char *parent, const char *child, double at, r::Vec3 axis)
+{
+	r::Joint j;
+	j.name = name;
+	j.kind = r::Joint::Kind::continuous;
+	j.parent = parent;
+	j.child = child;
+	j.pose.p = { 0, 0, at };
+	j.axis = axis;
+	return j;
+}
+
+// n rods of 1 m and 1 kg on hinges; the axes alternate y, x from the
+// third on (the double pendulum's two are both about -y, as the
+// built-in's).
+r::Model rods(int n)
+{
+	const char *links[] = { "link1", "link2", "link3" }, *joints[] = { "shoulder", "elbow", "wrist" };
+	r::Model m;
+	m.name = "rods";
+	for (int i = 0; i < n; i++) {
+		m.links.push_back(rod(links[i], 1, 1, -i));
+		m.joints.push_back(hinge(joints[i], i ? links[i - 1] : "world", links[i], -i,
+					 i < 2 ? r::Vec3{ 0, -1, 0 } : r::Vec3{ 1, 0, 0 }));
+	}
+	return m;
+}
+
+int bench_direct(const char *label, tcs::Result<std::unique_ptr<tcs::sim::Model>> made, double &median)
+{
+	if (!made) {
+		fprintf(stderr, "%s: %s\n", label, made.error().message.c_str());
+		return 1;
+	}
+	tcs::sim::Model &m = **made;
+	const int steps = 10000;
+	std::vector<double> ns;
+	ns.reserve(steps);
+	double t_all = now_ns();
+	for (int i = 0; i < steps; i++) {
+		double t0 = now_ns();
+		if (auto s = m.step(1e-3); !s) {
+			fprintf(stderr, "%s: %s\n", label, s.error().message.c_str());
+			return 1;
+		}
+		ns.push_back(now_ns() - t0);
+	}
+	t_all = now_ns() - t_all;
+	std::sort(ns.begin(), ns.end());
+	median = ns[ns.size() / 2];
+	printf("%-28s %d steps in %7.2f ms; per step: min %7.0f  median %7.0f  max %8.0f ns\n", label, steps,
+	       t_all * 1e-6, ns.front(), median, ns.back());
+	return 0;
+}
+
+int bench_robot()
+{
+	if (auto s = tcs::sim::ode_ready(); !s) {
+		fprintf(stderr, "%s\n", s.error().message.c_str());
+		return 1;
+	}
+	printf("\nrobot model vs built-in, through Model::step:\n");
+	const char *keys[] = { "initial_angle1" };
+	const double values[] = { 1.0 };
+	struct tcs_sim_model spec = { "d", "double_pendulum", keys, values, 1 };
+	auto params = tcs::sim::Params::parse("double_pendulum 'd'", tcs::sim::double_pendulum_model.params, spec);
+	if (!params) {
+		fprintf(stderr, "%s\n", params.error().message.c_str());
+		return 1;
+	}
+	double builtin = 0, two = 0, three = 0;
+	int r = bench_direct("double_pendulum (built-in)", tcs::sim::double_pendulum_model.make("d", *params), builtin);
+	tcs::sim::RobotOptions o;
+	o.initial_positions["shoulder"] = 1.0;
+	r |= bench_direct("double pendulum (robot)", tcs::sim::make_robot_model("p", rods(2), o), two);
+	r |= bench_direct("3-link chain (robot)", tcs::sim::make_robot_model("c", rods(3), o), three);
+	if (r == 0)
+		printf("median ratios to the built-in: robot double pendulum %.2f, 3-link chain %.2f\n", two / builtin,
+		       three / builtin);
+	return r;
+}
+
 } // namespace
 
 int main(int argc, char **argv)
@@ -99,5 +203,6 @@ int main(int argc, char **argv)
 	r |= bench("cartpole", { "c", "cartpole", swing_k, swing_v, 1 }, steps, checksum);
 	r |= bench("double_pendulum", { "d", "double_pendulum", nullptr, nullptr, 0 }, steps, checksum);
 	r |= bench("boxes (1000)", { "b", "boxes", nullptr, nullptr, 0 }, steps, checksum);
+	r |= bench_robot();
 	return r;
 }

@@ -2,6 +2,7 @@
 // hinge angle kept continuous across ODE's wrap at +-pi.
 #include "joint1.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace tcs::sim {
@@ -26,10 +27,14 @@ double Joint1::velocity() const
 
 void Joint1::apply()
 {
-	applied_ = commanded_;
+	double v = velocity();
+	applied_ = std::clamp(commanded_, -effort_limit_, effort_limit_);
+	if ((applied_ > 0 && v >= velocity_limit_) || (applied_ < 0 && v <= -velocity_limit_))
+		applied_ = 0;
 	// Explicit damping from the last step's velocity: at the step sizes
 	// used (ms) and the damping of a real joint it is stable and simple.
-	double f = applied_ - damping_ * velocity();
+	double f = applied_ - damping_ * v;
+	added_ = f;
 	if (f == 0)
 		return;
 	if (kind_ == Kind::hinge)

@@ -2,6 +2,7 @@
 // continuous position, a velocity, and the effort held on it.
 #pragma once
 
+#include <cmath>
 #include <string>
 
 #include <ode/ode.h>
@@ -30,9 +31,20 @@ public:
 	// The commanded effort that was in force during the last step (0
 	// before the first step). Damping is the joint's own and not included.
 	double effort() const { return applied_; }
+	// What the last step added on the joint: the effort less the damping.
+	double added() const { return added_; }
 
 	// Holds an effort from the next step on (zero-order hold).
 	void command(double effort) { commanded_ = effort; }
+	// An actuator's limits (none by default): a command beyond `effort` is
+	// applied at it, and none is applied in the direction the joint
+	// already moves at `velocity` or faster (the motor cannot drive it
+	// faster; gravity and other joints still can).
+	void limit(double effort, double velocity)
+	{
+		effort_limit_ = effort;
+		velocity_limit_ = velocity;
+	}
 
 	// Before a step: adds the held effort and the damping to ODE's force
 	// accumulators (which ODE clears after every step).
@@ -48,8 +60,11 @@ private:
 	dJointID joint_;
 	bool actuated_;
 	double damping_;
+	double effort_limit_ = INFINITY;
+	double velocity_limit_ = INFINITY;
 	double commanded_ = 0;
 	double applied_ = 0;
+	double added_ = 0;
 	double position_;
 	double last_raw_;
 };

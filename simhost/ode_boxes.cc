@@ -17,7 +17,6 @@
 // constraints, is saved and restored per world around every step.
 #include <cmath>
 #include <cstdio>
-#include <mutex>
 #include <random>
 #include <string>
 #include <vector>
@@ -26,6 +25,7 @@
 
 #include "body_state.h"
 #include "model.h"
+#include "quick_step.h"
 
 namespace tcs::sim {
 
@@ -44,9 +44,6 @@ constexpr size_t kMaxCount = 100000;
 constexpr int kMaxContacts = 8; // box-box gives up to 8, box-plane 4
 constexpr double kDensity = 500; // kg/m^3, a wooden crate's
 constexpr double kBounce = 0.3;
-
-// dRandGetSeed/dRandSetSeed are one process-wide variable.
-std::mutex ode_rand_lock;
 
 class Boxes : public Model {
 public:
@@ -143,15 +140,7 @@ public:
 	{
 		ncontacts_ = 0;
 		dSpaceCollide(space_, this, &Boxes::near);
-		int ok;
-		{
-			std::lock_guard<std::mutex> g(ode_rand_lock);
-			unsigned long saved = dRandGetSeed();
-			dRandSetSeed(rand_seed_);
-			ok = dWorldQuickStep(world_, dt);
-			rand_seed_ = dRandGetSeed();
-			dRandSetSeed(saved);
-		}
+		int ok = stepper_.step(world_, dt);
 		dJointGroupEmpty(contacts_);
 		if (!ok)
 			return Error{ "ODE could not allocate the memory for a step" };
@@ -191,7 +180,7 @@ private:
 	dJointGroupID contacts_;
 	std::vector<dBodyID> bodies_;
 	uint32_t ncontacts_ = 0;
-	unsigned long rand_seed_ = 0; // ODE's generator, as this world left it
+	QuickStepper stepper_;
 };
 
 Result<std::unique_ptr<Model>> make(const std::string &name, const Params &p)
