@@ -6,7 +6,9 @@
 #include "sdf_load.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <mutex>
 
 #include <console_bridge/console.h>
@@ -67,6 +69,19 @@ Vec3 vec(const im::Vector3d &v)
 Pose pose(const im::Pose3d &p)
 {
 	return { vec(p.Pos()), { p.Rot().W(), p.Rot().X(), p.Rot().Y(), p.Rot().Z() } };
+}
+
+// The pose b, given in frame a, in a's parent frame: composed by hand, for
+// ignition-math 6's Pose3 product reads right to left.
+im::Pose3d compose(const im::Pose3d &a, const im::Pose3d &b)
+{
+	return im::Pose3d(a.Pos() + a.Rot().RotateVector(b.Pos()), a.Rot() * b.Rot());
+}
+
+Pose compose(const Pose &a, const im::Pose3d &b)
+{
+	im::Pose3d pa(a.p[0], a.p[1], a.p[2], a.q[0], a.q[1], a.q[2], a.q[3]);
+	return pose(compose(pa, b));
 }
 
 // What the conversion needs besides the DOM: the file as the user named
@@ -151,7 +166,9 @@ Result<Shape> shape(const sdf::Geometry &g, const Where &w, const std::string &c
 	}
 }
 
-Status add_sensor(const Ctx &c, const sdf::Sensor &s, const std::string &link, const std::string &joint, Model &m)
+// joint_pose: the joint's, in the model's frame, for a joint's sensor.
+Status add_sensor(const Ctx &c, const sdf::Sensor &s, const std::string &link, const std::string &joint,
+		  const std::optional<Pose> &joint_pose, Model &m)
 {
 	Sensor out;
 	out.name = s.Name();
@@ -182,10 +199,19 @@ Status add_sensor(const Ctx &c, const sdf::Sensor &s, const std::string &link, c
 	if (out.kind == Sensor::Kind::force_torque && joint.empty())
 		return at(out.where.file, out.where.line,
 			  "force_torque sensor " + in_quotes(out.name) + " must be inside a <joint>");
-	auto p = in_model(s.SemanticPose(), out.where, "sensor " + in_quotes(out.name));
-	if (!p.ok())
-		return p.error();
-	out.pose = *p;
+	if (joint_pose) {
+		// libsdformat 12 gives a joint's sensors no pose graph: their pose
+		// is relative to the joint's frame, composed here.
+		if (!s.PoseRelativeTo().empty())
+			return at(out.where.file, out.where.line, "sensor " + in_quotes(out.name) +
+									  ": tcs cannot resolve relative_to on a joint's sensor");
+		out.pose = compose(*joint_pose, s.RawPose());
+	} else {
+		auto p = in_model(s.SemanticPose(), out.where, "sensor " + in_quotes(out.name));
+		if (!p.ok())
+			return p.error();
+		out.pose = *p;
+	}
 	out.rate_hz = s.UpdateRate();
 	m.sensors.push_back(std::move(out));
 	return Ok{};
@@ -204,10 +230,7 @@ Status add_link(const Ctx &c, const sdf::Model &sm, const sdf::Link &sl, Model &
 	(void)sl.SemanticPose().Resolve(lp, "__model__");
 	const im::Inertiald &in = sl.Inertial();
 	l.mass = in.MassMatrix().Mass();
-	// The inertial frame is given in the link's frame: composed by hand,
-	// for ignition-math 6's Pose3 product reads right to left.
-	im::Pose3d ip(lp.Pos() + lp.Rot().RotateVector(in.Pose().Pos()), lp.Rot() * in.Pose().Rot());
-	l.inertial = pose(ip);
+	l.inertial = pose(compose(lp, in.Pose())); // given in the link's frame
 	const im::Vector3d d = in.MassMatrix().DiagonalMoments(), o = in.MassMatrix().OffDiagonalMoments();
 	l.inertia = { d.X(), d.Y(), d.Z(), o.X(), o.Y(), o.Z() };
 	if (c.urdf && c.urdf->massless.count(l.name)) {
@@ -240,7 +263,7 @@ Status add_link(const Ctx &c, const sdf::Model &sm, const sdf::Link &sl, Model &
 	}
 	m.links.push_back(std::move(l));
 	for (uint64_t i = 0; i < sl.SensorCount(); i++) {
-		auto st = add_sensor(c, *sl.SensorByIndex(i), sl.Name(), "", m);
+		auto st = add_sensor(c, *sl.SensorByIndex(i), sl.Name(), "", std::nullopt, m);
 		if (!st.ok())
 			return st;
 	}
@@ -339,7 +362,7 @@ Status add_joint(const Ctx &c, const sdf::Joint &sj, Model &m)
 	}
 	m.joints.push_back(j);
 	for (uint64_t i = 0; i < sj.SensorCount(); i++) {
-		auto st = add_sensor(c, *sj.SensorByIndex(i), j.child, j.name, m);
+		auto st = add_sensor(c, *sj.SensorByIndex(i), j.child, j.name, j.pose, m);
 		if (!st.ok())
 			return st;
 	}
@@ -378,14 +401,34 @@ Result<Model> convert_model(const Ctx &c, const sdf::Model &sm, bool in_world)
 	return m;
 }
 
-// libsdformat's first error, with its line when it is one of the file's
-// (a URDF's lines are those of the SDF it was converted to: not given).
+// For a URDF, whose errors carry the lines of the SDF it was converted
+// to: the line of the first link or joint the message names, if any.
+int urdf_line(const UrdfFacts &f, const std::string &message)
+{
+	std::string word;
+	for (size_t i = 0; i <= message.size(); i++) {
+		char ch = i < message.size() ? message[i] : ' ';
+		if (std::isalnum((unsigned char)ch) || ch == '_' || ch == '-' || ch == '/' || ch == '.') {
+			word += ch;
+			continue;
+		}
+		while (!word.empty() && word.back() == '.')
+			word.pop_back();
+		for (const auto *lines : { &f.link_line, &f.joint_line })
+			if (auto it = lines->find(word); it != lines->end())
+				return it->second;
+		word.clear();
+	}
+	return 0;
+}
+
+// libsdformat's first error, with its line.
 Error sdf_error(const Ctx &c, const sdf::Errors &errs, const std::string &urdfdom)
 {
 	if (!urdfdom.empty())
-		return at(c.file, 0, one_line(urdfdom));
+		return at(c.file, urdf_line(*c.urdf, urdfdom), one_line(urdfdom));
 	const sdf::Error &e = errs[0];
-	int line = c.urdf ? 0 : e.LineNumber().value_or(0);
+	int line = c.urdf ? urdf_line(*c.urdf, e.Message()) : e.LineNumber().value_or(0);
 	std::string more = errs.size() > 1 ? " (and " + std::to_string(errs.size() - 1) + " more)" : "";
 	return at(c.file, line, one_line(e.Message()) + more);
 }
@@ -444,7 +487,12 @@ Result<Description> load_robot_file(const std::string &path)
 		errs = root.LoadSdfString(printer.CStr());
 		urdfdom = messages.first;
 	} else {
-		errs = root.Load(path);
+		// Absolute: libsdformat looks a relative name up in its own
+		// folders first, where world.sdf, model.sdf and link.sdf are its
+		// schema's files.
+		std::error_code ec;
+		std::filesystem::path abs = std::filesystem::absolute(path, ec);
+		errs = root.Load(ec ? path : abs.string());
 	}
 	Ctx c{ path, facts ? &*facts : nullptr, x->doc->RootElement()->GetLineNum() };
 	if (!errs.empty())

@@ -86,6 +86,26 @@ Result<bool> read_mass(const std::string &file, const XMLElement *link)
 	return std::fabs(m->DoubleAttribute("value", 0)) > converter_zero_mass;
 }
 
+// urdfdom knows box, cylinder, sphere and mesh, and drops a collision
+// of any other shape without failing; tcs cannot load meshes yet.
+Status check_collisions(const std::string &file, const XMLElement *link)
+{
+	for (const XMLElement *c = link->FirstChildElement("collision"); c; c = c->NextSiblingElement("collision")) {
+		const XMLElement *g = c->FirstChildElement("geometry");
+		const XMLElement *s = g ? g->FirstChildElement() : nullptr;
+		if (!s)
+			return at(file, c->GetLineNum(), "a <collision> without a <geometry> shape");
+		std::string kind = s->Name();
+		if (kind == "mesh")
+			return at(file, s->GetLineNum(), std::string("tcs cannot load meshes yet (mesh ") +
+								 (s->Attribute("filename") ? s->Attribute("filename") : "") +
+								 "): use boxes, cylinders or spheres");
+		if (kind != "box" && kind != "cylinder" && kind != "sphere")
+			return at(file, s->GetLineNum(), "URDF has no <" + kind + "> geometry (box, cylinder, sphere, mesh)");
+	}
+	return Ok{};
+}
+
 const char *link_attr(const XMLElement *joint, const char *which)
 {
 	const XMLElement *e = joint->FirstChildElement(which);
@@ -105,6 +125,9 @@ Result<Tree> read_tree(const std::string &file, XMLElement *robot, UrdfFacts &fa
 		auto mass = read_mass(file, e);
 		if (!mass.ok())
 			return mass.error();
+		auto shapes = check_collisions(file, e);
+		if (!shapes.ok())
+			return shapes.error();
 		t.link_index[name] = (int)t.links.size();
 		t.links.push_back(ULink{ name, e, *mass, -1, {} });
 		facts.link_line[name] = e->GetLineNum();
