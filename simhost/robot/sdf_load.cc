@@ -6,7 +6,6 @@
 #include "sdf_load.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <mutex>
@@ -17,6 +16,7 @@
 #include "description_check.h"
 #include "robot_xml.h"
 #include "urdf_prepare.h"
+#include "xml_facts.h"
 
 namespace tcs::sim::robot {
 
@@ -401,34 +401,18 @@ Result<Model> convert_model(const Ctx &c, const sdf::Model &sm, bool in_world)
 	return m;
 }
 
-// For a URDF, whose errors carry the lines of the SDF it was converted
-// to: the line of the first link or joint the message names, if any.
-int urdf_line(const UrdfFacts &f, const std::string &message)
-{
-	std::string word;
-	for (size_t i = 0; i <= message.size(); i++) {
-		char ch = i < message.size() ? message[i] : ' ';
-		if (std::isalnum((unsigned char)ch) || ch == '_' || ch == '-' || ch == '/' || ch == '.') {
-			word += ch;
-			continue;
-		}
-		while (!word.empty() && word.back() == '.')
-			word.pop_back();
-		for (const auto *lines : { &f.link_line, &f.joint_line })
-			if (auto it = lines->find(word); it != lines->end())
-				return it->second;
-		word.clear();
-	}
-	return 0;
-}
-
 // libsdformat's first error, with its line.
-Error sdf_error(const Ctx &c, const sdf::Errors &errs, const std::string &urdfdom)
+// libsdformat 12 gives many errors no line, and a URDF's lines are those
+// of the SDF it was converted to: then the line of the link or joint the
+// message names.
+Error sdf_error(const Ctx &c, const XmlFacts &xf, const sdf::Errors &errs, const std::string &urdfdom)
 {
 	if (!urdfdom.empty())
-		return at(c.file, urdf_line(*c.urdf, urdfdom), one_line(urdfdom));
+		return at(c.file, line_named(xf, urdfdom), one_line(urdfdom));
 	const sdf::Error &e = errs[0];
-	int line = c.urdf ? urdf_line(*c.urdf, e.Message()) : e.LineNumber().value_or(0);
+	int line = c.urdf ? 0 : e.LineNumber().value_or(0);
+	if (line == 0)
+		line = line_named(xf, e.Message());
 	std::string more = errs.size() > 1 ? " (and " + std::to_string(errs.size() - 1) + " more)" : "";
 	return at(c.file, line, one_line(e.Message()) + more);
 }
@@ -472,6 +456,9 @@ Result<Description> load_robot_file(const std::string &path)
 	auto x = read_robot_xml(path);
 	if (!x.ok())
 		return x.error();
+	auto xf = read_xml_facts(path, *x->doc);
+	if (!xf.ok())
+		return xf.error();
 	std::optional<UrdfFacts> facts;
 	sdf::Root root;
 	sdf::Errors errs;
@@ -496,7 +483,7 @@ Result<Description> load_robot_file(const std::string &path)
 	}
 	Ctx c{ path, facts ? &*facts : nullptr, x->doc->RootElement()->GetLineNum() };
 	if (!errs.empty())
-		return sdf_error(c, errs, urdfdom);
+		return sdf_error(c, *xf, errs, urdfdom);
 	auto d = convert(c, root);
 	if (!d.ok())
 		return d.error();
