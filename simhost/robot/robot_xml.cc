@@ -51,6 +51,18 @@ Error at(const std::string &file, int line, const std::string &message)
 	return Error{ file + ": " + message };
 }
 
+std::string one_line(std::string s)
+{
+	size_t b = s.find_first_not_of(" \t\n");
+	s.erase(0, b == std::string::npos ? s.size() : b);
+	for (char &c : s)
+		if (c == '\n' || c == '\t')
+			c = ' ';
+	while (!s.empty() && s.back() == ' ')
+		s.pop_back();
+	return s;
+}
+
 Result<RobotXml> read_robot_xml(const std::string &path)
 {
 	auto bytes = read_file(path, max_file_bytes);

@@ -28,4 +28,8 @@ Result<RobotXml> read_robot_xml(const std::string &path);
 // "FILE:LINE: message", or "FILE: message" when line is 0.
 Error at(const std::string &file, int line, const std::string &message);
 
+// A library's message on one line, trimmed: libsdformat's and urdfdom's
+// may span several.
+std::string one_line(std::string s);
+
 } // namespace tcs::sim::robot

@@ -10,12 +10,12 @@
 #include <filesystem>
 #include <mutex>
 
-#include <console_bridge/console.h>
 #include <sdf/sdf.hh>
 
 #include "description_check.h"
 #include "robot_xml.h"
 #include "urdf_prepare.h"
+#include "urdfdom_messages.h"
 #include "xml_facts.h"
 
 namespace tcs::sim::robot {
@@ -27,38 +27,10 @@ namespace im = ignition::math;
 // SDF's "no limit" is +-1e16; files also write +-1.79769e+308.
 constexpr double no_limit = 1e16;
 
-// urdfdom reports why a URDF cannot be read through console_bridge, and
-// libsdformat then says only "Unable to read file": the messages are
-// kept here for the error, and nothing is printed.
-class UrdfdomMessages : public console_bridge::OutputHandler {
-public:
-	UrdfdomMessages() { console_bridge::useOutputHandler(this); }
-	~UrdfdomMessages() override { console_bridge::restorePreviousOutputHandler(); }
-	void log(const std::string &text, console_bridge::LogLevel level, const char *, int) override
-	{
-		if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR && first.empty())
-			first = text;
-	}
-	std::string first;
-};
-
 void silence_libsdformat()
 {
 	static std::once_flag once;
 	std::call_once(once, [] { sdf::Console::Instance()->SetQuiet(true); });
-}
-
-// One line: libsdformat's messages may span several.
-std::string one_line(std::string s)
-{
-	size_t b = s.find_first_not_of(" \t\n");
-	s.erase(0, b == std::string::npos ? s.size() : b);
-	for (char &c : s)
-		if (c == '\n' || c == '\t')
-			c = ' ';
-	while (!s.empty() && s.back() == ' ')
-		s.pop_back();
-	return s;
 }
 
 Vec3 vec(const im::Vector3d &v)
@@ -472,7 +444,7 @@ Result<Description> load_robot_file(const std::string &path)
 		x->doc->Print(&printer);
 		UrdfdomMessages messages;
 		errs = root.LoadSdfString(printer.CStr());
-		urdfdom = messages.first;
+		urdfdom = messages.first_error();
 	} else {
 		// Absolute: libsdformat looks a relative name up in its own
 		// folders first, where world.sdf, model.sdf and link.sdf are its

@@ -34,6 +34,9 @@ void test_missing_and_not_xml(void **)
 	load_fails(bad("truncated.sdf"), 6, { "XML syntax error" });
 	load_fails(bad("empty.urdf"), 0, { "XML syntax error", "empty" });
 	load_fails(bad("not_a_robot.xml"), 2, { "neither URDF", "<launch>" });
+	// urdfdom's words (libsdformat alone says "Unable to read file"); it
+	// names no link, so no line.
+	load_fails(bad("bad_attribute.urdf"), 0, { "[zero]", "double" });
 }
 
 void test_bad_masses(void **)
