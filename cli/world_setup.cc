@@ -17,16 +17,27 @@ Result<WorldSetup> world_setup(const Scenario &sc)
 	}
 	auto world = SimWorld::create(out.models, out.step_ns);
 	if (!world) {
-		// Point at the model the plug-in complained about.
+		// A robot file's own mistake is at its own line ("FILE:LINE: ...").
+		// Otherwise: point at the model the plug-in complained about.
 		int line = sc.models.empty() ? 0 : sc.models.front().line;
 		const std::string &msg = world.error().message;
+		for (const auto &m : sc.models)
+			if (msg.rfind(m.type + ":", 0) == 0)
+				return world.error();
 		for (const auto &m : sc.models) {
 			if (msg.find(m.name) == std::string::npos && msg.find(m.type) == std::string::npos)
 				continue;
 			line = m.line;
-			for (const auto &p : m.params) // or at the parameter it names
-				if (msg.find("'" + p.key + "'") != std::string::npos)
-					line = p.line;
+			// Or at the parameter it names: a robot file's placement by its
+			// table's name (pose) or a joint's (initial_position.<joint>).
+			for (const auto &p : m.params) {
+				const size_t dot = p.key.find('.');
+				for (const std::string &name : { p.key, p.key.substr(0, dot), dot == std::string::npos ? "" : p.key.substr(dot + 1) })
+					if (!name.empty() && msg.find("'" + name + "'") != std::string::npos) {
+						line = p.line;
+						break;
+					}
+			}
 			break;
 		}
 		return scenario_error(sc, line, world.error().message);

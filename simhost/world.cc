@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "ode_init.h"
+#include "robot_file.h"
 
 namespace tcs::sim {
 
@@ -74,6 +75,8 @@ Status World::add(const struct tcs_sim_model &spec)
 {
 	if (!spec.type)
 		return Error{ "a model has no type (known: " + type_list() + ")" };
+	if (is_robot_file(spec.type))
+		return add_robot_file(spec);
 	const ModelType *type = find_type(spec.type);
 	if (!type)
 		return Error{ std::string("unknown model type '") + spec.type + "' (known: " + type_list() + ")" };
@@ -91,13 +94,34 @@ Status World::add(const struct tcs_sim_model &spec)
 	if (!model)
 		return Error{ who + ": " + model.error().message };
 
-	size_t first = descs_.size();
-	(*model)->describe(descs_);
-	for (size_t i = first; i < descs_.size(); i++)
-		slots_.push_back({ model->get(), (uint32_t)(i - first) });
-	models_.push_back(std::move(*model));
-	model_names_.emplace_back(spec.name);
+	take(std::move(*model), spec.name);
 	return Ok{};
+}
+
+Status World::add_robot_file(const struct tcs_sim_model &spec)
+{
+	std::string who = std::string(spec.type) + " '" + (spec.name ? spec.name : "") + "'";
+	if (!spec.name || !valid_name(spec.name))
+		return Error{ who + ": a model's name must be non-empty, without dots or spaces" };
+	for (const std::string &n : model_names_)
+		if (n == spec.name)
+			return Error{ who + ": another model has the same name" };
+	auto models = make_robot_file_models(spec);
+	if (!models)
+		return models.error();
+	for (auto &m : *models)
+		take(std::move(m), spec.name);
+	return Ok{};
+}
+
+void World::take(std::unique_ptr<Model> model, const std::string &name)
+{
+	size_t first = descs_.size();
+	model->describe(descs_);
+	for (size_t i = first; i < descs_.size(); i++)
+		slots_.push_back({ model.get(), (uint32_t)(i - first) });
+	models_.push_back(std::move(model));
+	model_names_.push_back(name);
 }
 
 Status World::step()

@@ -41,6 +41,9 @@ private:
 	};
 
 	Status add(const struct tcs_sim_model &spec);
+	Status add_robot_file(const struct tcs_sim_model &spec);
+	// A model's signals appended to the table.
+	void take(std::unique_ptr<Model> model, const std::string &name);
 
 	double dt_ = 0;
 	int64_t steps_ = 0;

@@ -21,7 +21,8 @@ fi
 
 packages=(gcc g++ libc6-dev binutils pkg-config meson ninja-build python3 libcmocka-dev util-linux
 	libode-dev libccd-dev libeigen3-dev libtomlplusplus-dev libzstd-dev gnuplot-nox
-	cyclonedds-dev cyclonedds-tools)
+	cyclonedds-dev cyclonedds-tools
+	libsdformat-dev libtinyxml2-dev libconsole-bridge-dev)
 [[ $what == bench ]] && packages+=(faketime)
 # Real programs nobody wrote for tcs, which the tests run under it.
 [[ $what == test ]] && packages+=(rt-tests stress-ng coreutils)

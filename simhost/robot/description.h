@@ -62,6 +62,10 @@ struct Link {
 	std::array<double, 6> inertia{ 0, 0, 0, 0, 0, 0 };
 	std::vector<Collision> collisions;
 	bool self_collide = false; // SDF <self_collide> (model's or link's); off for URDF
+	// The model of a world file it came from, when a world's models are
+	// simulated as one (robot_file.cc): links of different groups always
+	// may touch, of one group only with self_collide (Gazebo's rule).
+	int group = 0;
 	bool gravity = true;
 	Where where;
 };

@@ -31,7 +31,7 @@ struct RayHit {
 
 Collider::Collider(dWorldID world, size_t nlinks)
 	: world_(world), space_(dHashSpaceCreate(nullptr)), contacts_(dJointGroupCreate(0)), sensed_(nlinks, false),
-	  has_geoms_(nlinks, false), self_collide_(nlinks, false), moving_(nlinks, false), counts_(nlinks, 0),
+	  has_geoms_(nlinks, false), self_collide_(nlinks, false), moving_(nlinks, false), groups_(nlinks, 0), counts_(nlinks, 0),
 	  forces_(nlinks, Vec3{ 0, 0, 0 })
 {
 	dWorldSetContactSurfaceLayer(world_, kSurfaceLayer);
@@ -98,12 +98,13 @@ void Collider::add_link(size_t index, const Link &desc, const RobotLink &link, c
 				dGeomSetQuaternion(g, q);
 			}
 		}
-		GeomInfo &info = infos_.emplace_back(GeomInfo{ index, c.mu, desc.self_collide, link.body != nullptr });
+		GeomInfo &info = infos_.emplace_back(GeomInfo{ index, c.mu, desc.self_collide, link.body != nullptr, desc.group });
 		dGeomSetData(g, &info);
 		has_geoms_[index] = true;
 	}
 	self_collide_[index] = desc.self_collide;
 	moving_[index] = link.body != nullptr;
+	groups_[index] = desc.group;
 }
 
 void Collider::join(size_t a, size_t b)
@@ -113,17 +114,28 @@ void Collider::join(size_t a, size_t b)
 
 bool Collider::may_collide(const GeomInfo &a, const GeomInfo &b) const
 {
-	if (a.link == b.link || (!a.moving && !b.moving) || !a.self_collide || !b.self_collide)
+	if (a.link == b.link || (!a.moving && !b.moving))
+		return false;
+	if (a.group == b.group && (!a.self_collide || !b.self_collide))
 		return false;
 	return !joined_.count({ std::min(a.link, b.link), std::max(a.link, b.link) });
 }
 
 void Collider::finish()
 {
+	// Links of several groups (a world's models) may touch each other.
 	std::vector<size_t> candidates;
+	bool groups = false;
 	for (size_t l = 0; l < has_geoms_.size(); l++)
-		if (has_geoms_[l] && self_collide_[l])
-			candidates.push_back(l);
+		if (has_geoms_[l]) {
+			groups |= groups_[l] != groups_[0];
+			if (self_collide_[l])
+				candidates.push_back(l);
+		}
+	if (groups) {
+		active_ = true;
+		return;
+	}
 	active_ = false;
 	// Quadratic, but only over self-colliding links; past a few thousand
 	// some pair surely may collide.
@@ -133,8 +145,8 @@ void Collider::finish()
 	}
 	for (size_t i = 0; i < candidates.size() && !active_; i++)
 		for (size_t j = i + 1; j < candidates.size() && !active_; j++) {
-			GeomInfo a{ candidates[i], 0, true, moving_[candidates[i]] };
-			GeomInfo b{ candidates[j], 0, true, moving_[candidates[j]] };
+			GeomInfo a{ candidates[i], 0, true, moving_[candidates[i]], 0 };
+			GeomInfo b{ candidates[j], 0, true, moving_[candidates[j]], 0 };
 			active_ = may_collide(a, b);
 		}
 }

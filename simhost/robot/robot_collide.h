@@ -3,9 +3,10 @@
 // the contact forces on the links a contact sensor watches, and rays cast
 // against the geometry for ray sensors.
 //
-// Which links may touch follows Gazebo's rule inside one model: two links
-// collide only when both have self_collide set and no joint joins them.
-// With no such pair the model does no collision work at all.
+// Which links may touch follows Gazebo's rule: two links of one model (a
+// group) collide only when both have self_collide set, two of different
+// models (a world file's) always, and never two a joint joins. With no
+// such pair the model does no collision work at all.
 #pragma once
 
 #include <cstdint>
@@ -59,6 +60,7 @@ private:
 		double mu;
 		bool self_collide;
 		bool moving; // on a body
+		int group;
 	};
 	struct Sensed {
 		dJointFeedback fb;
@@ -79,6 +81,7 @@ private:
 	std::set<std::pair<size_t, size_t>> joined_;
 	std::vector<bool> sensed_;
 	std::vector<bool> has_geoms_, self_collide_, moving_;
+	std::vector<int> groups_;
 	std::deque<Sensed> feedback_; // this step's contacts on sensed links
 	std::vector<uint32_t> counts_;
 	std::vector<Vec3> forces_;
