@@ -84,10 +84,11 @@ public:
 	Status step(double dt) override;
 
 private:
-	void add_signal(const std::string &what, uint32_t width, bool writable, const char *unit, Channel c)
+	void add_signal(const std::string &what, uint32_t width, bool writable, const char *unit, Channel c,
+			double rate_hz = 0)
 	{
-		descs_.push_back(
-			{ name_ + "." + what, width, writable ? (uint32_t)TCS_SIM_SIGNAL_WRITABLE : 0u, unit });
+		descs_.push_back({ name_ + "." + what, width, writable ? (uint32_t)TCS_SIM_SIGNAL_WRITABLE : 0u, unit,
+				   rate_hz });
 		channels_.push_back(c);
 	}
 	void describe_signals(const robot::Model &desc);
@@ -151,7 +152,7 @@ void RobotModel::describe_signals(const robot::Model &desc)
 		auto fields = robot::sensor_fields(desc.sensors[i].kind);
 		for (size_t f = 0; f < fields.size(); f++)
 			add_signal(desc.sensors[i].name + "." + fields[f].name, fields[f].width, false, fields[f].unit,
-				   { Channel::Source::sensor, (uint32_t)i, (uint32_t)f });
+				   { Channel::Source::sensor, (uint32_t)i, (uint32_t)f }, desc.sensors[i].rate_hz);
 	}
 }
 

@@ -29,7 +29,9 @@
 //    ray: .range (1, m, along the sensor's x, range_max when nothing is
 //         hit; the beam starts at range_min and does not see its own
 //         link).
-//  Every sensor is computed at every step; rates are the coordinator's.
+//  Every sensor is computed at every step; its rate (the file's
+//  update_rate) goes with its signals' description, for the coordinator,
+//  which samples and holds them (sensor_models.h).
 //
 // Joints: stops on revolute and prismatic joints (a universal joint's on
 // its first axis), within -pi..pi for angles; damping as an explicit
