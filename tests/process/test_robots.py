@@ -217,5 +217,22 @@ def test_bad_robot_files_are_refused_with_their_line():
           "a missing file is named", r)
 
 
+def test_the_acrobot_example_swings_up_and_balances():
+    # examples/acrobot: its scenario (a URDF of the project's own, noisy
+    # quantised encoders at 500 Hz) and its plain C controller, in both
+    # modes: up within 7 s, within 0.05 rad of upright over the last second.
+    examples = os.environ.get("TCS_EXAMPLES", "examples")
+    scenario = os.path.join(os.environ.get("TCS_EXAMPLES_SRC", "examples"), "acrobot", "acrobot.toml")
+    env = dict(os.environ, PATH=examples + os.pathsep + os.environ.get("PATH", ""))
+    for mode in ("lockstep", "cpu"):
+        r = tcs("-q", "-m", mode, "--seed", "1", "-w", scenario, "-d", "8s", timeout=120, env=env)
+        v = r.values()
+        check(r.returncode == 0 and "upright_at" in v, "%s: the example runs" % mode, r)
+        check(0 < float(v["upright_at"]) < 7 and float(v["worst_last_second"]) < 0.05,
+              "%s: up at %s s, at most %s rad off over the last second" % (mode, v["upright_at"], v["worst_last_second"]), r)
+        print("  %-8s acrobot up at %s s, within %s rad of upright over the last second" %
+              (mode, v["upright_at"], v["worst_last_second"]))
+
+
 if __name__ == "__main__":
     main(globals())
