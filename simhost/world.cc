@@ -81,11 +81,8 @@ Status World::add(const struct tcs_sim_model &spec)
 	if (!type)
 		return Error{ std::string("unknown model type '") + spec.type + "' (known: " + type_list() + ")" };
 	std::string who = std::string(spec.type) + " '" + (spec.name ? spec.name : "") + "'";
-	if (!spec.name || !valid_name(spec.name))
-		return Error{ who + ": a model's name must be non-empty, without dots or spaces" };
-	for (const std::string &n : model_names_)
-		if (n == spec.name)
-			return Error{ who + ": another model has the same name" };
+	if (auto s = check_name(spec, who); !s)
+		return s;
 
 	auto params = Params::parse(who, type->params, spec);
 	if (!params)
@@ -98,14 +95,21 @@ Status World::add(const struct tcs_sim_model &spec)
 	return Ok{};
 }
 
-Status World::add_robot_file(const struct tcs_sim_model &spec)
+Status World::check_name(const struct tcs_sim_model &spec, const std::string &who) const
 {
-	std::string who = std::string(spec.type) + " '" + (spec.name ? spec.name : "") + "'";
 	if (!spec.name || !valid_name(spec.name))
 		return Error{ who + ": a model's name must be non-empty, without dots or spaces" };
 	for (const std::string &n : model_names_)
 		if (n == spec.name)
 			return Error{ who + ": another model has the same name" };
+	return Ok{};
+}
+
+Status World::add_robot_file(const struct tcs_sim_model &spec)
+{
+	std::string who = std::string(spec.type) + " '" + (spec.name ? spec.name : "") + "'";
+	if (auto s = check_name(spec, who); !s)
+		return s;
 	auto models = make_robot_file_models(spec);
 	if (!models)
 		return models.error();

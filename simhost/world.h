@@ -42,6 +42,8 @@ private:
 
 	Status add(const struct tcs_sim_model &spec);
 	Status add_robot_file(const struct tcs_sim_model &spec);
+	// A model's name: one part of signal names, and no other model's.
+	Status check_name(const struct tcs_sim_model &spec, const std::string &who) const;
 	// A model's signals appended to the table.
 	void take(std::unique_ptr<Model> model, const std::string &name);
 
