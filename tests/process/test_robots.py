@@ -187,6 +187,44 @@ def test_a_compound_pendulum_swings_with_its_period():
           (period, expected, 100 * (period / expected - 1)))
 
 
+BOX = """<?xml version="1.0"?>
+<robot name="box">
+  <link name="body">
+    <inertial><mass value="2"/><inertia ixx="0.1" iyy="0.1" izz="0.1" ixy="0" ixz="0" iyz="0"/></inertial>
+  </link>
+</robot>
+"""
+
+
+def test_a_scenarios_pose_and_fixed_place_the_robot():
+    # pose = [x, y, z, roll, pitch, yaw] puts the root link there (rotations
+    # about the fixed x, then y, then z axes, as URDF's rpy); fixed = true
+    # holds it, without it the body falls under gravity.
+    fd, path = tempfile.mkstemp(suffix=".urdf", prefix="tcs-test-robot-")
+    with os.fdopen(fd, "w") as f:
+        f.write(BOX)
+    pose = [1.0, 2.0, 3.0, 0.1, 0.2, 0.3]
+    try:
+        placed = "pose = [%s]\n" % ", ".join(str(v) for v in pose)
+        held = records(model(path, extra=placed + "fixed = true\n") + stream("/dev/tcs/s", ["r.body.pose"]), 500)
+        free = records(model(path, extra=placed) + stream("/dev/tcs/s", ["r.body.pose"]), 500)
+    finally:
+        os.unlink(path)
+    r, p, y = (v / 2 for v in pose[3:])
+    q = [math.cos(r) * math.cos(p) * math.cos(y) + math.sin(r) * math.sin(p) * math.sin(y),
+         math.sin(r) * math.cos(p) * math.cos(y) - math.cos(r) * math.sin(p) * math.sin(y),
+         math.cos(r) * math.sin(p) * math.cos(y) + math.sin(r) * math.cos(p) * math.sin(y),
+         math.cos(r) * math.cos(p) * math.sin(y) - math.sin(r) * math.sin(p) * math.cos(y)]
+    check(all(max(abs(a - b) for a, b in zip(row, pose[:3] + q)) < 1e-9 for row in held),
+          "fixed: the body stays at %s: %s" % (pose[:3] + q, held[-1]))
+    # Free: it falls, record k (at k ms) as ODE's semi-implicit Euler steps
+    # g t^2 / 2: z0 - g dt^2 k (k + 1) / 2 (1.2 m in 0.5 s).
+    k = len(free) - 1
+    expected = 3.0 - 9.81 * 1e-6 * k * (k + 1) / 2
+    check(abs(free[-1][2] - expected) < 1e-6, "free: it falls, z %.6f at %d ms (%.6f)" % (free[-1][2], k, expected))
+    print("  pose and fixed: held at %s; free fell to z = %.4f in %d ms" % (held[-1][:3], free[-1][2], k))
+
+
 def test_an_imu_at_rest_reads_gravity_upward():
     path = os.path.join(OWN, "compound_pendulum.urdf")
     world = model(path) + stream("/dev/tcs/s", ["r.bob_imu.linear_acceleration", "r.bob_imu.angular_velocity"])
