@@ -13,6 +13,8 @@
 #include <sdf/sdf.hh>
 
 #include "description_check.h"
+#include "mesh_load.h"
+#include "mesh_uri.h"
 #include "robot_xml.h"
 #include "urdf_prepare.h"
 #include "urdfdom_messages.h"
@@ -100,7 +102,43 @@ std::optional<double> child_double(sdf::ElementPtr e, std::initializer_list<cons
 	return e ? std::optional<double>(e->Get<double>()) : std::nullopt;
 }
 
-Result<Shape> shape(const sdf::Geometry &g, const Where &w, const std::string &col)
+// A collision mesh, loaded. A URDF's was found by urdf_prepare, which
+// wrote its path in the URI's place; an SDF's relative URI is against the
+// file that declared it.
+Result<Shape> mesh_shape(const Ctx &c, const sdf::Mesh &m, Where w, const std::string &col)
+{
+	std::string uri = m.Uri(), path;
+	if (!m.Submesh().empty())
+		return at(w.file, w.line, "collision " + in_quotes(col) + ": tcs cannot take submesh " +
+						  in_quotes(m.Submesh()) + " out of mesh " + in_quotes(uri) +
+						  ": give the collision a mesh file of its own");
+	if (c.urdf) {
+		auto it = c.urdf->meshes.find(uri);
+		if (it == c.urdf->meshes.end())
+			return at(w.file, w.line, "collision " + in_quotes(col) + ": mesh " + in_quotes(uri) +
+							  " lost in libsdformat's conversion");
+		path = uri;
+		uri = it->second.uri;
+		w.line = it->second.line;
+	} else {
+		auto p = resolve_mesh_uri(uri, m.FilePath().empty() ? c.file : m.FilePath());
+		if (!p.ok())
+			return at(w.file, w.line, p.error().message);
+		path = *p;
+	}
+	auto mesh = load_mesh(path, vec(m.Scale()));
+	if (!mesh.ok())
+		return at(w.file, w.line, "collision " + in_quotes(col) + ", mesh " + in_quotes(uri) + ": " +
+						  mesh.error().message);
+	Shape s;
+	s.kind = Shape::Kind::mesh;
+	s.vertices = std::move(mesh->vertices);
+	s.indices = std::move(mesh->indices);
+	s.mesh_uri = uri;
+	return s;
+}
+
+Result<Shape> shape(const Ctx &c, const sdf::Geometry &g, const Where &w, const std::string &col)
 {
 	Shape s;
 	switch (g.Type()) {
@@ -127,8 +165,7 @@ Result<Shape> shape(const sdf::Geometry &g, const Where &w, const std::string &c
 		s.normal = vec(g.PlaneShape()->Normal().Normalized());
 		return s;
 	case sdf::GeometryType::MESH:
-		return at(w.file, w.line, "tcs cannot load meshes yet (collision " + in_quotes(col) + ", mesh " +
-						  g.MeshShape()->Uri() + "): use boxes, cylinders, spheres or capsules");
+		return mesh_shape(c, *g.MeshShape(), w, col);
 	case sdf::GeometryType::HEIGHTMAP:
 		return at(w.file, w.line, "tcs cannot simulate heightmaps (collision " + in_quotes(col) + ")");
 	case sdf::GeometryType::ELLIPSOID:
@@ -225,7 +262,7 @@ Status add_link(const Ctx &c, const sdf::Model &sm, const sdf::Link &sl, Model &
 		col.pose = *cp;
 		if (sc2->Geom()->Type() == sdf::GeometryType::EMPTY)
 			continue; // <empty/>: nothing to collide with
-		auto s = shape(*sc2->Geom(), cw, col.name);
+		auto s = shape(c, *sc2->Geom(), cw, col.name);
 		if (!s.ok())
 			return s.error();
 		col.shape = std::move(*s);

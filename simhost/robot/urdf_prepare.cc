@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "mesh_uri.h"
 #include "robot_xml.h"
 
 namespace tcs::sim::robot {
@@ -87,19 +88,27 @@ Result<bool> read_mass(const std::string &file, const XMLElement *link)
 }
 
 // urdfdom knows box, cylinder, sphere and mesh, and drops a collision
-// of any other shape without failing; tcs cannot load meshes yet.
-Status check_collisions(const std::string &file, const XMLElement *link)
+// of any other shape without failing. A mesh's file is found now, where
+// its line is known (see urdf_prepare.h).
+Status check_collisions(const std::string &file, XMLElement *link, UrdfFacts &facts)
 {
-	for (const XMLElement *c = link->FirstChildElement("collision"); c; c = c->NextSiblingElement("collision")) {
-		const XMLElement *g = c->FirstChildElement("geometry");
-		const XMLElement *s = g ? g->FirstChildElement() : nullptr;
+	for (XMLElement *c = link->FirstChildElement("collision"); c; c = c->NextSiblingElement("collision")) {
+		XMLElement *g = c->FirstChildElement("geometry");
+		XMLElement *s = g ? g->FirstChildElement() : nullptr;
 		if (!s)
 			return at(file, c->GetLineNum(), "a <collision> without a <geometry> shape");
 		std::string kind = s->Name();
-		if (kind == "mesh")
-			return at(file, s->GetLineNum(), std::string("tcs cannot load meshes yet (mesh ") +
-								 (s->Attribute("filename") ? s->Attribute("filename") : "") +
-								 "): use boxes, cylinders or spheres");
+		if (kind == "mesh") {
+			const char *uri = s->Attribute("filename");
+			if (!uri || !*uri)
+				return at(file, s->GetLineNum(), "a <mesh> without a filename");
+			auto path = resolve_mesh_uri(uri, file);
+			if (!path.ok())
+				return at(file, s->GetLineNum(), path.error().message);
+			facts.meshes.emplace(*path, UrdfFacts::MeshRef{ uri, s->GetLineNum() });
+			s->SetAttribute("filename", path->c_str());
+			continue;
+		}
 		if (kind != "box" && kind != "cylinder" && kind != "sphere")
 			return at(file, s->GetLineNum(), "URDF has no <" + kind + "> geometry (box, cylinder, sphere, mesh)");
 	}
@@ -125,7 +134,7 @@ Result<Tree> read_tree(const std::string &file, XMLElement *robot, UrdfFacts &fa
 		auto mass = read_mass(file, e);
 		if (!mass.ok())
 			return mass.error();
-		auto shapes = check_collisions(file, e);
+		auto shapes = check_collisions(file, e, facts);
 		if (!shapes.ok())
 			return shapes.error();
 		t.link_index[name] = (int)t.links.size();

@@ -14,6 +14,9 @@
 //    to the world by an added fixed joint (world_to_ROOT). A massless link
 //    that moves is refused, and so is a massless link fixed to another
 //    that carries further joints (the converter would drop them);
+//  - a collision mesh's filename (package://, model://, relative) is
+//    resolved here, at its line (mesh_uri.h), and the file's path written
+//    in its place: the converter would turn package:// into model://;
 //  - a joint naming an undeclared link, a link that is the child of two
 //    joints, a loop of joints, duplicate names, a mass that is not a
 //    finite non-negative number, joint types tcs cannot simulate: refused
@@ -39,6 +42,13 @@ struct UrdfFacts {
 	// Links given a stand-in inertial: massless in the description.
 	std::set<std::string> massless;
 	std::string weld; // the fixed joint added to weld a massless root, or ""
+	// Collision meshes by the path written in place of their URI: the URI
+	// as the file wrote it, and the <mesh>'s line.
+	struct MeshRef {
+		std::string uri;
+		int line = 0;
+	};
+	std::map<std::string, MeshRef> meshes;
 };
 
 // Checks and mends doc (a <robot> document read from file) in place.
