@@ -1,5 +1,5 @@
 // load_mesh: the format from the file's extension, its reader's triangle
-// soup (mesh_formats.h), scaled, then indexed: equal corners become one
+// soup (mesh_stl.h, mesh_obj.h), scaled, then indexed: equal corners become one
 // vertex, so that ODE's trimesh sees shared edges.
 #include "mesh_load.h"
 
@@ -10,7 +10,8 @@
 #include <cstring>
 #include <unordered_map>
 
-#include "mesh_formats.h"
+#include "mesh_obj.h"
+#include "mesh_stl.h"
 #include "read_file.h"
 #include "robot_xml.h"
 

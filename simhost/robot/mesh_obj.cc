@@ -3,7 +3,7 @@
 // (counted back from the last vertex read so far). A polygon is fanned
 // from its first corner, which is right for the convex faces exporters
 // write.
-#include "mesh_formats.h"
+#include "mesh_obj.h"
 
 #include <cstdint>
 

@@ -3,7 +3,7 @@
 // is binary when its size is exactly what its count says, whatever its
 // header (binary headers often begin with "solid" too), else ASCII when
 // it begins with "solid".
-#include "mesh_formats.h"
+#include "mesh_stl.h"
 
 #include <cstdint>
 #include <cstring>

@@ -13,8 +13,7 @@
 #include <sdf/sdf.hh>
 
 #include "description_check.h"
-#include "mesh_load.h"
-#include "mesh_uri.h"
+#include "robot_mesh.h"
 #include "robot_xml.h"
 #include "urdf_prepare.h"
 #include "urdfdom_messages.h"
@@ -102,42 +101,6 @@ std::optional<double> child_double(sdf::ElementPtr e, std::initializer_list<cons
 	return e ? std::optional<double>(e->Get<double>()) : std::nullopt;
 }
 
-// A collision mesh, loaded. A URDF's was found by urdf_prepare, which
-// wrote its path in the URI's place; an SDF's relative URI is against the
-// file that declared it.
-Result<Shape> mesh_shape(const Ctx &c, const sdf::Mesh &m, Where w, const std::string &col)
-{
-	std::string uri = m.Uri(), path;
-	if (!m.Submesh().empty())
-		return at(w.file, w.line, "collision " + in_quotes(col) + ": tcs cannot take submesh " +
-						  in_quotes(m.Submesh()) + " out of mesh " + in_quotes(uri) +
-						  ": give the collision a mesh file of its own");
-	if (c.urdf) {
-		auto it = c.urdf->meshes.find(uri);
-		if (it == c.urdf->meshes.end())
-			return at(w.file, w.line, "collision " + in_quotes(col) + ": mesh " + in_quotes(uri) +
-							  " lost in libsdformat's conversion");
-		path = uri;
-		uri = it->second.uri;
-		w.line = it->second.line;
-	} else {
-		auto p = resolve_mesh_uri(uri, m.FilePath().empty() ? c.file : m.FilePath());
-		if (!p.ok())
-			return at(w.file, w.line, p.error().message);
-		path = *p;
-	}
-	auto mesh = load_mesh(path, vec(m.Scale()));
-	if (!mesh.ok())
-		return at(w.file, w.line, "collision " + in_quotes(col) + ", mesh " + in_quotes(uri) + ": " +
-						  mesh.error().message);
-	Shape s;
-	s.kind = Shape::Kind::mesh;
-	s.vertices = std::move(mesh->vertices);
-	s.indices = std::move(mesh->indices);
-	s.mesh_uri = uri;
-	return s;
-}
-
 Result<Shape> shape(const Ctx &c, const sdf::Geometry &g, const Where &w, const std::string &col)
 {
 	Shape s;
@@ -165,7 +128,13 @@ Result<Shape> shape(const Ctx &c, const sdf::Geometry &g, const Where &w, const 
 		s.normal = vec(g.PlaneShape()->Normal().Normalized());
 		return s;
 	case sdf::GeometryType::MESH:
-		return mesh_shape(c, *g.MeshShape(), w, col);
+		if (!g.MeshShape()->Submesh().empty())
+			return at(w.file, w.line, "collision " + in_quotes(col) + ": tcs cannot take submesh " +
+							  in_quotes(g.MeshShape()->Submesh()) + " out of mesh " +
+							  in_quotes(g.MeshShape()->Uri()) + ": give the collision a mesh file of its own");
+		// An SDF's relative URI is against the file that declared it.
+		return collision_mesh(g.MeshShape()->Uri(), vec(g.MeshShape()->Scale()),
+				      g.MeshShape()->FilePath().empty() ? c.file : g.MeshShape()->FilePath(), c.urdf, w, col);
 	case sdf::GeometryType::HEIGHTMAP:
 		return at(w.file, w.line, "tcs cannot simulate heightmaps (collision " + in_quotes(col) + ")");
 	case sdf::GeometryType::ELLIPSOID:

@@ -23,12 +23,18 @@
 //    child), contact, and ray/gpu_ray/lidar (as ray, with its range).
 //    Other sensor types (cameras, GPS, ...) are left out: tcs has no
 //    signal for them.
+//  - Collision meshes: STL (binary, ASCII) and OBJ files (mesh_load.h),
+//    scaled by the file's scale, their URI (relative, file://, package://,
+//    model://) found as mesh_uri.h says; a URDF's at the line of its
+//    <mesh>. Visuals are not read, so their meshes are never looked for.
 //
 // Refused, as one line "FILE:LINE: message" (FILE as given; "FILE: message"
 // where no line is known): a missing file, XML that is not well formed,
 // what libsdformat or urdfdom refuse, joint types other than revolute,
 // continuous, prismatic, fixed, ball and universal ("tcs cannot simulate
-// joint type X"), meshes and heightmaps, nested models, joint loops,
+// joint type X"), a mesh not found ("mesh 'URI' not found (looked in:
+// ...)"), one load_mesh refuses (other formats, damaged files), an SDF
+// <submesh>, heightmaps, nested models, joint loops,
 // unknown links, duplicate names, masses that are not finite and
 // non-negative, a moving link without mass or with an inertia that is not
 // positive definite.

@@ -1,7 +1,6 @@
-// The mesh readers behind load_mesh (mesh_load.h), one a format, each
-// giving a triangle soup (three corners a triangle, as the file wound
-// them) that load_mesh scales and indexes; and what the text formats
-// share: splitting into lines and words, and reading a number.
+// What the mesh readers (mesh_stl.h, mesh_obj.h) share: the triangle
+// soup they give load_mesh, and for the text formats, splitting into lines
+// and words and reading a number.
 #pragma once
 
 #include <charconv>
@@ -15,11 +14,9 @@
 
 namespace tcs::sim::robot {
 
+// Three corners a triangle, as the file wound them, before scaling and
+// indexing (load_mesh).
 using Soup = std::vector<Vec3>;
-
-// bytes: the whole file; path for messages.
-Result<Soup> read_stl(const std::string &path, std::string_view bytes);
-Result<Soup> read_obj(const std::string &path, std::string_view bytes);
 
 // A text file's lines, each split into words at blanks.
 class Words {
