@@ -42,6 +42,15 @@ Result<WorldSetup> world_setup(const Scenario &sc)
 		}
 		return scenario_error(sc, line, world.error().message);
 	}
+	// A scenario without a step of its own takes its world file's (10 us
+	// to 1 s, as a scenario's).
+	const int64_t asked = (*world)->file_step_ns();
+	if (!sc.sim.step_given && asked >= 10000 && asked <= 1000000000 && asked != out.step_ns) {
+		out.step_ns = asked;
+		world = SimWorld::create(out.models, out.step_ns);
+		if (!world)
+			return scenario_error(sc, sc.models.front().line, world.error().message);
+	}
 	std::vector<std::string> known;
 	for (size_t i = 0; i < (*world)->signal_count(); i++) {
 		const tcs_sim_signal_info &s = (*world)->signal(i);

@@ -94,6 +94,11 @@ void SimWorld::read_sensed(size_t index, std::vector<double> &out) const
 		read(index, out);
 }
 
+int64_t SimWorld::file_step_ns() const
+{
+	return plugin_->file_step_ns ? plugin_->file_step_ns(sim_) : 0;
+}
+
 size_t SimWorld::signal_count() const
 {
 	return plugin_->signal_count(sim_);

@@ -40,6 +40,8 @@ public:
 
 	Status step();
 	int64_t step_ns() const { return step_ns_; }
+	// The step its models' files ask for (an SDF world's), or 0.
+	int64_t file_step_ns() const;
 	int64_t steps() const { return steps_; }
 	// Wall-clock cost of the last step, and extremes so far (ns).
 	int64_t last_step_wall_ns() const { return last_wall_; }

@@ -20,6 +20,7 @@ namespace tcs {
 struct Sim {
 	int64_t step_ns = 1000000; // 1 ms; between 10 us and 1 s
 	int line = 0;              // of `step`, else of [sim], else 0 (not written)
+	bool step_given = false;   // `step` written (else a world file's step may stand)
 };
 
 struct ModelParam {

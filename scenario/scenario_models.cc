@@ -183,6 +183,7 @@ Status parse_sim(const toml::table &root, ScenarioReader &r)
 		if (*ns < kMinStepNs || *ns > kMaxStepNs)
 			return r.err(step->line, "step '" + *text + "' is out of range (10us to 1s)");
 		r.sc.sim.step_ns = *ns;
+		r.sc.sim.step_given = true;
 	}
 	if (const Entry *model = find_entry(es, "model")) {
 		auto type = r.get_string(*model, "\"pendulum\"");

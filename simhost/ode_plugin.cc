@@ -93,6 +93,11 @@ void destroy(tcs_sim *sim)
 	delete W(sim);
 }
 
+int64_t file_step_ns(const tcs_sim *sim)
+{
+	return sim ? W(sim)->file_step_ns() : 0;
+}
+
 const struct tcs_simhost_plugin plugin = {
 	TCS_SIMHOST_ABI_VERSION,
 	"ode",
@@ -104,6 +109,7 @@ const struct tcs_simhost_plugin plugin = {
 	read,
 	write,
 	destroy,
+	file_step_ns,
 };
 
 } // namespace

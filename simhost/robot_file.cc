@@ -74,7 +74,7 @@ bool is_robot_file(std::string_view type)
 	       ends_with(type, ".world");
 }
 
-Result<std::vector<std::unique_ptr<Model>>> make_robot_file_models(const struct tcs_sim_model &spec)
+Result<RobotFileModels> make_robot_file_models(const struct tcs_sim_model &spec)
 {
 	const std::string who = std::string(spec.type) + " '" + spec.name + "'";
 	auto desc = robot::load_robot_file(spec.type);
@@ -85,7 +85,9 @@ Result<std::vector<std::unique_ptr<Model>>> make_robot_file_models(const struct 
 		return opts.error();
 	if (desc->gravity)
 		opts->gravity = *desc->gravity;
-	std::vector<std::unique_ptr<Model>> out;
+	RobotFileModels out;
+	if (desc->max_step_s && *desc->max_step_s > 0 && *desc->max_step_s <= 1)
+		out.step_ns = std::llround(*desc->max_step_s * 1e9);
 	const robot::Model *model = &desc->models.front();
 	robot::Model merged;
 	if (desc->models.size() > 1) {
@@ -99,7 +101,7 @@ Result<std::vector<std::unique_ptr<Model>>> make_robot_file_models(const struct 
 	auto made = make_robot_model(spec.name, *model, *opts);
 	if (!made)
 		return made.error();
-	out.push_back(std::move(*made));
+	out.models.push_back(std::move(*made));
 	return out;
 }
 

@@ -18,8 +18,13 @@ namespace tcs::sim {
 // Whether a model type names a robot file rather than a built-in model.
 bool is_robot_file(std::string_view type);
 
+struct RobotFileModels {
+	std::vector<std::unique_ptr<Model>> models;
+	int64_t step_ns = 0; // an SDF world's max_step_size (0: none)
+};
+
 // The file's models, named <name>.<part>... A file error is the file's own
 // "FILE:LINE: what" (the caller adds nothing); a parameter's names it.
-Result<std::vector<std::unique_ptr<Model>>> make_robot_file_models(const struct tcs_sim_model &spec);
+Result<RobotFileModels> make_robot_file_models(const struct tcs_sim_model &spec);
 
 } // namespace tcs::sim

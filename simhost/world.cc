@@ -110,11 +110,13 @@ Status World::add_robot_file(const struct tcs_sim_model &spec)
 	std::string who = std::string(spec.type) + " '" + (spec.name ? spec.name : "") + "'";
 	if (auto s = check_name(spec, who); !s)
 		return s;
-	auto models = make_robot_file_models(spec);
-	if (!models)
-		return models.error();
-	for (auto &m : *models)
+	auto made = make_robot_file_models(spec);
+	if (!made)
+		return made.error();
+	for (auto &m : made->models)
 		take(std::move(m), spec.name);
+	if (file_step_ns_ == 0)
+		file_step_ns_ = made->step_ns;
 	return Ok{};
 }
 

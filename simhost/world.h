@@ -32,6 +32,8 @@ public:
 	// -1 for a bad index; write also for a signal that is not writable or
 	// a value that is not finite (it would poison the state for good).
 	int read(size_t index, double *out) const;
+	// An SDF world file's step (ns), the first such; 0 if none.
+	int64_t file_step_ns() const { return file_step_ns_; }
 	int write(size_t index, const double *values);
 
 private:
@@ -48,6 +50,7 @@ private:
 	void take(std::unique_ptr<Model> model, const std::string &name);
 
 	double dt_ = 0;
+	int64_t file_step_ns_ = 0;
 	int64_t steps_ = 0;
 	std::vector<std::unique_ptr<Model>> models_;
 	std::vector<std::string> model_names_;

@@ -241,6 +241,19 @@ def test_a_scenarios_pose_and_fixed_place_the_robot():
     print("  pose and fixed: held at %s; free fell to z = %.4f in %d ms" % (held[-1][:3], free[-1][2], k))
 
 
+def test_a_world_files_step():
+    # tests/robots/world.sdf has a 2 ms step: a scenario without a step of
+    # its own takes it (500 steps a second); with one, its own.
+    path = os.path.join(OWN, "world.sdf")
+    for given, steps in (("", 500), ('[sim]\nstep = "1ms"\n', 1000)):
+        with scenario_file(given + model(path)) as w:
+            r = tcs("-m", "lockstep", "-d", "1s", "-w", w, "--", "sleep", "1", timeout=60)
+        m = re.search(r"world: (\d+) steps", r.stderr)
+        check(r.returncode == 0 and m and int(m.group(1)) == steps,
+              "%s: %d steps in 1 s" % ("the file's step" if not given else "the scenario's step", steps), r)
+    print("  world.sdf: 500 steps a second of its own, 1000 with [sim] step = \"1ms\"")
+
+
 def test_an_imu_at_rest_reads_gravity_upward():
     path = os.path.join(OWN, "compound_pendulum.urdf")
     world = model(path) + stream("/dev/tcs/s", ["r.bob_imu.linear_acceleration", "r.bob_imu.angular_velocity"])

@@ -131,6 +131,8 @@ void test_wrong_types(void **)
 void test_step(void **)
 {
 	assert_int_equal(parse_ok(kHead).sim.step_ns, 1000000); // the default
+	assert_false(parse_ok(kHead).sim.step_given);             // (a world file's may stand)
+	assert_true(parse_ok("[sim]\nstep = \"2ms\"\nmodel = \"pendulum\"\n").sim.step_given);
 	assert_int_equal(parse_ok("[sim]\nstep = \"10us\"\nmodel = \"pendulum\"\n").sim.step_ns, 10000);
 	Scenario s = parse_ok("# a comment\n[sim]\nstep = \"1s\"\nmodel = \"pendulum\"\n");
 	assert_int_equal(s.sim.step_ns, 1000000000);

@@ -79,6 +79,11 @@ struct tcs_simhost_plugin {
 	int (*write)(tcs_sim *sim, size_t index, const double *values);
 
 	void (*destroy)(tcs_sim *sim);
+
+	/* The step the models' own files ask for (an SDF world's
+	 * <physics><max_step_size>), in ns; 0 if none does. A scenario that
+	 * sets no step of its own takes it. Version 2. */
+	int64_t (*file_step_ns)(const tcs_sim *sim);
 };
 
 /* What a plug-in shared library exports. */
