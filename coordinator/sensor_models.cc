@@ -51,13 +51,17 @@ double SensorModels::gaussian(State &s)
 void SensorModels::observe(int64_t t_ns, const std::function<void(size_t, double *)> &truth)
 {
 	for (State &s : models_) {
-		std::vector<double> now(s.m.width);
+		// (Each step: the buffer of an entry let go is taken again.)
+		std::vector<double> now = std::move(s.spare);
+		now.resize(s.m.width);
 		truth(s.m.index, now.data());
 		s.history.emplace_back(t_ns, std::move(now));
 		// Kept: the latest at or before t - latency, and what follows.
 		const int64_t seen_at = t_ns - s.m.latency_ns;
-		while (s.history.size() > 1 && s.history[1].first <= seen_at)
+		while (s.history.size() > 1 && s.history[1].first <= seen_at) {
+			s.spare = std::move(s.history.front().second);
 			s.history.pop_front();
+		}
 		if (t_ns < s.next_sample)
 			continue;
 		// The first sample is at the start; then one each period on the

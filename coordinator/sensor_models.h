@@ -42,6 +42,7 @@ private:
 		int64_t next_sample = 0;
 		std::deque<std::pair<int64_t, std::vector<double>>> history; // (t, truth), oldest first
 		std::vector<double> sample;
+		std::vector<double> spare; // a history entry's values, for the next
 	};
 	double gaussian(State &s);
 	std::vector<State> models_;
