@@ -18,7 +18,7 @@ from source_tree import project_files
 LAYERS = [
     ["libtcs_preload/include", "simhost/include"],  # what both sides of a line share
     ["common", "libtcs_preload"],
-    ["simhost", "scenario", "trace"],
+    ["simhost", "scenario", "trace", "wires"],
     ["coordinator"],
     ["cli", "coordinatord/dds"],
     ["tools", "coordinatord"],
