@@ -73,6 +73,74 @@ struct SensorModelSpec {
 	int line = 0;       // of [[sensor]]
 };
 
+// The robot's wires (DESIGN §9): buses the controller reaches through
+// SocketCAN, a tty or /dev/i2c-N, and the devices on them.
+struct CanMotorSpec {
+	std::string protocol = "mit"; // the only one
+	uint32_t id = 0;              // 1..0x7FF, unique on its bus
+	uint32_t reply_id = 0;        // the CAN id its replies go out on (the master's)
+	SignalRef joint;              // "<model>.<joint>": it drives <joint>.effort
+	double position_range = 12.5, velocity_range = 50, torque_range = 5, kp_max = 500, kd_max = 5;
+	int line = 0; // of [[can.motor]]
+};
+
+struct CanFieldSpec {
+	SignalRef signal;         // "<model>.<part>.<field>[index]": a sensor frame's value, or an effort a command sets
+	std::string type = "int16"; // int8 int16 int32 uint8 uint16 uint32 float32
+	double scale = 1, offset = 0;
+	int start = -1; // byte; -1: after the previous field
+	int line = 0;
+};
+
+struct CanFrameSpec {
+	uint32_t id = 0;
+	bool extended = false;
+	bool command = false;     // false: the world sends it at `rate`; true: the controller sends it, its fields set efforts
+	double rate_hz = 0;       // sensor frames only
+	int64_t period_ns = 0;
+	bool big_endian = false;  // byte_order = "big"
+	std::vector<CanFieldSpec> fields;
+	int line = 0; // of [[can.frame]]
+};
+
+struct CanSpec {
+	std::string interface;     // "can0": up to 15 characters, unique
+	int64_t bitrate = 1000000; // bit/s
+	int64_t data_bitrate = 0;  // CAN FD's data phase; 0: not FD
+	std::vector<CanMotorSpec> motors;
+	std::vector<CanFrameSpec> frames;
+	int line = 0; // of [[can]]
+};
+
+struct ServoSpec {
+	std::string protocol = "dynamixel2"; // the only one
+	uint32_t id = 1;                     // 0..252, unique on its line
+	SignalRef joint;
+	int line = 0; // of [[serial.servo]]
+};
+
+struct SerialSpec {
+	std::string path;        // absolute, normal, unique among every device path
+	int64_t baud = 57600;    // the devices' rate (what the controller must set)
+	std::vector<ServoSpec> servos;
+	int line = 0; // of [[serial]]
+};
+
+struct I2cDeviceSpec {
+	uint32_t address = 0x68;       // 7-bit, 0x03..0x77, unique on its bus
+	std::string chip = "mpu6050";  // the only one
+	SignalRef link;                // "<model>.<link>": its pose and twist drive the chip
+	double accel_noise = 0, gyro_noise = 0; // standard deviations (m/s², rad/s)
+	int line = 0; // of [[i2c.device]]
+};
+
+struct I2cSpec {
+	int bus = 1;               // /dev/i2c-<bus>, unique
+	int64_t clock_hz = 400000; // 100 kHz or 400 kHz (any from 10 kHz to 3.4 MHz)
+	std::vector<I2cDeviceSpec> devices;
+	int line = 0; // of [[i2c]]
+};
+
 struct ControllerEntry {
 	std::string command;           // as written
 	std::vector<std::string> argv; // command split: argv[0] is the program, unresolved
@@ -86,6 +154,9 @@ struct Scenario {
 	std::vector<ModelSpec> models; // at least one
 	std::vector<DeviceSpec> devices;
 	std::vector<SensorModelSpec> sensors;
+	std::vector<CanSpec> cans;
+	std::vector<SerialSpec> serials;
+	std::vector<I2cSpec> i2cs;
 	std::vector<ControllerEntry> controllers;
 };
 
