@@ -61,7 +61,7 @@ Result<UniqueFd> Controller::make_page(const ControllerSpec &spec, int mode, con
 		e.kind = (uint32_t)d.cfg.kind;
 		e.format = (uint32_t)d.cfg.format;
 		e.latest = d.cfg.latest ? 1 : 0;
-		e.width = (uint32_t)d.width;
+		e.width = is_wire(d.cfg.kind) ? d.cfg.table_width : (uint32_t)d.width;
 	}
 	return page_fd;
 }

@@ -67,6 +67,7 @@ struct DeviceSync {
 	uint16_t kind = 0;   // TCS_SYNC_READ, TCS_SYNC_POLL
 	int64_t handle = 0;  // the device (an index of Controller::devices)
 	bool nonblock = false; // a read that returns -EAGAIN rather than wait
+	int64_t deadline = TCS_NEVER; // a wire's read: it waits for data until then at most
 };
 
 // A signal timer of the controller (alarm, setitimer, timer_create): the

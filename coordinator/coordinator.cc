@@ -149,6 +149,8 @@ Status Coordinator::init()
 		};
 	if (auto s = run.devices.bind(run.cfg.devices, run.world.get(), warn); !s)
 		return s;
+	if (auto s = run.wires.bind(run.cfg.wires, run.world.get(), warn); !s)
+		return s;
 	if (!run.cfg.trace_path.empty()) {
 		// The coordinator's core is its own where it polls: it writes there.
 		TraceWriting how{ .pumped = run.poller.enabled(), .avoid_cpu = run.rt.cpu };

@@ -16,6 +16,7 @@
 #include "controller.h"
 #include "error.h"
 #include "realtime.h"
+#include "wires.h"
 #include "sim_world.h"
 #include "spin_costs.h"
 #include "step_peers.h"
@@ -32,6 +33,7 @@ struct CoordinatorConfig {
 	std::vector<ModelInstance> models;  // the world (none: an empty world)
 	std::vector<DeviceConfig> devices;  // its virtual devices
 	std::vector<SensorConfig> sensors;  // what its devices' readers see (sensor models)
+	WiresConfig wires;                  // its serial lines, I2C buses, CAN interfaces (devices too)
 	std::string trace_path;             // write an MCAP trace there (empty: none)
 	int64_t duration_ns = -1;           // stop at this virtual time; < 0: when all exit
 	std::optional<int64_t> epoch_ns;    // CLOCK_REALTIME at V = 0; default: now

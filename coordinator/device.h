@@ -6,12 +6,14 @@
 
 #include <cstdint>
 #include <deque>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "tcs/device_table.h"
 #include "unique_fd.h"
+#include "wire_port.h"
 
 namespace tcs {
 
@@ -23,6 +25,8 @@ struct DeviceConfig {
 	int64_t period_ns = 0;          // stream sensor: one record per period
 	std::optional<double> limit;    // actuator: saturation
 	std::vector<std::string> signals;
+	size_t wire = 0;                // a wire (TCS_DEVICE_SERIAL...): its bus among Wires'
+	uint32_t table_width = 0;       // a wire: the device table's width (a line's baud, a CAN MTU)
 };
 
 // A device whose signals are resolved in the world.
@@ -43,7 +47,14 @@ struct OpenDevice {
 	uint64_t dropped = 0;       // stream records dropped because nobody read them
 	std::string input;          // actuator: bytes of an incomplete record
 	bool gone = false;          // the controller closed it
+	std::shared_ptr<WirePort> wire; // a wire's fd: its port on the bus
 };
+
+// Whether a device kind is one of the robot's wires (serial, I2C, CAN).
+inline bool is_wire(int kind)
+{
+	return kind == TCS_DEVICE_SERIAL || kind == TCS_DEVICE_I2C || kind == TCS_DEVICE_CAN;
+}
 
 // One record of values in the device's format.
 std::string format_record(int format, const std::vector<double> &values);

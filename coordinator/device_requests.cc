@@ -16,6 +16,7 @@
 #include "slices.h"
 #include "tcs/protocol.h"
 #include "waits.h"
+#include "wire_bus.h"
 #include "world_steps.h"
 
 namespace tcs {
@@ -77,14 +78,21 @@ void on_dev_open(Run &run, Controller &c, const ::tcs_msg &m)
 		reply_now(run, c, -EACCES);
 		return;
 	}
+	WireBus *bus = is_wire(dev.cfg.kind) ? run.wires.bus(dev.cfg.wire) : nullptr;
+	if (is_wire(dev.cfg.kind) && !bus) {
+		reply_now(run, c, -ENODEV);
+		return;
+	}
 	int sv[2];
-	if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) < 0) {
+	if (socketpair(AF_UNIX, (bus ? bus->socket_type() : SOCK_STREAM) | SOCK_CLOEXEC, 0, sv) < 0) {
 		reply_now(run, c, -errno);
 		return;
 	}
 	auto d = std::make_unique<OpenDevice>();
 	d->dev = &dev;
 	d->sock.reset(sv[0]);
+	if (bus)
+		d->wire = run.wires.open(dev.cfg.wire);
 	int fl = fcntl(sv[0], F_GETFL);
 	fcntl(sv[0], F_SETFL, fl | O_NONBLOCK);
 	if (dev.cfg.kind == TCS_DEVICE_SENSOR && !dev.cfg.latest && dev.cfg.period_ns > 0) {
@@ -115,12 +123,19 @@ void on_dev_sync(Run &run, Controller &c, const ::tcs_msg &m)
 	}
 	if (m.kind == TCS_SYNC_WRITE) {
 		OpenDevice &d = *c.devices[(size_t)m.arg];
-		if (d.dev->cfg.kind == TCS_DEVICE_ACTUATOR && !run.devices.take_commands(c, d, false, run.trace))
+		if (d.wire)
+			c.wake_arg = run.wires.take(*d.wire, d.sock.get(), c.v, run.world.get());
+		else if (d.dev->cfg.kind == TCS_DEVICE_ACTUATOR && !run.devices.take_commands(c, d, false, run.trace))
 			c.wake_arg = -EINVAL;
 		reply_now(run, c, c.wake_arg);
 		return;
 	}
-	c.sync = DeviceSync{ m.kind, m.arg, (m.flags & TCS_DEV_NONBLOCK) != 0 };
+	if ((m.kind == TCS_SYNC_DRAIN || (m.flags & TCS_DEV_DEADLINE)) && !c.devices[(size_t)m.arg]->wire) {
+		reply_now(run, c, -EINVAL); // (a wire's alone)
+		return;
+	}
+	c.sync = DeviceSync{ m.kind, m.arg, (m.flags & TCS_DEV_NONBLOCK) != 0,
+			     (m.flags & TCS_DEV_DEADLINE) ? m.deadline : TCS_NEVER };
 	if (!run.ending && c.v >= run.sim_ns + run.cfg.step_ns) {
 		// It is ahead of the world: it waits until the world catches up.
 		if (c.lane >= 0) {
@@ -144,19 +159,64 @@ void on_dev_sync(Run &run, Controller &c, const ::tcs_msg &m)
 	schedule(run);
 }
 
+// The controller waits for the next arrival on a wire, or for the wire's
+// next event (which may bring one), or its deadline: Blocked until then.
+static bool wait_for(Controller &c, const DeviceSync &sync, int64_t until)
+{
+	c.sync = sync;
+	c.state = CtlState::Blocked;
+	c.wait.deadline = c.wait.asked = until;
+	c.wait.recheck = false;
+	c.wait.devices = false;
+	c.wake_pending = false;
+	return false;
+}
+
+// tcdrain(): done once what it wrote has left on the wire.
+static bool complete_drain(Run &run, Controller &c, const DeviceSync &sync)
+{
+	OpenDevice &d = *c.devices[(size_t)sync.handle];
+	const int64_t at = d.wire && d.wire->bus ? d.wire->bus->drained_at(*d.wire) : 0;
+	if (at > c.v && !run.ending)
+		return wait_for(c, sync, at);
+	c.wake_pending = true;
+	return true;
+}
+
+// A wire's read: done when something is in its fd, or it may not wait, or
+// its deadline has come (it reads nothing then).
+static bool complete_wire_read(Run &run, Controller &c, const DeviceSync &sync, OpenDevice &d)
+{
+	if (d.gone || !drained(d) || run.ending) {
+		c.wake_pending = true;
+		return true;
+	}
+	if (sync.nonblock || c.v >= sync.deadline) {
+		c.wake_arg = sync.nonblock ? -EAGAIN : 0;
+		c.wake_pending = true;
+		return true;
+	}
+	return wait_for(c, sync, std::min(next_record_due(c), sync.deadline));
+}
+
 // The world is at or past the controller's step: do what it asked. False
 // when it must wait for the next record (then it is Blocked until then).
 bool complete_sync(Run &run, Controller &c)
 {
+	run.wires.advance(c.v, run.sim_ns, run.world.get());
 	deliver(c);
 	const DeviceSync sync = *c.sync;
 	c.sync.reset();
 	c.wake_arg = 0;
+	if (sync.kind == TCS_SYNC_DRAIN)
+		return complete_drain(run, c, sync);
 	if (sync.kind != TCS_SYNC_READ) {
 		c.wake_pending = true;
 		return true;
 	}
 	OpenDevice &d = *c.devices[(size_t)sync.handle];
+	if (d.wire)
+		return complete_wire_read(run, c, sync, d);
 	if (!drained(d) || d.gone) {
 		c.wake_pending = true;
 		return true;

@@ -15,6 +15,7 @@
 #include <linux/sockios.h>
 
 #include "tcs/protocol.h"
+#include "wire_bus.h"
 
 namespace tcs {
 
@@ -29,6 +30,10 @@ Status DeviceServer::bind(const std::vector<DeviceConfig> &devices, const SimWor
 	for (const auto &cfg : devices) {
 		BoundDevice d;
 		d.cfg = cfg;
+		if (is_wire(cfg.kind)) {
+			devices_.push_back(std::move(d));
+			continue;
+		}
 		if (!world)
 			return Error{ cfg.path + ": a device needs a world with signals" };
 		for (const auto &name : cfg.signals) {
@@ -86,9 +91,41 @@ bool drained(const OpenDevice &d)
 	return ioctl(d.sock.get(), SIOCOUTQ, &unread) == 0 && unread == 0;
 }
 
+// A wire's arrivals go into its fd as they come due, whether the
+// controller has read what is there or not: a tty or a socket buffers them.
+static void deliver_wire(OpenDevice &d, int64_t now)
+{
+	WirePort &p = *d.wire;
+	while (!d.gone && !p.arrivals.empty() && p.arrivals.front().first <= now) {
+		std::string &bytes = p.arrivals.front().second;
+		ssize_t n = send(d.sock.get(), bytes.data(), bytes.size(), MSG_DONTWAIT | MSG_NOSIGNAL);
+		if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == ENOBUFS)) {
+			// Its buffer is full: a reader that does not read loses the
+			// oldest, as a tty's or a socket's overflow does.
+			p.arrivals.pop_front();
+			p.dropped++;
+			continue;
+		}
+		if (n < 0) {
+			d.gone = p.gone = true;
+			p.arrivals.clear();
+			break;
+		}
+		if ((size_t)n < bytes.size()) {
+			bytes.erase(0, (size_t)n);
+			continue;
+		}
+		p.arrivals.pop_front();
+	}
+}
+
 void deliver(Controller &c)
 {
 	for (auto &d : c.devices) {
+		if (d->wire) {
+			deliver_wire(*d, c.v);
+			continue;
+		}
 		if (d->gone || d->queue.empty() || d->queue.front().first > c.v || !drained(*d))
 			continue;
 		while (!d->gone && !d->queue.empty() && d->queue.front().first <= c.v) {
@@ -114,6 +151,13 @@ int64_t next_record_due(const Controller &c)
 {
 	int64_t due = TCS_NEVER;
 	for (const auto &d : c.devices) {
+		if (d->wire && !d->gone) {
+			if (!d->wire->arrivals.empty())
+				due = std::min(due, d->wire->arrivals.front().first);
+			if (d->wire->bus)
+				due = std::min(due, d->wire->bus->next_event());
+			continue;
+		}
 		if (d->gone || d->dev->cfg.kind != TCS_DEVICE_SENSOR || d->dev->cfg.latest)
 			continue;
 		due = std::min(due, d->queue.empty() ? d->next_due : d->queue.front().first);

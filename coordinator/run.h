@@ -30,6 +30,7 @@
 #include "tcs/protocol.h"
 #include "trace.h"
 #include "unique_fd.h"
+#include "wires.h"
 
 namespace tcs {
 
@@ -82,6 +83,7 @@ struct Run {
 	std::vector<std::unique_ptr<Controller>> ctls;
 	std::unique_ptr<SimWorld> world;
 	DeviceServer devices;
+	Wires wires;
 	DurationStats step_walls; // wall cost of each world step
 	Trace trace;
 	std::vector<size_t> joint_signals;

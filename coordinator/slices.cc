@@ -172,6 +172,7 @@ void resume(Run &run, Controller &c, int64_t target, int lane)
 		c.trace_v_start = c.v;
 		c.trace_charged_start = c.charged;
 	}
+	run.wires.advance(c.v, run.sim_ns, run.world.get());
 	deliver(c); // what its sensors have due by now is in their fds
 	c.mark_due = c.wake_pending && !c.multithreaded(); // (roundtrip.c)
 	c.answer_at_resume = false;

@@ -246,6 +246,7 @@ void apply_commands(Run &run, int64_t boundary)
 Status step_world(Run &run)
 {
 	if (run.world) {
+		run.wires.before_step(run.sim_ns, run.cfg.step_ns, *run.world);
 		apply_commands(run, run.sim_ns);
 		if (auto s = run.world->step(); !s)
 			return s;

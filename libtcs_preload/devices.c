@@ -16,9 +16,11 @@
 #include "raw_syscall.h"
 #include "report.h"
 #include "roundtrip.h"
+#include "serial.h"
 #include "spin.h"
 #include "vclock.h"
 #include "wait.h"
+#include "wire_fds.h"
 
 /* fd -> device handle + 1 (0: not a device). fds beyond the table are
  * never devices: open() moves a device fd below it if it must. */
@@ -46,8 +48,7 @@ int tcs_device_handle(int fd)
 	return __atomic_load_n(&tcs_fd_handle[fd], __ATOMIC_RELAXED) - 1;
 }
 
-/* The kind of device fd is (TCS_DEVICE_SENSOR/ACTUATOR), or 0. */
-static int tcs_device_kind(int fd)
+int tcs_device_kind(int fd)
 {
 	return tcs_device_handle(fd) < 0 ? 0 : tcs_fd_kind[fd] & ~TCS_FD_STREAM;
 }
@@ -72,6 +73,7 @@ int tcs_devices_open(void)
 void tcs_device_forget(int fd)
 {
 	if (tcs_device_handle(fd) >= 0) {
+		tcs_wire_fd_forget(fd);
 		__atomic_store_n(&tcs_fd_handle[fd], 0, __ATOMIC_RELAXED);
 		__atomic_sub_fetch(&tcs_open_devices, 1, __ATOMIC_RELAXED);
 	}
@@ -85,6 +87,7 @@ void tcs_device_copy(int from, int to)
 	tcs_device_forget(to);
 	tcs_fd_kind[to] = tcs_fd_kind[from];
 	tcs_fd_dev[to] = tcs_fd_dev[from];
+	tcs_wire_fd_copy(from, to);
 	__atomic_store_n(&tcs_fd_handle[to], h + 1, __ATOMIC_RELAXED);
 	__atomic_add_fetch(&tcs_open_devices, 1, __ATOMIC_RELAXED);
 }
@@ -93,8 +96,9 @@ long tcs_device_open(int dev, int oflags)
 {
 	const struct tcs_device_entry *e = &tcs_rt.devices->dev[dev];
 	int access = oflags & O_ACCMODE;
+	const int wire = e->kind == TCS_DEVICE_SERIAL || e->kind == TCS_DEVICE_I2C || e->kind == TCS_DEVICE_CAN;
 	if ((e->kind == TCS_DEVICE_SENSOR && access != O_RDONLY) ||
-	    (e->kind == TCS_DEVICE_ACTUATOR && access != O_WRONLY))
+	    (e->kind == TCS_DEVICE_ACTUATOR && access != O_WRONLY) || (wire && access == 3))
 		return -EACCES;
 	if (!tcs_wait_enter())
 		return -EBUSY;
@@ -102,7 +106,7 @@ long tcs_device_open(int dev, int oflags)
 	m.arg = dev;
 	m.cpu = tcs_charge_point(TCS_MSG_DEV_OPEN);
 	m.v = tcs_page_vnow(tcs_rt.page, tcs_page_read_slice(tcs_rt.page), m.cpu);
-	m.flags = (uint16_t)((access == O_RDONLY ? TCS_DEV_READ : TCS_DEV_WRITE) |
+	m.flags = (uint16_t)((access == O_RDONLY ? TCS_DEV_READ : access == O_WRONLY ? TCS_DEV_WRITE : TCS_DEV_READ | TCS_DEV_WRITE) |
 			     ((oflags & O_NONBLOCK) ? TCS_DEV_NONBLOCK : 0));
 	int fd;
 	tcs_roundtrip(&m, NULL, 0, NULL, &w, &fd);
@@ -123,6 +127,15 @@ long tcs_device_open(int dev, int oflags)
 		tcs_sys3(SYS_fcntl, fd, F_SETFL, O_NONBLOCK);
 	if (!(oflags & O_CLOEXEC))
 		tcs_sys3(SYS_fcntl, fd, F_SETFD, 0);
+	if (wire) {
+		struct tcs_wire_fd *wf = tcs_wire_fd_new(fd, e->kind);
+		if (!wf) {
+			tcs_sys1(SYS_close, fd);
+			return -EMFILE;
+		}
+		if (e->kind == TCS_DEVICE_SERIAL)
+			tcs_serial_opened(wf, e->width);
+	}
 	tcs_fd_kind[fd] = (uint8_t)(e->kind | (e->kind == TCS_DEVICE_SENSOR && !e->latest ? TCS_FD_STREAM : 0));
 	tcs_fd_dev[fd] = (uint8_t)dev;
 	__atomic_store_n(&tcs_fd_handle[fd], (int32_t)w.arg + 1, __ATOMIC_RELAXED);
@@ -134,11 +147,20 @@ long tcs_device_open(int dev, int oflags)
 long tcs_device_sync_held(int handle, int fd, unsigned kind)
 {
 	long fl = fd >= 0 ? tcs_sys3(SYS_fcntl, fd, F_GETFL, 0) : 0;
+	return tcs_device_sync_until(handle, kind, fl > 0 && (fl & O_NONBLOCK), -1);
+}
+
+long tcs_device_sync_until(int handle, unsigned kind, int nonblock, int64_t deadline)
+{
 	struct tcs_clock_page *p = tcs_rt.page;
 	int64_t cpu = tcs_charge_point(TCS_MSG_DEV_SYNC);
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_DEV_SYNC, 0), w;
 	m.kind = (uint16_t)kind;
-	m.flags = (uint16_t)((fl > 0 && (fl & O_NONBLOCK)) ? TCS_DEV_NONBLOCK : 0);
+	m.flags = (uint16_t)(nonblock ? TCS_DEV_NONBLOCK : 0);
+	if (deadline >= 0) {
+		m.flags |= TCS_DEV_DEADLINE;
+		m.deadline = deadline;
+	}
 	m.arg = handle;
 	m.cpu = cpu;
 	m.v = tcs_page_vnow(p, tcs_page_read_slice(p), cpu);
@@ -230,6 +252,8 @@ static long tcs_device_read_journalled(int fd, void *buf, size_t n)
 
 long tcs_device_read(int fd, void *buf, size_t n)
 {
+	if (tcs_device_kind(fd) == TCS_DEVICE_SERIAL)
+		return tcs_serial_read(fd, tcs_device_handle(fd), buf, n);
 	if (__builtin_expect(tcs_journal_on(), 0))
 		return tcs_device_read_journalled(fd, buf, n);
 	return tcs_device_read_live(fd, buf, n);
@@ -256,6 +280,12 @@ long tcs_device_readv(int fd, const struct iovec *iov, int n)
 {
 	/* Journalled, into its first buffer only: a short read, as a socket's
 	 * readv may be, and one the record has whole. */
+	if (tcs_device_kind(fd) == TCS_DEVICE_SERIAL) {
+		int i = 0;
+		while (i < n && iov[i].iov_len == 0)
+			i++;
+		return i < n ? tcs_serial_read(fd, tcs_device_handle(fd), iov[i].iov_base, iov[i].iov_len) : 0;
+	}
 	if (__builtin_expect(tcs_journal_on(), 0)) {
 		int i = 0;
 		while (i < n && iov[i].iov_len == 0)
@@ -283,6 +313,8 @@ static long tcs_after_write(int h, int fd, long written, char last)
 long tcs_device_write(int fd, const void *buf, size_t n)
 {
 	int h = tcs_device_handle(fd);
+	if (tcs_device_kind(fd) == TCS_DEVICE_SERIAL)
+		return tcs_serial_write(fd, h, buf, n);
 	if (tcs_device_kind(fd) == TCS_DEVICE_SENSOR)
 		return -EBADF; /* read-only, like the file it stands for */
 	int lazy = tcs_active() && tcs_lazy_write_begin(h, tcs_device_entry(fd), buf, n);
@@ -297,6 +329,16 @@ long tcs_device_write(int fd, const void *buf, size_t n)
 long tcs_device_writev(int fd, const struct iovec *iov, int n)
 {
 	int h = tcs_device_handle(fd);
+	if (tcs_device_kind(fd) == TCS_DEVICE_SERIAL) {
+		long done = 0;
+		for (int i = 0; i < n; i++) {
+			long r = tcs_serial_write(fd, h, iov[i].iov_base, iov[i].iov_len);
+			if (r < 0)
+				return done > 0 ? done : r;
+			done += r;
+		}
+		return done;
+	}
 	if (tcs_device_kind(fd) == TCS_DEVICE_SENSOR)
 		return -EBADF;
 	long w = tcs_sys3(SYS_writev, fd, iov, n);
@@ -323,7 +365,7 @@ void tcs_devices_after_fork(void)
 			continue;
 		long fl = tcs_sys3(SYS_fcntl, fd, F_GETFL, 0), fdfl = tcs_sys3(SYS_fcntl, fd, F_GETFD, 0);
 		int kind = tcs_fd_kind[fd] & ~TCS_FD_STREAM;
-		int oflags = (kind == TCS_DEVICE_SENSOR ? O_RDONLY : O_WRONLY) | (fl > 0 && (fl & O_NONBLOCK) ? O_NONBLOCK : 0) |
+		int oflags = (kind == TCS_DEVICE_SENSOR ? O_RDONLY : kind == TCS_DEVICE_ACTUATOR ? O_WRONLY : O_RDWR) | (fl > 0 && (fl & O_NONBLOCK) ? O_NONBLOCK : 0) |
 			     (fdfl > 0 && (fdfl & FD_CLOEXEC) ? O_CLOEXEC : 0);
 		tcs_device_forget(fd);
 		long fresh = tcs_device_open(tcs_fd_dev[fd], oflags);

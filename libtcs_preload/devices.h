@@ -4,6 +4,7 @@
 #define TCS_DEVICES_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "runtime.h"
 
@@ -18,6 +19,8 @@ int tcs_device_lookup(const char *path) TCS_HIDDEN;
 long tcs_device_open(int dev, int oflags) TCS_HIDDEN;
 /* The device handle of fd, or -1 if fd is not a device. */
 int tcs_device_handle(int fd) TCS_HIDDEN;
+/* The kind of device fd is (enum tcs_device_kind), or 0. */
+int tcs_device_kind(int fd) TCS_HIDDEN;
 /* How many device fds are open (then readiness checks must sync). */
 int tcs_devices_open(void) TCS_HIDDEN;
 /* fd was closed / `to` became a copy of `from`. */
@@ -30,6 +33,9 @@ void tcs_devices_after_fork(void) TCS_HIDDEN;
  * inside tcs_wait_enter(); fd tells whether it is non-blocking. 0 or
  * -errno. */
 long tcs_device_sync_held(int handle, int fd, unsigned kind) TCS_HIDDEN;
+/* The same, non-blocking or not as told, a wire's read waiting for data
+ * until deadline at most (virtual ns; < 0: no deadline). */
+long tcs_device_sync_until(int handle, unsigned kind, int nonblock, int64_t deadline) TCS_HIDDEN;
 /* read(2), readv(2), write(2), writev(2) of device fd (the runtime active
  * for reads): what is due read in virtual time, what is written taken by
  * the coordinator at the time of the write. The result or -errno. */

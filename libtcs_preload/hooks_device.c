@@ -19,6 +19,7 @@
 #include "random.h"
 #include "raw_syscall.h"
 #include "real.h"
+#include "serial.h"
 
 /* ---- open ---------------------------------------------------------------- */
 
@@ -171,13 +172,21 @@ TCS_EXPORT FILE *fopen64(const char *path, const char *mode)
 
 /* ---- a serial port's line settings -------------------------------------------- */
 
-/* A device answers like a serial port in raw mode, 8N1, 115200 baud, and
- * accepts any new settings: programs written for /dev/ttyUSB0 configure
- * the line before they use it. */
+/* A scenario's serial line (a wire) keeps its settings and times its bytes
+ * (serial.c). A text device answers like a serial port in raw mode, 8N1,
+ * 115200 baud, and accepts any new settings: programs written for
+ * /dev/ttyUSB0 configure the line before they use it. */
+static int tcs_serial_fd(int fd)
+{
+	return tcs_device_kind(fd) == TCS_DEVICE_SERIAL;
+}
+
 TCS_EXPORT int tcgetattr(int fd, struct termios *t)
 {
 	if (tcs_device_handle(fd) < 0)
 		return tcs_real()->tcgetattr(fd, t);
+	if (tcs_serial_fd(fd))
+		return tcs_errno_result(tcs_serial_getattr(fd, t));
 	memset(t, 0, sizeof *t);
 	t->c_cflag = CS8 | CREAD | CLOCAL | B115200;
 	t->c_ispeed = B115200;
@@ -189,6 +198,16 @@ TCS_EXPORT int tcsetattr(int fd, int when, const struct termios *t)
 {
 	if (tcs_device_handle(fd) < 0)
 		return tcs_real()->tcsetattr(fd, when, t);
+	if (tcs_serial_fd(fd)) {
+		if (when == TCSADRAIN || when == TCSAFLUSH) {
+			long r = tcs_serial_drain(fd, tcs_device_handle(fd));
+			if (r < 0)
+				return tcs_errno_result(r);
+		}
+		if (when == TCSAFLUSH)
+			(void)tcs_serial_flush(fd, tcs_device_handle(fd), TCIFLUSH);
+		return tcs_errno_result(tcs_serial_setattr(fd, tcs_device_handle(fd), t));
+	}
 	return 0;
 }
 
@@ -196,6 +215,8 @@ TCS_EXPORT int tcflush(int fd, int queue)
 {
 	if (tcs_device_handle(fd) < 0)
 		return tcs_errno_result(tcs_sys3(SYS_ioctl, fd, TCFLSH, queue));
+	if (tcs_serial_fd(fd))
+		return tcs_errno_result(tcs_serial_flush(fd, tcs_device_handle(fd), queue));
 	return 0;
 }
 
@@ -203,6 +224,8 @@ TCS_EXPORT int tcdrain(int fd)
 {
 	if (tcs_device_handle(fd) < 0)
 		return tcs_errno_result(tcs_sys3(SYS_ioctl, fd, TCSBRK, 1));
+	if (tcs_serial_fd(fd))
+		return tcs_errno_result(tcs_serial_drain(fd, tcs_device_handle(fd)));
 	return 0;
 }
 
@@ -221,8 +244,9 @@ TCS_EXPORT int ioctl(int fd, unsigned long request, ...)
 	va_end(ap);
 	if (tcs_device_handle(fd) < 0)
 		return tcs_errno_result(tcs_sys3(SYS_ioctl, fd, request, arg));
-	switch (request) {
-	case TCGETS: {
+	if (tcs_serial_fd(fd))
+		return tcs_errno_result(tcs_serial_ioctl(fd, tcs_device_handle(fd), request, arg));
+	switch (request) {	case TCGETS: {
 		struct tcs_kernel_termios *t = (struct tcs_kernel_termios *)arg;
 		memset(t, 0, sizeof *t);
 		t->c_cflag = CS8 | CREAD | CLOCAL | B115200;

@@ -19,6 +19,10 @@ extern "C" {
 enum tcs_device_kind {
 	TCS_DEVICE_SENSOR = 1,   /* the controller reads records */
 	TCS_DEVICE_ACTUATOR = 2, /* the controller writes records */
+	/* The robot's wires (tcs/wire_protocol.h): read and written both ways. */
+	TCS_DEVICE_SERIAL = 3, /* a tty: path is its device file */
+	TCS_DEVICE_I2C = 4,    /* /dev/i2c-N */
+	TCS_DEVICE_CAN = 5,    /* a SocketCAN interface: path is its name ("can0"), never opened by path */
 };
 
 enum tcs_device_format {
@@ -31,7 +35,7 @@ struct tcs_device_entry {
 	uint32_t kind;                  /* enum tcs_device_kind */
 	uint32_t format;                /* enum tcs_device_format */
 	uint32_t latest;                /* sensor: every read is answered with the world now */
-	uint32_t width;                 /* values per record */
+	uint32_t width;                 /* values per record; a CAN interface's MTU (16, or 72 for FD) */
 };
 
 struct tcs_device_table {

@@ -20,7 +20,7 @@ extern "C" {
 #endif
 
 #define TCS_PROTO_MAGIC 0x31736374u /* "tcs1" */
-#define TCS_PROTO_VERSION 9u
+#define TCS_PROTO_VERSION 10u
 
 /* Environment through which tcs-run hands the channel to the preload. */
 #define TCS_ENV_CHANNEL_FD "TCS_CHANNEL_FD"
@@ -94,13 +94,15 @@ enum tcs_dev_flags {
 	TCS_DEV_READ = 1u << 0,     /* opened for reading */
 	TCS_DEV_WRITE = 1u << 1,    /* opened for writing */
 	TCS_DEV_NONBLOCK = 1u << 2, /* O_NONBLOCK: do not wait for a record */
-	TCS_DEV_FLAGS_ALL = TCS_DEV_READ | TCS_DEV_WRITE | TCS_DEV_NONBLOCK,
+	TCS_DEV_DEADLINE = 1u << 3, /* SYNC_READ of a wire: wait for data until deadline at most */
+	TCS_DEV_FLAGS_ALL = TCS_DEV_READ | TCS_DEV_WRITE | TCS_DEV_NONBLOCK | TCS_DEV_DEADLINE,
 };
 
 enum tcs_sync_kind {
 	TCS_SYNC_READ = 1,  /* about to read: put what is due into the fd (or wait for it) */
 	TCS_SYNC_WRITE = 2, /* just wrote: take the records from the fd, stamped v */
 	TCS_SYNC_POLL = 3,  /* about to check readiness: put what is due into the fd */
+	TCS_SYNC_DRAIN = 4, /* a wire (tcdrain): wait until what was written has left on the wire */
 };
 
 enum tcs_block_kind {
@@ -225,11 +227,12 @@ static inline const char *tcs_msg_check(const void *buf, long len, struct tcs_ms
 			return "DEV_OPEN with bad flags";
 		return NULL;
 	case TCS_MSG_DEV_SYNC:
-		if (out->kind != TCS_SYNC_READ && out->kind != TCS_SYNC_WRITE && out->kind != TCS_SYNC_POLL)
+		if (out->kind < TCS_SYNC_READ || out->kind > TCS_SYNC_DRAIN)
 			return "DEV_SYNC of unknown kind";
 		if (out->flags & ~TCS_DEV_FLAGS_ALL)
 			return "DEV_SYNC with bad flags";
-		if (out->arg < 0 || out->arg > INT32_MAX || out->v < 0 || out->cpu < 0)
+		if (out->arg < 0 || out->arg > INT32_MAX || out->v < 0 || out->cpu < 0 ||
+		    ((out->flags & TCS_DEV_DEADLINE) && out->deadline < 0))
 			return "DEV_SYNC with a bad handle or time";
 		return NULL;
 	case TCS_MSG_TIMER:

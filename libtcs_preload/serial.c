@@ -1,0 +1,286 @@
+/* A serial line's fd (see serial.h). Reads follow the tty layer in raw
+ * (non-canonical) mode: O_NONBLOCK reads fail with EAGAIN when nothing has
+ * arrived; with VMIN 0 and VTIME 0 they return 0; VMIN 0 and VTIME t wait
+ * t tenths of a second for a first byte; VMIN n waits for n bytes (or as
+ * many as asked), with VTIME t then ending the wait t tenths after the
+ * last byte. Canonical mode, echo and the other flags are kept as set and
+ * have no effect: a program driving a servo bus sets raw mode. */
+#include "serial.h"
+
+#include <fcntl.h>
+#include <string.h>
+#include <sys/ioctl.h>
+#include <sys/socket.h>
+
+#include "devices.h"
+#include "raw_syscall.h"
+#include "tcs/protocol.h"
+#include "tcs/wire_protocol.h"
+#include "vclock.h"
+#include "wait.h"
+#include "wire_io.h"
+
+/* The kernel's struct termios and termios2, as TCGETS and TCGETS2 fill
+ * them (not glibc's, whose c_cc is longer). */
+struct tcs_kernel_termios {
+	unsigned int c_iflag, c_oflag, c_cflag, c_lflag;
+	unsigned char c_line;
+	unsigned char c_cc[19];
+};
+struct tcs_kernel_termios2 {
+	unsigned int c_iflag, c_oflag, c_cflag, c_lflag;
+	unsigned char c_line;
+	unsigned char c_cc[19];
+	unsigned int c_ispeed, c_ospeed;
+};
+#define TCS_TCGETS2 _IOR('T', 0x2A, struct tcs_kernel_termios2)
+#define TCS_TCSETS2 _IOW('T', 0x2B, struct tcs_kernel_termios2)
+#define TCS_TCSETSW2 _IOW('T', 0x2C, struct tcs_kernel_termios2)
+#define TCS_TCSETSF2 _IOW('T', 0x2D, struct tcs_kernel_termios2)
+#define TCS_BOTHER 0010000
+#define TCS_CBAUD 0010017
+
+static const struct {
+	speed_t code;
+	uint32_t baud;
+} tcs_speeds[] = {
+	{ B50, 50 }, { B75, 75 }, { B110, 110 }, { B134, 134 }, { B150, 150 }, { B200, 200 }, { B300, 300 },
+	{ B600, 600 }, { B1200, 1200 }, { B1800, 1800 }, { B2400, 2400 }, { B4800, 4800 }, { B9600, 9600 },
+	{ B19200, 19200 }, { B38400, 38400 }, { B57600, 57600 }, { B115200, 115200 }, { B230400, 230400 },
+	{ B460800, 460800 }, { B500000, 500000 }, { B576000, 576000 }, { B921600, 921600 },
+	{ B1000000, 1000000 }, { B1152000, 1152000 }, { B1500000, 1500000 }, { B2000000, 2000000 },
+	{ B2500000, 2500000 }, { B3000000, 3000000 }, { B3500000, 3500000 }, { B4000000, 4000000 },
+};
+
+/* The rate of a speed code; 0 for B0 or an unknown code. */
+static uint32_t tcs_baud_of(speed_t code)
+{
+	for (size_t i = 0; i < sizeof tcs_speeds / sizeof tcs_speeds[0]; i++)
+		if (tcs_speeds[i].code == code)
+			return tcs_speeds[i].baud;
+	return 0;
+}
+
+static speed_t tcs_code_of(uint32_t baud)
+{
+	for (size_t i = 0; i < sizeof tcs_speeds / sizeof tcs_speeds[0]; i++)
+		if (tcs_speeds[i].baud == baud)
+			return tcs_speeds[i].code;
+	return TCS_BOTHER;
+}
+
+/* Start bit, data bits, parity, stop bits. */
+static uint32_t tcs_frame_bits(tcflag_t cflag)
+{
+	static const uint32_t data[] = { 5, 6, 7, 8 };
+	return 1 + data[(cflag & CSIZE) >> 4] + ((cflag & PARENB) ? 1 : 0) + ((cflag & CSTOPB) ? 2 : 1);
+}
+
+void tcs_serial_opened(struct tcs_wire_fd *w, uint32_t baud)
+{
+	memset(&w->tio, 0, sizeof w->tio);
+	speed_t code = tcs_code_of(baud);
+	w->tio.c_cflag = CS8 | CREAD | CLOCAL | (code & TCS_CBAUD);
+	w->tio.c_cc[VMIN] = 1;
+	w->tio.c_ispeed = w->tio.c_ospeed = code;
+	w->baud = baud;
+}
+
+/* The line's new rate and frame to the coordinator (when they changed). */
+static long tcs_serial_line(int fd, int h, struct tcs_wire_fd *w, uint32_t baud, tcflag_t cflag)
+{
+	uint32_t old_bits = tcs_frame_bits(w->tio.c_cflag);
+	struct tcs_wire_line line = { baud, tcs_frame_bits(cflag) };
+	if (baud == w->baud && line.bits_per_byte == old_bits)
+		return 0;
+	if (baud == 0)
+		return -EINVAL; /* (B0 hangs up a modem line; a servo bus has none) */
+	w->baud = baud;
+	return tcs_wire_send(fd, h, TCS_WIRE_LINE, &line, sizeof line);
+}
+
+long tcs_serial_getattr(int fd, struct termios *t)
+{
+	struct tcs_wire_fd *w = tcs_wire_fd(fd);
+	if (!w)
+		return -EBADF;
+	*t = w->tio;
+	return 0;
+}
+
+long tcs_serial_setattr(int fd, int h, const struct termios *t)
+{
+	struct tcs_wire_fd *w = tcs_wire_fd(fd);
+	if (!w)
+		return -EBADF;
+	long r = tcs_serial_line(fd, h, w, tcs_baud_of(t->c_cflag & TCS_CBAUD), t->c_cflag);
+	if (r < 0)
+		return r;
+	w->tio = *t;
+	return 0;
+}
+
+long tcs_serial_flush(int fd, int h, int queue)
+{
+	if (queue != TCIFLUSH && queue != TCIOFLUSH)
+		return queue == TCOFLUSH ? 0 : -EINVAL; /* (what is on the wire goes on) */
+	long r = tcs_wire_sync(fd, h, 0, -1);
+	if (r < 0 && r != -EAGAIN)
+		return r;
+	char buf[256];
+	while (tcs_sys6(SYS_recvfrom, fd, buf, sizeof buf, MSG_DONTWAIT, 0, 0) > 0)
+		;
+	return 0;
+}
+
+long tcs_serial_drain(int fd, int h)
+{
+	if (!tcs_wait_enter())
+		return 0;
+	long r = tcs_device_sync_until(h, TCS_SYNC_DRAIN, 0, -1);
+	tcs_wait_leave();
+	return r;
+}
+
+long tcs_serial_read(int fd, int h, void *buf, size_t n)
+{
+	struct tcs_wire_fd *w = tcs_wire_fd(fd);
+	if (!w)
+		return -EBADF;
+	if (n == 0)
+		return 0;
+	long fl = tcs_sys3(SYS_fcntl, fd, F_GETFL, 0);
+	const int nonblock = fl > 0 && (fl & O_NONBLOCK);
+	const size_t vmin = w->tio.c_cc[VMIN], vtime = w->tio.c_cc[VTIME];
+	const int64_t tenths = (int64_t)vtime * 100 * TCS_NS_PER_MS;
+	const size_t want = vmin < n ? vmin : n;
+	size_t got = 0;
+	for (int first = 1;; first = 0) {
+		/* What is in the fd arrived by the time it was put there. */
+		long k = tcs_sys6(SYS_recvfrom, fd, (char *)buf + got, n - got, MSG_DONTWAIT, 0, 0);
+		if (k > 0)
+			got += (size_t)k;
+		if (got > 0 && got >= want)
+			return (long)got;
+		if (!first && (nonblock || vmin == 0 || (vtime > 0 && k <= 0)))
+			return got > 0 || !nonblock ? (long)got : -EAGAIN;
+		long r;
+		if (nonblock || (vmin == 0 && vtime == 0))
+			r = tcs_wire_sync(fd, h, 0, -1);
+		else if (vmin == 0 || (vtime > 0 && got > 0))
+			r = tcs_wire_sync(fd, h, 1, tcs_vnow() + tenths);
+		else
+			r = tcs_wire_sync(fd, h, 1, -1);
+		if (r < 0 && r != -EAGAIN)
+			return got > 0 ? (long)got : r;
+	}
+}
+
+long tcs_serial_write(int fd, int h, const void *buf, size_t n)
+{
+	size_t done = 0;
+	while (done < n) {
+		size_t k = n - done < TCS_WIRE_PAYLOAD_MAX ? n - done : TCS_WIRE_PAYLOAD_MAX;
+		long r = tcs_wire_send(fd, h, TCS_WIRE_DATA, (const char *)buf + done, k);
+		if (r < 0)
+			return done > 0 ? (long)done : r;
+		done += k;
+	}
+	return (long)n;
+}
+
+static void tcs_to_kernel(const struct termios *t, struct tcs_kernel_termios2 *k)
+{
+	memset(k, 0, sizeof *k);
+	k->c_iflag = t->c_iflag;
+	k->c_oflag = t->c_oflag;
+	k->c_cflag = t->c_cflag;
+	k->c_lflag = t->c_lflag;
+	k->c_line = t->c_line;
+	memcpy(k->c_cc, t->c_cc, sizeof k->c_cc);
+}
+
+static void tcs_from_kernel(const struct tcs_kernel_termios2 *k, struct termios *t)
+{
+	memset(t, 0, sizeof *t);
+	t->c_iflag = k->c_iflag;
+	t->c_oflag = k->c_oflag;
+	t->c_cflag = k->c_cflag;
+	t->c_lflag = k->c_lflag;
+	t->c_line = k->c_line;
+	memcpy(t->c_cc, k->c_cc, sizeof k->c_cc);
+	t->c_ispeed = t->c_ospeed = t->c_cflag & TCS_CBAUD;
+}
+
+long tcs_serial_ioctl(int fd, int h, unsigned long request, void *arg)
+{
+	struct tcs_wire_fd *w = tcs_wire_fd(fd);
+	if (!w)
+		return -EBADF;
+	struct tcs_kernel_termios2 k;
+	struct termios t;
+	switch (request) {
+	case TCGETS:
+	case TCS_TCGETS2:
+		tcs_to_kernel(&w->tio, &k);
+		if ((w->tio.c_cflag & TCS_CBAUD) == TCS_BOTHER || request == TCS_TCGETS2)
+			k.c_ispeed = k.c_ospeed = w->baud;
+		memcpy(arg, &k, request == TCGETS ? sizeof(struct tcs_kernel_termios) : sizeof k);
+		return 0;
+	case TCSETS:
+	case TCSETSW:
+	case TCSETSF:
+	case TCS_TCSETS2:
+	case TCS_TCSETSW2:
+	case TCS_TCSETSF2: {
+		const int two = request == TCS_TCSETS2 || request == TCS_TCSETSW2 || request == TCS_TCSETSF2;
+		memset(&k, 0, sizeof k);
+		memcpy(&k, arg, two ? sizeof k : sizeof(struct tcs_kernel_termios));
+		tcs_from_kernel(&k, &t);
+		uint32_t baud = (k.c_cflag & TCS_CBAUD) == TCS_BOTHER && two ? k.c_ospeed : tcs_baud_of(k.c_cflag & TCS_CBAUD);
+		if (request == TCSETSW || request == TCS_TCSETSW2 || request == TCSETSF || request == TCS_TCSETSF2) {
+			long r = tcs_serial_drain(fd, h);
+			if (r < 0)
+				return r;
+		}
+		if (request == TCSETSF || request == TCS_TCSETSF2)
+			(void)tcs_serial_flush(fd, h, TCIFLUSH);
+		long r = tcs_serial_line(fd, h, w, baud, k.c_cflag);
+		if (r < 0)
+			return r;
+		w->tio = t;
+		return 0;
+	}
+	case TCFLSH:
+		return tcs_serial_flush(fd, h, (int)(intptr_t)arg);
+	case TCSBRK:
+		return (intptr_t)arg ? tcs_serial_drain(fd, h) : 0;
+	case FIONREAD: {
+		long r = tcs_wire_sync(fd, h, 0, -1);
+		if (r < 0 && r != -EAGAIN)
+			return r;
+		return tcs_sys3(SYS_ioctl, fd, FIONREAD, arg);
+	}
+	case TIOCOUTQ:
+		*(int *)arg = 0;
+		return 0;
+	case TIOCMGET:
+		*(int *)arg = TIOCM_DTR | TIOCM_RTS | TIOCM_CTS | TIOCM_DSR;
+		return 0;
+	case TIOCGSERIAL:
+		memset(arg, 0, 72); /* struct serial_struct: nothing to say */
+		return 0;
+	case TIOCSSERIAL:
+	case TCXONC:
+	case TIOCMSET:
+	case TIOCMBIS:
+	case TIOCMBIC:
+	case TIOCEXCL:
+	case TIOCNXCL:
+	case TIOCSBRK:
+	case TIOCCBRK:
+		return 0;
+	default:
+		return -ENOTTY;
+	}
+}

@@ -1,0 +1,29 @@
+/* What the preload keeps of each wire fd (wire_fds.c): the line settings a
+ * tty shows, the address an I2C fd talks to, a CAN socket's options that
+ * shape what it reads. The coordinator keeps what decides timing. */
+#ifndef TCS_WIRE_FDS_H
+#define TCS_WIRE_FDS_H
+
+#include <stdint.h>
+#include <termios.h>
+
+#include "runtime.h"
+
+struct tcs_wire_fd {
+	int fd; /* -1: a free slot */
+	uint32_t kind; /* TCS_DEVICE_SERIAL, _I2C, _CAN */
+	struct termios tio;  /* serial: as tcgetattr shows it */
+	uint32_t baud;       /* serial: the line's rate, also where c_cflag cannot say it (BOTHER) */
+	uint16_t i2c_addr;   /* I2C: I2C_SLAVE's; 0xffff: none set */
+	uint8_t can_fd_frames; /* CAN: CAN_RAW_FD_FRAMES */
+	uint8_t can_stamp;     /* CAN: 0, or SO_TIMESTAMP, SO_TIMESTAMPNS, SO_TIMESTAMPING */
+};
+
+/* The state of wire fd, or NULL. */
+struct tcs_wire_fd *tcs_wire_fd(int fd) TCS_HIDDEN;
+/* A fresh state for fd (NULL when every slot is taken). */
+struct tcs_wire_fd *tcs_wire_fd_new(int fd, uint32_t kind) TCS_HIDDEN;
+void tcs_wire_fd_forget(int fd) TCS_HIDDEN;
+void tcs_wire_fd_copy(int from, int to) TCS_HIDDEN;
+
+#endif
