@@ -1,0 +1,87 @@
+// DxlDrive: what an X-series servo does between packets, step by step: its
+// encoder read into the Present registers, and the loop of its Operating
+// Mode driving the motor (dynamixel_motor.h) from the Goal registers.
+//
+// The loops, with the e-Manual's gain scalings (KPP = P/128, KPI =
+// I/65536, KPD = D/16; KVP = P/128, KVI = I/65536; feedforward gains /4).
+// Integrals and derivatives are taken per millisecond, and errors are in
+// the table's units (position: counts; velocity: 0.229 rpm):
+//   Position, Extended Position: a PID on the profile's trajectory whose
+//     output is PWM (885 = 100 % of the supply), plus feedforward of the
+//     trajectory's velocity and acceleration;
+//   Current-based Position: the same PID, its output a current in 2.69 mA
+//     units, limited by Goal Current;
+//   Velocity: a PI on the velocity trajectory (Profile Acceleration ramps
+//     it to Goal Velocity), output PWM;
+//   Current: Goal Current, held by an ideal current loop;
+//   PWM: Goal PWM.
+// The voltage is limited by Goal PWM (and PWM Limit), the current by
+// Current Limit; the integrators stop at the output limit (anti-windup).
+// With Torque Enable 0 the motor is left open: no torque, no braking.
+//
+// Present Position is 2048 + the joint's angle * 4096 / 2pi, rounded, plus
+// Homing Offset; it is put within one turn (0-4095) at power-on, at a
+// REBOOT, when torque is turned on in Position Control Mode and when that
+// mode is chosen. Drive Mode bit 0 (reverse) turns every direction round:
+// positions, velocities, currents and the torque. Not modelled: hardware
+// errors and shutdown, the temperature's rise (Present Temperature stays
+// as set), the gearbox's backlash and friction.
+#pragma once
+
+#include <cstdint>
+
+#include "dynamixel_control_table.h"
+#include "dynamixel_profile.h"
+
+namespace tcs {
+
+class DxlDrive {
+public:
+	// Reads the joint (rad, rad/s) into the table's Present registers, runs
+	// the loop for dt_s and returns the torque on the joint (N*m).
+	double step(DxlControlTable &t, double position_rad, double velocity_rad_s, double dt_s);
+
+	// Power-on and REBOOT: the next step puts Present Position within one
+	// turn and Goal Position where the joint is.
+	void power_on();
+	// Present Position back within one turn.
+	void wrap_turns(DxlControlTable &t);
+	// Torque Enable turned to 1: the loops start from where the joint is.
+	void torque_on(DxlControlTable &t);
+	// Operating Mode changed: what the e-Manual says is reset with it.
+	void mode_changed(DxlControlTable &t);
+	// Goal Position written: the profile's new leg.
+	void goal_written(DxlControlTable &t);
+	// An instruction packet heard: the Bus Watchdog counts from 0 again.
+	void heard() { quiet_ms_ = 0; }
+
+	void set_supply(double volts) { supply_ = volts; }
+	void set_temperature(double celsius) { temperature_ = celsius; }
+	void set_joint_inertia(double kg_m2) { inertia_ = kg_m2; }
+	double supply() const { return supply_; }
+
+private:
+	int direction(const DxlControlTable &t) const;
+	int64_t present(const DxlControlTable &t) const;
+	// The profile's limits in counts/ms and counts/ms^2.
+	void profile_limits(const DxlControlTable &t, double *v_max, double *a_max) const;
+	double position_loop(DxlControlTable &t, double dt_ms, double cap);
+	double velocity_loop(DxlControlTable &t, double dt_ms, double cap);
+	void watchdog(DxlControlTable &t, double dt_ms);
+	void report(DxlControlTable &t, double volts, double amps);
+
+	bool fresh_ = true;
+	int64_t raw_ = 2048; // encoder counts, all turns, direction applied
+	int64_t turns_ = 0; // counts taken off raw_ (a multiple of 4096)
+	double vel_units_ = 0; // 0.229 rpm, direction applied
+	DxlProfile profile_;
+	double time_v_ = 0, time_a_ = 0; // a time-based profile's limits
+	double vel_cmd_ = 0; // velocity mode's trajectory (0.229 rpm)
+	double pos_i_ = 0, vel_i_ = 0; // the integrals
+	double tick_ms_ = 0;
+	double quiet_ms_ = 0;
+	int64_t hold_ = 0; // where a tripped watchdog holds
+	double supply_ = 12.0, temperature_ = 40.0, inertia_ = 0;
+};
+
+} // namespace tcs
