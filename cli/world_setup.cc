@@ -5,6 +5,32 @@
 
 namespace tcs {
 
+// The wires, each a device in the table (after the others, in the order
+// the coordinator's Wires binds them: serial lines, I2C buses, CAN
+// interfaces), and their buses for the coordinator.
+static void add_wires(const Scenario &sc, WorldSetup &out)
+{
+	out.wires.scenario_file = sc.file;
+	out.wires.serials = sc.serials;
+	out.wires.i2cs = sc.i2cs;
+	out.wires.cans = sc.cans;
+	size_t index = 0;
+	auto add = [&](const std::string &path, int kind, uint32_t width) {
+		DeviceConfig dc;
+		dc.path = path;
+		dc.kind = kind;
+		dc.wire = index++;
+		dc.table_width = width;
+		out.devices.push_back(std::move(dc));
+	};
+	for (const SerialSpec &s : sc.serials)
+		add(s.path, TCS_DEVICE_SERIAL, uint32_t(s.baud));
+	for (const I2cSpec &b : sc.i2cs)
+		add("/dev/i2c-" + std::to_string(b.bus), TCS_DEVICE_I2C, 0);
+	for (const CanSpec &c : sc.cans)
+		add(c.interface, TCS_DEVICE_CAN, c.data_bitrate > 0 ? 72 : 16);
+}
+
 Result<WorldSetup> world_setup(const Scenario &sc)
 {
 	WorldSetup out;
@@ -106,6 +132,9 @@ Result<WorldSetup> world_setup(const Scenario &sc)
 	if (out.devices.size() > TCS_MAX_DEVICES)
 		return scenario_error(sc, sc.devices[TCS_MAX_DEVICES].line,
 				      "too many devices (at most " + std::to_string(TCS_MAX_DEVICES) + ")");
+	add_wires(sc, out);
+	if (out.devices.size() > TCS_MAX_DEVICES)
+		return Error{ sc.file + ": too many devices and wires (at most " + std::to_string(TCS_MAX_DEVICES) + ")" };
 	return out;
 }
 

@@ -15,6 +15,7 @@ struct WorldSetup {
 	std::vector<ModelInstance> models;
 	std::vector<DeviceConfig> devices;
 	std::vector<SensorConfig> sensors;
+	WiresConfig wires; // (their devices are in `devices` too, after the others)
 	int64_t step_ns = 0;
 	std::vector<std::string> signal_lines; // for --list-signals
 	// Its scalar joints ("<model>.<joint>", those with a .position).

@@ -6,6 +6,8 @@
 #include <cerrno>
 #include <cstring>
 
+#include "dynamixel_items.h"
+
 namespace tcs {
 
 namespace {
@@ -35,8 +37,15 @@ Result<std::unique_ptr<SerialWire>> SerialWire::create(const SerialSpec &spec, c
 			return Error{ where(s.line) + st.error().message };
 		// The servo's rate is the line's: Baud Rate (8) set to match.
 		DynamixelServo &servo = w->chain_.servo(w->chain_.size() - 1);
-		if (Status st = servo.set_baud(spec.baud); !st)
-			return Error{ where(spec.line) + st.error().message };
+		uint8_t code = 0;
+		while (code < 8 && servo.baud() != spec.baud) {
+			(void)servo.write(kDxlBaudRate, &code, 1, DxlAddressing::id);
+			code++;
+		}
+		if (servo.baud() != spec.baud)
+			return Error{ where(spec.line) + "baud " + std::to_string(spec.baud) +
+				      " is not a rate of a Dynamixel X servo (9600, 57600, 115200, 1000000, 2000000, "
+				      "3000000, 4000000 or 4500000)" };
 		Joint j;
 		if (world) {
 			long p = world->find(s.joint.name + ".position"), v = world->find(s.joint.name + ".velocity"),

@@ -12,6 +12,7 @@
 #include <string_view>
 
 #include "sim_world.h"
+#include "tcs/clock_page.h"
 #include "tcs/protocol.h"
 #include "tcs/wire_protocol.h"
 #include "wire_port.h"

@@ -240,6 +240,7 @@ int main(int argc, char **argv)
 	cfg.models = setup->models;
 	cfg.devices = setup->devices;
 	cfg.sensors = setup->sensors;
+	cfg.wires = setup->wires;
 	cfg.step_ns = setup->step_ns;
 
 	for (int i = optind; i < argc; i++)
