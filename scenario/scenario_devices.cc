@@ -10,25 +10,6 @@ namespace tcs::scenario_parse {
 
 namespace {
 
-// Absolute, and spelled one way only, so that comparing strings finds
-// every duplicate.
-bool is_normal_absolute(std::string_view p)
-{
-	if (p.size() < 2 || p[0] != '/' || p.back() == '/')
-		return false;
-	size_t i = 1;
-	while (i <= p.size()) {
-		size_t j = p.find('/', i);
-		if (j == std::string_view::npos)
-			j = p.size();
-		std::string_view part = p.substr(i, j - i);
-		if (part.empty() || part == "." || part == "..")
-			return false;
-		i = j + 1;
-	}
-	return p.find('\0') == std::string_view::npos;
-}
-
 Status parse_signals(ScenarioReader &r, const Entry &e, DeviceSpec *d)
 {
 	const toml::array *a = e.node->as_array();
@@ -93,7 +74,7 @@ Status parse_device(ScenarioReader &r, const toml::table &t)
 	auto p = r.get_string(*path, "\"/dev/tcs/pendulum/state\"");
 	if (!p)
 		return p.error();
-	if (!is_normal_absolute(*p))
+	if (!is_normal_absolute_path(*p))
 		return r.err(path->line, "device path '" + *p + "' must be absolute and normal (no '.', '..', "
 									"'//' or trailing '/')");
 	for (const D &other : r.sc.devices)

@@ -42,6 +42,15 @@ std::string join(const std::vector<std::string> &v)
 	return s;
 }
 
+std::string hex(uint64_t v, int digits)
+{
+	static const char kDigits[] = "0123456789ABCDEF";
+	std::string out;
+	for (; v || (int)out.size() < digits; v >>= 4)
+		out.insert(out.begin(), kDigits[v & 15]);
+	return "0x" + out;
+}
+
 std::vector<Entry> entries(const toml::table &t)
 {
 	std::vector<Entry> v;
@@ -115,7 +124,22 @@ Result<double> ScenarioReader::get_number(const Entry &e, const std::string &wha
 	return *v;
 }
 
-Result<std::vector<const toml::table *>> ScenarioReader::table_array(const toml::table &root, const char *key) const
+Result<int64_t> ScenarioReader::get_integer(const Entry &e, const std::string &example) const
+{
+	if (!e.node->is_integer())
+		return err(e.line, e.key + " must be an integer such as " + example + ", not " + type_name(*e.node));
+	return e.node->as_integer()->get();
+}
+
+Result<bool> ScenarioReader::get_bool(const Entry &e) const
+{
+	if (!e.node->is_boolean())
+		return err(e.line, e.key + " must be true or false, not " + std::string(type_name(*e.node)));
+	return e.node->as_boolean()->get();
+}
+
+Result<std::vector<const toml::table *>> ScenarioReader::table_array(const toml::table &root, const char *key,
+								     const char *written) const
 {
 	std::vector<const toml::table *> out;
 	std::optional<Entry> e = lookup(root, key);
@@ -123,7 +147,8 @@ Result<std::vector<const toml::table *>> ScenarioReader::table_array(const toml:
 		return out;
 	const toml::array *a = e->node->as_array();
 	if (!a || (!a->empty() && !a->is_array_of_tables()))
-		return err(e->line, std::string("'") + key + "' must be written [[" + key + "]] (an array of tables)");
+		return err(e->line, std::string("'") + key + "' must be written [[" + (written ? written : key) +
+					    "]] (an array of tables)");
 	for (const toml::node &n : *a)
 		out.push_back(n.as_table());
 	return out;
@@ -135,14 +160,35 @@ Result<SignalParts> ScenarioReader::signal_parts(int line, const std::string &na
 	if (!parts)
 		return err(line, "signal '" + name + "' is not <model>.<part>.<field> with field one of " +
 					 signal_fields_text());
+	if (Status s = model_known(line, "signal '" + name + "'", parts->model); !s)
+		return s.error();
+	return *parts;
+}
+
+Result<SignalParts> ScenarioReader::part_name(int line, const std::string &key, const std::string &name) const
+{
+	// A joint's or link's name is a signal's without the field: any field
+	// completes it for the signal's syntax.
+	auto whole = split_signal_name(name + ".pose");
+	if (!whole)
+		return err(line, key + " '" + name + "' is not <model>.<" + key + ">");
+	std::string_view n = name;
+	SignalParts parts{ n.substr(0, whole->model.size()), n.substr(whole->model.size() + 1), {} };
+	if (Status s = model_known(line, key + " '" + name + "'", parts.model); !s)
+		return s.error();
+	return parts;
+}
+
+Status ScenarioReader::model_known(int line, const std::string &what, std::string_view model) const
+{
 	std::vector<std::string> models;
 	for (const ModelSpec &m : sc.models) {
-		if (m.name == parts->model)
-			return *parts;
+		if (m.name == model)
+			return Ok{};
 		models.push_back(m.name);
 	}
-	return err(line, "signal '" + name + "': the scenario has no model '" + std::string(parts->model) +
-				 "' (models: " + join(models) + ")");
+	return err(line, what + ": the scenario has no model '" + std::string(model) + "' (models: " + join(models) +
+				 ")");
 }
 
 } // namespace tcs::scenario_parse

@@ -1,7 +1,7 @@
 // What the scenario parser's sections are read with: toml++ configured as
 // the parser needs it, a table's entries in file order, and the scenario
 // being read, whose errors are "FILE:LINE: what is wrong". Internal to
-// scenario/ (scenario.cc, scenario_models.cc, scenario_devices.cc).
+// scenario/ (scenario.cc and the sections' parsers).
 #pragma once
 
 // toml++ reports errors as values only when built without exceptions; it
@@ -15,6 +15,7 @@
 #define TOML_ASSERT(expr) static_assert(true)
 #include <toml++/toml.h>
 
+#include <cstdint>
 #include <initializer_list>
 #include <optional>
 #include <string>
@@ -30,6 +31,9 @@ int line_of(const toml::node &n);
 // "a table", "an integer", ...: for messages.
 const char *type_name(const toml::node &n);
 std::string join(const std::vector<std::string> &v);
+// "0x068": a CAN id or an I2C address as the data sheets write them, at
+// least `digits` hex digits.
+std::string hex(uint64_t v, int digits);
 
 struct Entry {
 	int line;
@@ -60,10 +64,23 @@ public:
 			  std::initializer_list<const char *> known) const;
 	Result<std::string> get_string(const Entry &e, const std::string &example) const;
 	Result<double> get_number(const Entry &e, const std::string &what) const;
+	// A TOML integer (not a float, even 1.0: ids and rates are counted).
+	Result<int64_t> get_integer(const Entry &e, const std::string &example) const;
+	Result<bool> get_bool(const Entry &e) const;
 	// A signal name of one of the models read so far, in its parts.
 	Result<SignalParts> signal_parts(int line, const std::string &name) const;
-	// An array of tables under `key`, written [[key]]; empty if absent.
-	Result<std::vector<const toml::table *>> table_array(const toml::table &root, const char *key) const;
+	// A joint's or a link's name, "<model>.<part>", of one of the models
+	// read so far (`key` is "joint" or "link", for messages); the parts
+	// view `name`, and the field is empty.
+	Result<SignalParts> part_name(int line, const std::string &key, const std::string &name) const;
+	// An array of tables under `key`, written [[key]] (or [[written]], for a
+	// table's own: "can.motor"); empty if absent.
+	Result<std::vector<const toml::table *>> table_array(const toml::table &root, const char *key,
+							     const char *written = nullptr) const;
+
+private:
+	// The model a name (`what`, for messages) starts with is one read so far.
+	Status model_known(int line, const std::string &what, std::string_view model) const;
 };
 
 } // namespace tcs::scenario_parse

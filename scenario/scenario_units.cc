@@ -1,5 +1,5 @@
-// Durations, rates, numbers, signal names and commands as a scenario file
-// writes them.
+// Durations, rates, bit rates, numbers, signal names, paths, interface
+// names and commands as a scenario file writes them.
 #include "scenario_units.h"
 
 #include <algorithm>
@@ -164,6 +164,72 @@ int64_t rate_period_ns(double hz)
 	return (int64_t)std::llround(1e9 / hz);
 }
 
+Result<int64_t> parse_bitrate(std::string_view text)
+{
+	long double v;
+	std::string_view unit;
+	if (!split_quantity(text, &v, &unit))
+		return Error{ quoted(text) + " is not a bit rate (examples: 1Mbit/s, 500kbit/s, 125k)" };
+	long double mult;
+	if (unit == "bit/s")
+		mult = 1;
+	else if (unit == "kbit/s" || unit == "Kbit/s" || unit == "k" || unit == "K")
+		mult = 1e3L;
+	else if (unit == "Mbit/s" || unit == "M")
+		mult = 1e6L;
+	else if (unit.empty())
+		return Error{ quoted(text) + " needs a unit (bit/s, kbit/s or Mbit/s)" };
+	else
+		return Error{ quoted(text) + ": unknown unit " + quoted(unit) + " (use bit/s, kbit/s or Mbit/s)" };
+	long double bps = std::roundl(v * mult);
+	if (!(bps >= 1))
+		return Error{ quoted(text) + ": a bit rate must be at least 1 bit/s" };
+	if (bps > 1e12L)
+		return Error{ quoted(text) + " is too fast (at most 1 Tbit/s)" };
+	return (int64_t)bps;
+}
+
+Result<int64_t> parse_clock_hz(std::string_view text)
+{
+	auto hz = parse_rate_hz(text);
+	if (!hz)
+		return hz.error();
+	// The rate's own digits, not the double's: "3.4MHz" is 3400000.
+	double whole = std::round(*hz);
+	if (whole < 1)
+		return Error{ quoted(text) + " is below 1 Hz" };
+	return (int64_t)whole;
+}
+
+bool is_normal_absolute_path(std::string_view p)
+{
+	if (p.size() < 2 || p[0] != '/' || p.back() == '/')
+		return false;
+	size_t i = 1;
+	while (i <= p.size()) {
+		size_t j = p.find('/', i);
+		if (j == std::string_view::npos)
+			j = p.size();
+		std::string_view part = p.substr(i, j - i);
+		if (part.empty() || part == "." || part == "..")
+			return false;
+		i = j + 1;
+	}
+	return p.find('\0') == std::string_view::npos;
+}
+
+bool is_interface_name(std::string_view s)
+{
+	// IFNAMSIZ is 16 with the terminating NUL.
+	if (s.empty() || s.size() > 15 || s == "." || s == "..")
+		return false;
+	for (char c : s)
+		if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || is_digit(c) || c == '_' || c == '.' ||
+		      c == '-'))
+			return false;
+	return true;
+}
+
 bool is_identifier(std::string_view s)
 {
 	if (s.empty() || is_digit(s[0]))
@@ -201,6 +267,43 @@ std::optional<SignalParts> split_signal_name(std::string_view name)
 		if (c <= ' ' || c > '~')
 			return std::nullopt;
 	return p;
+}
+
+std::optional<IndexedSignal> split_signal_index(std::string_view name)
+{
+	if (name.empty() || name.back() != ']')
+		return IndexedSignal{ name, -1 };
+	size_t open = name.rfind('[');
+	if (open == std::string_view::npos)
+		return std::nullopt;
+	std::string_view digits = name.substr(open + 1, name.size() - open - 2);
+	// One or two digits, no leading zero: one spelling a value, as for paths.
+	if (digits.empty() || digits.size() > 2 || (digits.size() > 1 && digits[0] == '0'))
+		return std::nullopt;
+	int index = 0;
+	for (char c : digits) {
+		if (!is_digit(c))
+			return std::nullopt;
+		index = index * 10 + (c - '0');
+	}
+	return IndexedSignal{ name.substr(0, open), index };
+}
+
+int signal_field_width(std::string_view field)
+{
+	if (field == "pose")
+		return 7;
+	if (field == "twist")
+		return 6;
+	if (field == "orientation")
+		return 4;
+	if (field == "angular_velocity" || field == "linear_acceleration" || field == "force" || field == "torque")
+		return 3;
+	if (field == "position" || field == "velocity" || field == "effort")
+		return 2;
+	if (field == "count" || field == "range")
+		return 1;
+	return 0;
 }
 
 Result<std::vector<std::string>> split_command(std::string_view command)

@@ -77,7 +77,7 @@ void test_toml_traps(void **)
 void test_unknown_keys(void **)
 {
 	expect_error("step = \"1ms\"\n" + kHead, 1,
-		     "unknown key 'step' at the top level (known: sim, model, device, sensor, controller)");
+		     "unknown key 'step' at the top level (known: sim, model, device, sensor, can, serial, i2c, controller)");
 	expect_error("[sim]\nmodel = \"pendulum\"\nstpe = \"1ms\"\n", 3, "unknown key 'stpe' in [sim] (known: step, model)");
 	expect_error(kHead + kSensor + "colour = \"red\"\n", 8,
 		     "unknown key 'colour' in [[device]] (known: path, kind, signals, format, mode, rate, limit)");

@@ -1,6 +1,7 @@
-// Unit tests for scenario/scenario_units: durations, rates and plain
-// numbers as scenario files and command lines write them, and a
-// controller's command split into words.
+// Unit tests for scenario/scenario_units: durations, rates, bit rates,
+// clocks and plain numbers as scenario files and command lines write
+// them, paths, interface names, indexed signals, and a controller's
+// command split into words.
 #include <csetjmp>
 #include <cstdarg>
 #include <cstddef>
@@ -97,6 +98,89 @@ void test_plain_numbers(void **)
 		assert_false(tcs::parse_plain_number(bad).ok());
 }
 
+void expect_bps(const char *text, int64_t want)
+{
+	auto r = tcs::parse_bitrate(text);
+	if (!r.ok() || *r != want) {
+		print_error("parse_bitrate(\"%s\"): %s, expected %lld\n", text,
+			    r.ok() ? std::to_string(*r).c_str() : r.error().message.c_str(), (long long)want);
+		fail();
+	}
+}
+
+void test_bitrates(void **)
+{
+	expect_bps("1Mbit/s", 1000000);
+	expect_bps("1 Mbit/s", 1000000);
+	expect_bps("500kbit/s", 500000);
+	expect_bps("500Kbit/s", 500000);
+	expect_bps("125k", 125000);
+	expect_bps("1M", 1000000);
+	expect_bps("2.5M", 2500000);
+	expect_bps("83.333kbit/s", 83333); // a CAN rate, rounded to the bit/s
+	expect_bps("33.3333 kbit/s", 33333);
+	expect_bps("9600bit/s", 9600);
+	expect_bps("0.6bit/s", 1);
+	expect_bps("1e6bit/s", 1000000);
+	expect_bps("1e12bit/s", 1000000000000LL);
+	for (const char *bad : { "", "fast", "500", "1 Mbps", "1mbit/s", "1Mbit", "1 MHz", "-1Mbit/s", "0bit/s",
+				 "0.4bit/s", "1e13bit/s", "1e-4000M", "kbit/s" }) {
+		auto r = tcs::parse_bitrate(bad);
+		if (r.ok()) {
+			print_error("parse_bitrate(\"%s\") = %lld, expected an error\n", bad, (long long)*r);
+			fail();
+		}
+		assert_true(r.error().message.find("'" + std::string(bad) + "'") != std::string::npos);
+	}
+}
+
+void test_clocks(void **)
+{
+	assert_int_equal(*tcs::parse_clock_hz("400kHz"), 400000);
+	assert_int_equal(*tcs::parse_clock_hz("3.4MHz"), 3400000);
+	assert_int_equal(*tcs::parse_clock_hz("100 kHz"), 100000);
+	assert_int_equal(*tcs::parse_clock_hz("1.5Hz"), 2);
+	for (const char *bad : { "", "400", "400khz", "0.4Hz", "0Hz", "2GHz" })
+		assert_false(tcs::parse_clock_hz(bad).ok());
+}
+
+void test_names(void **)
+{
+	for (const char *ok : { "/dev/ttyUSB0", "/a", "/dev/i2c-1", "/x/.hidden/y" })
+		assert_true(tcs::is_normal_absolute_path(ok));
+	for (const char *bad : { "", "/", "dev/x", "/dev//x", "/dev/x/", "/dev/./x", "/dev/../x", "/.", "/.." })
+		assert_false(tcs::is_normal_absolute_path(bad));
+	for (const char *ok : { "can0", "vcan_1.x-y", "c", "can012345678901", "..." })
+		assert_true(tcs::is_interface_name(ok));
+	for (const char *bad : { "", ".", "..", "can012345678901x", "can 0", "can/0", "can:0", "caf\xc3\xa9" })
+		assert_false(tcs::is_interface_name(bad));
+}
+
+void test_indexed_signals(void **)
+{
+	auto plain = tcs::split_signal_index("arm.j.position");
+	assert_true(plain && plain->signal == "arm.j.position" && plain->index == -1);
+	auto ix = tcs::split_signal_index("arm.link.pose[6]");
+	assert_true(ix && ix->signal == "arm.link.pose" && ix->index == 6);
+	auto ten = tcs::split_signal_index("a.b.c[10]");
+	assert_true(ten && ten->index == 10);
+	// A bracket inside the part is the part's ("j[1]" may be a joint's name).
+	auto inner = tcs::split_signal_index("arm.j[1].position");
+	assert_true(inner && inner->index == -1);
+	for (const char *bad : { "a.b.c[]", "a.b.c[01]", "a.b.c[x]", "a.b.c[-1]", "a.b.c]", "a.b.c[100]", "]" })
+		assert_false(tcs::split_signal_index(bad).has_value());
+	assert_int_equal(tcs::signal_field_width("pose"), 7);
+	assert_int_equal(tcs::signal_field_width("twist"), 6);
+	assert_int_equal(tcs::signal_field_width("orientation"), 4);
+	assert_int_equal(tcs::signal_field_width("linear_acceleration"), 3);
+	assert_int_equal(tcs::signal_field_width("effort"), 2);
+	assert_int_equal(tcs::signal_field_width("range"), 1);
+	assert_int_equal(tcs::signal_field_width("angle"), 0);
+	// Every field has its width.
+	for (std::string_view f : tcs::kSignalFields)
+		assert_true(tcs::signal_field_width(f) > 0);
+}
+
 // ---- a controller's command ------------------------------------------------------
 
 void expect_words(const char *command, std::vector<std::string> want)
@@ -137,6 +221,10 @@ int main(void)
 		cmocka_unit_test(test_durations),
 		cmocka_unit_test(test_rates),
 		cmocka_unit_test(test_plain_numbers),
+		cmocka_unit_test(test_bitrates),
+		cmocka_unit_test(test_clocks),
+		cmocka_unit_test(test_names),
+		cmocka_unit_test(test_indexed_signals),
 		cmocka_unit_test(test_split_command),
 	};
 	return cmocka_run_group_tests(tests, nullptr, nullptr);
