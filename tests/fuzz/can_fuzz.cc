@@ -250,7 +250,8 @@ std::vector<std::string> tcs_fuzz_seeds()
 		head + classic_bytes(1, enter) + classic_bytes(1, command) + classic_bytes(1, zero) +
 			classic_bytes(1, { 1, 2, 3 }),
 		head + classic_bytes(CAN_EFF_FLAG | 1, command) + classic_bytes(CAN_RTR_FLAG | 1, { 0, 0 }) +
-			classic_bytes(CAN_ERR_FLAG | 0x7FF, { 0xFF }) + classic_bytes(0x123, std::vector<uint8_t>(9, 1)),
+			classic_bytes(CAN_ERR_FLAG | 0x7FF, { 0xFF }) +
+			classic_bytes(0x123, std::vector<uint8_t>(9, 1)),
 		// 2 float32 fields, FD frames and sockets.
 		std::string("\x00\x1a\x06\x00\x86\x00", 6) + fd_bytes(0x55, 64, CANFD_BRS, 0x55) +
 			fd_bytes(CAN_EFF_FLAG | 0x1FFFFFFF, 9, CANFD_ESI, 0) + fd_bytes(1, 65, 0, 0xFF),

@@ -3,7 +3,6 @@
 // goes idle, per-source order, full queues. The frames' bit counts are the
 // ones test_can_timing.cc works out by hand.
 #include <cstdint>
-#include <initializer_list>
 #include <vector>
 
 extern "C" {
@@ -15,6 +14,7 @@ extern "C" {
 }
 
 #include "can_bus.h"
+#include "can_test_frames.h"
 
 namespace {
 
@@ -22,26 +22,14 @@ using tcs::CanBus;
 using tcs::CanDelivery;
 using tcs::CanFrame;
 
-CanFrame frame(uint32_t id, std::initializer_list<uint8_t> data, bool extended = false)
-{
-	CanFrame f;
-	f.id = id;
-	f.extended = extended;
-	f.len = uint8_t(data.size());
-	size_t i = 0;
-	for (uint8_t b : data)
-		f.data[i++] = b;
-	return f;
-}
-
 // 127 bits: id 0, eight zero bytes.
-const CanFrame kZeros = frame(0x000, { 0, 0, 0, 0, 0, 0, 0, 0 });
+const CanFrame kZeros = can_test_frame(0x000, { 0, 0, 0, 0, 0, 0, 0, 0 });
 // 79 bits: id 0x555, four 0xAA (no stuffing).
-const CanFrame k555 = frame(0x555, { 0xAA, 0xAA, 0xAA, 0xAA });
+const CanFrame k555 = can_test_frame(0x555, { 0xAA, 0xAA, 0xAA, 0xAA });
 // 126 bits: id 0x7FF, eight 0xFF.
-const CanFrame k7FF = frame(0x7FF, { 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF });
+const CanFrame k7FF = can_test_frame(0x7FF, { 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF });
 // 53 bits: id 0, no data.
-const CanFrame kEmpty = frame(0x000, {});
+const CanFrame kEmpty = can_test_frame(0x000, {});
 
 void hundred_frames(void **)
 {
@@ -117,9 +105,9 @@ void idle_bus_waits_for_ready(void **)
 void same_source_in_order(void **)
 {
 	CanBus bus(1000000, 0);
-	assert_true(bus.submit(1, frame(0x700, { 1 }), 0));
-	assert_true(bus.submit(1, frame(0x100, { 2 }), 0));
-	assert_true(bus.submit(2, frame(0x300, { 3 }), 0));
+	assert_true(bus.submit(1, can_test_frame(0x700, { 1 }), 0));
+	assert_true(bus.submit(1, can_test_frame(0x100, { 2 }), 0));
+	assert_true(bus.submit(2, can_test_frame(0x300, { 3 }), 0));
 	std::vector<CanDelivery> d = bus.advance(1000000);
 	assert_int_equal(d.size(), 3);
 	// Source 1's 0x100 waits behind its 0x700, which loses to 0x300.
@@ -150,13 +138,13 @@ void full_queue_refuses(void **)
 void arbitration_order(void **)
 {
 	using tcs::can_arbitration_key;
-	CanFrame data = frame(0x100, {});
+	CanFrame data = can_test_frame(0x100, {});
 	CanFrame remote = data;
 	remote.rtr = true;
-	CanFrame ext = frame(0x100 << 18, {}, true);
+	CanFrame ext = can_test_frame(0x100 << 18, {}, true);
 	CanFrame ext_remote = ext;
 	ext_remote.rtr = true;
-	CanFrame ext_lower_base = frame(0x0FF << 18 | 0x3FFFF, {}, true);
+	CanFrame ext_lower_base = can_test_frame(0x0FF << 18 | 0x3FFFF, {}, true);
 	CanFrame fd = data;
 	fd.fd = true;
 	CanFrame fd_remote = remote; // FD sends RRS dominant: no remote frame

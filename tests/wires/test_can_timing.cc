@@ -4,7 +4,6 @@
 // of Bosch's CAN 2.0 spec, and the stuff bits counted on the bit string.
 #include <cstdint>
 #include <cstring>
-#include <initializer_list>
 
 extern "C" {
 #include <setjmp.h>
@@ -15,22 +14,11 @@ extern "C" {
 }
 
 #include "can_frame_time.h"
+#include "can_test_frames.h"
 
 namespace {
 
 using tcs::CanFrame;
-
-CanFrame frame(uint32_t id, std::initializer_list<uint8_t> data, bool extended = false)
-{
-	CanFrame f;
-	f.id = id;
-	f.extended = extended;
-	f.len = uint8_t(data.size());
-	size_t i = 0;
-	for (uint8_t b : data)
-		f.data[i++] = b;
-	return f;
-}
 
 CanFrame fd_frame(uint32_t id, uint8_t len, uint8_t fill, bool brs)
 {
@@ -48,20 +36,20 @@ void zeros_stuff_most(void **)
 	// 0 + 11·0 + RTR IDE r0 = 15 zeros (3 stuff bits), DLC 1000, 64 zeros
 	// (13 more: the run of DLC's three zeros goes on into the data), then
 	// CRC 0x145B = 101000101011011: no run of five.
-	assert_int_equal(tcs::can_frame_bits(frame(0x000, { 0, 0, 0, 0, 0, 0, 0, 0 })), 47 + 64 + 16);
+	assert_int_equal(tcs::can_frame_bits(can_test_frame(0x000, { 0, 0, 0, 0, 0, 0, 0, 0 })), 47 + 64 + 16);
 	// No data: 34 zeros (CRC 0), a stuff bit after each five.
-	assert_int_equal(tcs::can_frame_bits(frame(0x000, {})), 47 + 6);
+	assert_int_equal(tcs::can_frame_bits(can_test_frame(0x000, {})), 47 + 6);
 }
 
 void ones_stuff(void **)
 {
 	// 0, 11 ones (2 stuff bits), 000 1000, 64 ones (12), then CRC 0x4C89
 	// = 100110010001001 after four ones: the 5th one takes a stuff bit.
-	assert_int_equal(tcs::can_frame_bits(frame(0x7FF, { 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF })),
+	assert_int_equal(tcs::can_frame_bits(can_test_frame(0x7FF, { 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF })),
 			 47 + 64 + 15);
 	// The MIT motor's "enter motor mode" to motor 1: 0 + 10 zeros (2 stuff
 	// bits), 1, 000 1000, 62 ones (12), 00, CRC 0x72B8.
-	assert_int_equal(tcs::can_frame_bits(frame(0x001, { 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFC })),
+	assert_int_equal(tcs::can_frame_bits(can_test_frame(0x001, { 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFC })),
 			 47 + 64 + 14);
 }
 
@@ -69,11 +57,11 @@ void no_stuffing(void **)
 {
 	// 0 10101010101 000 0100, 10101010 ×4, CRC 0x1C47 = 001110001000111:
 	// no five equal bits anywhere.
-	assert_int_equal(tcs::can_frame_bits(frame(0x555, { 0xAA, 0xAA, 0xAA, 0xAA })), 47 + 32);
+	assert_int_equal(tcs::can_frame_bits(can_test_frame(0x555, { 0xAA, 0xAA, 0xAA, 0xAA })), 47 + 32);
 	// 0x55 ×6, DLC 0110, CRC 0x3B0D = 011101100001101: the same.
-	assert_int_equal(tcs::can_frame_bits(frame(0x555, { 0x55, 0x55, 0x55, 0x55, 0x55, 0x55 })), 47 + 48);
+	assert_int_equal(tcs::can_frame_bits(can_test_frame(0x555, { 0x55, 0x55, 0x55, 0x55, 0x55, 0x55 })), 47 + 48);
 	// Eight of them: the CRC 0x1B04 = 001101100000100 has five zeros.
-	assert_int_equal(tcs::can_frame_bits(frame(0x555, { 0x55, 0x55, 0x55, 0x55, 0x55, 0x55, 0x55, 0x55 })),
+	assert_int_equal(tcs::can_frame_bits(can_test_frame(0x555, { 0x55, 0x55, 0x55, 0x55, 0x55, 0x55, 0x55, 0x55 })),
 			 47 + 64 + 1);
 }
 
@@ -81,19 +69,20 @@ void extended_and_remote(void **)
 {
 	// 0, base 0x048, SRR IDE 11, extension 0x05678, RTR r1 r0, DLC 1000,
 	// 01..08, CRC 0x221A: 9 stuff bits.
-	assert_int_equal(tcs::can_frame_bits(frame(0x12345678, { 1, 2, 3, 4, 5, 6, 7, 8 }, true)), 67 + 64 + 9);
+	CanFrame f = can_test_frame(0x12345678, { 1, 2, 3, 4, 5, 6, 7, 8 }, true);
+	assert_int_equal(tcs::can_frame_bits(f), 67 + 64 + 9);
 	// All 29 bits recessive, a remote frame of DLC 0: 0, 32 ones (6 stuff
 	// bits), r1 r0 0000 (one more), CRC 0x6F4D = 110111101001101.
-	CanFrame f = frame(0x1FFFFFFF, {}, true);
+	f = can_test_frame(0x1FFFFFFF, {}, true);
 	f.rtr = true;
 	assert_int_equal(tcs::can_frame_bits(f), 67 + 7);
 	// A remote frame sends its DLC (8) but no data: 0 00100100011 100 1000,
 	// CRC 0x6F9A = 110111110011010: five ones.
-	f = frame(0x123, { 1, 2, 3, 4, 5, 6, 7, 8 });
+	f = can_test_frame(0x123, { 1, 2, 3, 4, 5, 6, 7, 8 });
 	f.rtr = true;
 	assert_int_equal(tcs::can_frame_bits(f), 47 + 1);
 	// A classic len over 8 sends DLC 8 and 8 bytes.
-	f = frame(0x555, { 0x55, 0x55, 0x55, 0x55, 0x55, 0x55, 0x55, 0x55 });
+	f = can_test_frame(0x555, { 0x55, 0x55, 0x55, 0x55, 0x55, 0x55, 0x55, 0x55 });
 	f.len = 15;
 	assert_int_equal(tcs::can_frame_bits(f), 47 + 64 + 1);
 }
@@ -134,7 +123,7 @@ void frame_times(void **)
 	assert_int_equal(tcs::can_bit_ns(1500000), 667);      // 666.7
 	assert_int_equal(tcs::can_bit_ns(2000000000), 1);     // at least 1
 	assert_int_equal(tcs::can_bit_ns(0), 1000000000);     // as 1 bit/s
-	CanFrame f = frame(0x000, { 0, 0, 0, 0, 0, 0, 0, 0 }); // 127 bits
+	CanFrame f = can_test_frame(0x000, { 0, 0, 0, 0, 0, 0, 0, 0 }); // 127 bits
 	assert_int_equal(tcs::can_frame_ns(f, 1000000, 0), 127000);
 	assert_int_equal(tcs::can_frame_ns(f, 125000, 2000000), 127 * 8000);
 	// FD with BRS at 1 and 5 Mbit/s: 32 nominal bits, 109 data bits.

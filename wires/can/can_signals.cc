@@ -45,7 +45,8 @@ uint32_t raw_of(const CanField &f, double value)
 {
 	const double v = (value - f.offset) / f.scale;
 	if (f.type == CanType::float32) {
-		float x = std::isfinite(v) ? float(std::fmin(std::fmax(v, -double(FLT_MAX)), double(FLT_MAX))) : float(v);
+		const double max = FLT_MAX;
+		const float x = std::isfinite(v) ? float(std::fmin(std::fmax(v, -max), max)) : float(v);
 		uint32_t bits;
 		memcpy(&bits, &x, 4);
 		return bits;
@@ -112,7 +113,8 @@ Result<CanLayout> can_layout(std::vector<CanField> fields, bool fd)
 		if (f.scale == 0 || !std::isfinite(f.scale) || !std::isfinite(f.offset))
 			return Error{ "field '" + f.name + "': scale must be finite and not 0, offset finite" };
 		if (f.start < -1)
-			return Error{ "field '" + f.name + "': start byte " + std::to_string(f.start) + " is before 0" };
+			return Error{ "field '" + f.name + "': start byte " + std::to_string(f.start) +
+				      " is before 0" };
 		if (f.start < 0)
 			f.start = next;
 		const int size = int(can_type_size(f.type));
