@@ -45,8 +45,8 @@ I2cMessage msg(uint16_t addr, uint16_t flags, Bytes data)
 
 void bit_times_at_any_clock(void **)
 {
-	assert_int_equal(tcs::i2c_bits_ns(38, 100000), 380000);
-	assert_int_equal(tcs::i2c_bits_ns(38, 400000), 95000);
+	assert_int_equal(tcs::i2c_bits_ns(39, 100000), 390000);
+	assert_int_equal(tcs::i2c_bits_ns(39, 400000), 97500);
 	assert_int_equal(tcs::i2c_bits_ns(38, 300000), 126667); // 126666.67 ns
 	assert_int_equal(tcs::i2c_bits_ns(1, 3), 333333333);
 	assert_int_equal(tcs::i2c_bits_ns(0, 100000), 0);
