@@ -224,6 +224,16 @@ void i2c_block_data_has_no_count_on_the_wire(void **)
 	r = rig.run(W, 0x6B, I2C_SMBUS_I2C_BLOCK_DATA);
 	expect_message(r.messages[0], 0, { 0x6B, 0x19, 0x1A });
 
+	// A read of none: the command, then a read message of no byte (found
+	// by the i2c fuzz target).
+	Rig none;
+	r = none.run(R, 0x3B, I2C_SMBUS_I2C_BLOCK_DATA);
+	assert_int_equal(r.xfer.error, 0);
+	expect_message(r.messages[1], I2C_M_RD, {});
+	assert_int_equal(r.xfer.bits, 1 + 9 + 9 + 1 + 9 + 1);
+	assert_int_equal(r.data_out, 34);
+	assert_string_equal(none.chip->log.c_str(), "Sw w3b Sr P ");
+
 	// The old call reads 32, whatever block[0] said.
 	Rig old;
 	old.data.block[0] = 3;

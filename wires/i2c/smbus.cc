@@ -1,6 +1,7 @@
 // The I2C_SMBUS ioctl over I2C messages, as Linux emulates it (see smbus.h).
 #include "smbus.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <string>
@@ -152,7 +153,7 @@ int read_back(uint32_t size, const std::vector<I2cMessage> &msgs, i2c_smbus_data
 		d.word = uint16_t(msgs[1].data[0] | msgs[1].data[1] << 8);
 		return 0;
 	case I2C_SMBUS_I2C_BLOCK_DATA:
-		memcpy(d.block + 1, msgs[1].data.data(), d.block[0]);
+		std::copy_n(msgs[1].data.begin(), d.block[0], d.block + 1);
 		return 0;
 	default: { // the block calls: count and block
 		const uint8_t count = msgs[1].data[0];
