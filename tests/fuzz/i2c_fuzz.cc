@@ -112,7 +112,8 @@ void smbus(Reader &in, tcs::I2cBus &bus)
 	for (size_t i = 0; i < sizeof data.block; i++)
 		data.block[i] = in.byte();
 	before = data;
-	const tcs::SmbusResult r = tcs::i2c_smbus(bus, a.addr, a.ten_bit, rw, command, size, null_data ? nullptr : &data);
+	const tcs::SmbusResult r =
+		tcs::i2c_smbus(bus, a.addr, a.ten_bit, rw, command, size, null_data ? nullptr : &data);
 	// The chip ACKs every byte: a NACK is an address's.
 	check(one_of(r.xfer.error, { 0, -EINVAL, -ENXIO, -EPROTO }));
 	check(r.xfer.error == 0 || !r.xfer.note.empty());
@@ -287,9 +288,11 @@ const char *tcs_fuzz_name()
 
 std::vector<std::string> tcs_fuzz_seeds()
 {
-	const std::string wake = smbus_op(I2C_SMBUS_WRITE, 0x6B, I2C_SMBUS_BYTE_DATA, 0, "\x00");
+	const std::string zero(1, '\0');
+	const std::string wake = smbus_op(I2C_SMBUS_WRITE, 0x6B, I2C_SMBUS_BYTE_DATA, 0, zero);
 	const std::string rest = sample_op(0, 0, 9.80665, 0.1, -0.2, 0.3, 25);
-	const std::string burst = std::string(1, char(kRdwr)) + "\x02" + msg(0, 0, 1, "\x3b") + msg(0, I2C_M_RD, 14, std::string(1, '\0'));
+	const std::string burst =
+		std::string(1, char(kRdwr)) + "\x02" + msg(0, 0, 1, "\x3b") + msg(0, I2C_M_RD, 14, zero);
 	return {
 		std::string(1, '\0') + smbus_op(I2C_SMBUS_READ, 0x75, I2C_SMBUS_BYTE_DATA, 0),
 		std::string(1, '\1') + wake + rest + burst,
@@ -301,14 +304,17 @@ std::vector<std::string> tcs_fuzz_seeds()
 		std::string(1, '\2') + smbus_op(I2C_SMBUS_READ, 0x00, I2C_SMBUS_QUICK, 1) +
 			smbus_op(I2C_SMBUS_WRITE, 0x6B, I2C_SMBUS_BLOCK_PROC_CALL, 2, "\x21") +
 			smbus_op(I2C_SMBUS_READ, 0x00, I2C_SMBUS_I2C_BLOCK_BROKEN, 0),
-		std::string(1, '\0') + std::string(1, char(kRdwr)) + "\x02" + msg(0, 0, 1, "\x19") +
-			msg(0, I2C_M_RD | I2C_M_RECV_LEN, 40, "\x01"),
+		// SMPLRT_DIV 5 read as a block count, by I2C_RDWR and by SMBus.
+		zero + smbus_op(I2C_SMBUS_WRITE, 0x19, I2C_SMBUS_BYTE_DATA, 0, "\x05") + std::string(1, char(kRdwr)) +
+			"\x02" + msg(0, 0, 1, "\x19") + msg(0, I2C_M_RD | I2C_M_RECV_LEN, 40, "\x01") +
+			smbus_op(I2C_SMBUS_READ, 0x19, I2C_SMBUS_BLOCK_DATA, 0) +
+			smbus_op(I2C_SMBUS_WRITE, 0x19, I2C_SMBUS_BLOCK_PROC_CALL, 0, "\x01\x02"),
 		std::string(1, '\3') + std::string(1, char(kRdwr)) + "\x03" + msg(1, I2C_M_IGNORE_NAK, 2, "\x01\x02") +
 			msg(0, I2C_M_NOSTART | I2C_M_RD, 3, std::string(1, '\0')) + msg(2, I2C_M_STOP, 0, ""),
 		std::string(1, '\0') + std::string(1, char(kRdwr)) + "\x2b" + std::string(43 * 4, '\0'),
-		std::string(1, '\0') + std::string(1, char(kRdwr)) + "\x01" + msg(0, I2C_M_RD, 255, std::string(1, '\0')),
-		std::string(1, '\0') + wake + std::string(1, char(kPlain)) + "\x00\x00\x02\x6b\x80" +
-			std::string(1, char(kPlain)) + "\x01\x00\x10",
+		zero + std::string(1, char(kRdwr)) + "\x01" + msg(0, I2C_M_RD, 255, zero),
+		// write 0x6B 0x80 (DEVICE_RESET) to 0x68, then read 16 bytes.
+		zero + wake + std::string{ char(kPlain), 0, 0, 2, 0x6B, char(0x80), char(kPlain), 1, 0, 16 },
 		std::string(1, '\1') + wake + sample_op(NAN, INFINITY, -1e300, 1e9, -0.0, 5e-324, -300) + burst,
 	};
 }
@@ -340,7 +346,8 @@ bool tcs_fuzz_mutate(std::string &s, tcs_fuzz::Rng &rng)
 		for (size_t i = 0; i < n; i++) {
 			const uint16_t flags = uint16_t(rng.below(2) ? rng.next() : rng.below(2));
 			const uint8_t len = uint8_t(rng.below(40));
-			op += msg(uint8_t(rng.below(4)), flags, len, std::string(flags & I2C_M_RD ? 1 : len, char(rng.next())));
+			const std::string bytes(flags & I2C_M_RD ? 1 : len, char(rng.next()));
+			op += msg(uint8_t(rng.below(4)), flags, len, bytes);
 		}
 		break;
 	}

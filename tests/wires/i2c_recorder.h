@@ -1,11 +1,14 @@
 // A chip for the I2C tests that writes down what it sees of the wire
 // ("Sw" a START for a write, "Sr" for a read, "w3b" a byte written, "r" a
-// byte read, "P" a STOP), answers reads from a list, and can NACK.
+// byte read, "P" a STOP), answers reads from a list, and can NACK; and a
+// bus with one at 0x50.
 #pragma once
 
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <deque>
+#include <memory>
 #include <string>
 
 #include "i2c_bus.h"
@@ -39,4 +42,17 @@ public:
 
 private:
 	int written_ = 0;
+};
+
+// A bus at clock_hz with a RecordingChip at 0x50.
+struct RecorderRig {
+	explicit RecorderRig(int64_t clock_hz = 100000) : bus(clock_hz)
+	{
+		auto c = std::make_unique<RecordingChip>();
+		chip = c.get();
+		if (!bus.attach(0x50, std::move(c)).ok())
+			abort();
+	}
+	tcs::I2cBus bus;
+	RecordingChip *chip;
 };

@@ -26,17 +26,7 @@ using tcs::I2cResult;
 
 using Bytes = std::vector<uint8_t>;
 
-// A bus at clock_hz with a recording chip at 0x50.
-struct Rig {
-	explicit Rig(int64_t clock_hz = 100000) : bus(clock_hz)
-	{
-		auto c = std::make_unique<RecordingChip>();
-		chip = c.get();
-		assert_true(bus.attach(0x50, std::move(c)).ok());
-	}
-	I2cBus bus;
-	RecordingChip *chip;
-};
+using Rig = RecorderRig;
 
 I2cMessage msg(uint16_t addr, uint16_t flags, Bytes data)
 {

@@ -24,16 +24,7 @@ using tcs::I2cMessage;
 using tcs::I2cResult;
 using Bytes = std::vector<uint8_t>;
 
-struct Rig {
-	Rig()
-	{
-		auto c = std::make_unique<RecordingChip>();
-		chip = c.get();
-		assert_true(bus.attach(0x50, std::move(c)).ok());
-	}
-	I2cBus bus;
-	RecordingChip *chip;
-};
+using Rig = RecorderRig;
 
 void slave_addresses(void **)
 {

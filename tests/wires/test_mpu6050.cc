@@ -48,7 +48,8 @@ struct Rig {
 	{
 		i2c_smbus_data d;
 		memset(&d, 0, sizeof d);
-		const tcs::SmbusResult r = tcs::i2c_smbus(bus, 0x68, false, I2C_SMBUS_READ, reg, I2C_SMBUS_BYTE_DATA, &d);
+		const tcs::SmbusResult r =
+			tcs::i2c_smbus(bus, 0x68, false, I2C_SMBUS_READ, reg, I2C_SMBUS_BYTE_DATA, &d);
 		assert_int_equal(r.xfer.error, 0);
 		return d.byte;
 	}

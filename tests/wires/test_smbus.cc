@@ -29,20 +29,13 @@ using Bytes = std::vector<uint8_t>;
 
 constexpr uint8_t R = I2C_SMBUS_READ, W = I2C_SMBUS_WRITE;
 
-struct Rig {
-	Rig() : bus(100000)
-	{
-		auto c = std::make_unique<RecordingChip>();
-		chip = c.get();
-		assert_true(bus.attach(0x50, std::move(c)).ok());
-		memset(&data, 0, sizeof data);
-	}
+// The recording chip's bus, and the caller's union.
+struct Rig : RecorderRig {
+	Rig() { memset(&data, 0, sizeof data); }
 	SmbusResult run(uint8_t rw, uint8_t command, uint32_t size, bool ten_bit = false)
 	{
 		return tcs::i2c_smbus(bus, 0x50, ten_bit, rw, command, size, &data);
 	}
-	I2cBus bus;
-	RecordingChip *chip;
 	i2c_smbus_data data;
 };
 

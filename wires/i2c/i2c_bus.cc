@@ -50,7 +50,8 @@ int send_address(const std::map<uint32_t, std::unique_ptr<I2cChip>> &chips, cons
 		// whatever answered the first.
 		const bool go_on = m.flags & I2C_M_IGNORE_NAK;
 		const uint32_t a = m.addr & 0x3FF;
-		const std::string none = "message " + std::to_string(i) + ": no chip at 10-bit address " + hex(a) + " (NACK)";
+		const std::string none =
+			"message " + std::to_string(i) + ": no chip at 10-bit address " + hex(a) + " (NACK)";
 		// 11110 A9 A8 W: ACKed by every 10-bit chip whose A9 A8 are those.
 		w.bits += 9;
 		const uint32_t high = 0x10000 | (a & 0x300);
@@ -175,7 +176,8 @@ I2cResult I2cBus::transfer(std::vector<I2cMessage> &msgs)
 				break;
 			}
 		}
-		const int err = m.flags & I2C_M_RD ? read_bytes(m, i, chip, w, r.note) : write_bytes(m, i, chip, w, r.note);
+		const int err =
+			m.flags & I2C_M_RD ? read_bytes(m, i, chip, w, r.note) : write_bytes(m, i, chip, w, r.note);
 		if (err) {
 			r.error = err;
 			break;

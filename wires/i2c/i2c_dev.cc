@@ -46,8 +46,8 @@ I2cResult i2c_rdwr(I2cBus &bus, std::vector<I2cMessage> &msgs)
 	for (size_t i = 0; i < msgs.size(); i++) {
 		I2cMessage &m = msgs[i];
 		if (m.data.size() > kMaxLen)
-			return refused("I2C_RDWR message " + std::to_string(i) + " of " + std::to_string(m.data.size()) +
-				       " bytes (at most 8192)");
+			return refused("I2C_RDWR message " + std::to_string(i) + " of " +
+				       std::to_string(m.data.size()) + " bytes (at most 8192)");
 		if (!(m.flags & I2C_M_RECV_LEN))
 			continue;
 		// The buffer's first byte says how many bytes come besides the

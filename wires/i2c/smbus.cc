@@ -211,7 +211,10 @@ SmbusResult i2c_smbus(I2cBus &bus, uint16_t addr, bool ten_bit, uint8_t read_wri
 		if (r.xfer.error)
 			return r;
 	}
-	if (with_data && (as == I2C_SMBUS_PROC_CALL || as == I2C_SMBUS_BLOCK_PROC_CALL || read_write == I2C_SMBUS_READ)) {
+	// i2c-dev copies the union back after the calls and any read.
+	const bool copy_back =
+		as == I2C_SMBUS_PROC_CALL || as == I2C_SMBUS_BLOCK_PROC_CALL || read_write == I2C_SMBUS_READ;
+	if (with_data && copy_back) {
 		memcpy(data, &temp, datasize);
 		r.data_out = datasize;
 	}
