@@ -14,8 +14,10 @@
 // after the message, not a repeated START); I2C_M_NOSTART (no START nor
 // address: the bytes go on to the chip the previous message addressed; on
 // the first message no chip is addressed, so its bytes are NACKed and read
-// 0xFF, the pull-ups' level); I2C_M_REV_DIR_ADDR (the R/W bit sent, which
-// the chip is told, is inverted; the bytes still go the way I2C_M_RD says).
+// 0xFF, the pull-ups' level); I2C_M_REV_DIR_ADDR (a 7-bit address's R/W
+// bit, which the chip is told, is inverted; the bytes still go the way
+// I2C_M_RD says). With I2C_M_IGNORE_NAK a 10-bit address is sent whole
+// whatever answered its first byte.
 // I2C_M_DMA_SAFE means nothing here. Not modelled: i2c-algo-bit's retries
 // of a NACKed address, clock stretching, arbitration.
 //

@@ -31,8 +31,8 @@ bool needs_no_data(uint8_t read_write, uint32_t size)
 	return size == I2C_SMBUS_QUICK || (size == I2C_SMBUS_BYTE && read_write == I2C_SMBUS_WRITE);
 }
 
-// The calls send something, so the caller's data is read first; the rest
-// start from a zeroed union.
+// These send from the caller's union, so i2c-dev reads it first; the
+// others start from a zeroed one.
 bool sends_data(uint8_t read_write, uint32_t size)
 {
 	return size == I2C_SMBUS_PROC_CALL || size == I2C_SMBUS_BLOCK_PROC_CALL || size == I2C_SMBUS_I2C_BLOCK_DATA ||
