@@ -160,7 +160,8 @@ Bytes write_of(uint8_t id, uint16_t addr, const Bytes &data)
 std::vector<std::string> tcs_fuzz_seeds()
 {
 	using namespace tcs;
-	const std::string head[] = { std::string("\x00\x07", 2), std::string("\x05\x31", 2), std::string("\x83\x02", 2) };
+	const std::string head[] = { std::string("\x00\x07", 2), std::string("\x05\x31", 2),
+				     std::string("\x83\x02", 2) };
 	const std::vector<Bytes> streams = {
 		// The e-Manual's examples: PING, READ, WRITE, REG_WRITE + ACTION,
 		// FACTORY_RESET, REBOOT, CLEAR, SYNC/BULK READ and WRITE.
@@ -174,19 +175,22 @@ std::vector<std::string> tcs_fuzz_seeds()
 		dxl2_instruction(1, kDxlReboot, Bytes{}),
 		dxl2_instruction(1, kDxlClear, Bytes{ 0x01, 0x44, 0x58, 0x4C, 0x22 }),
 		dxl2_instruction(0xFE, kDxlSyncRead, Bytes{ 0x84, 0x00, 0x04, 0x00, 0x01, 0x02, 0x03 }),
-		dxl2_instruction(0xFE, kDxlSyncWrite,
-				 Bytes{ 0x74, 0x00, 0x04, 0x00, 0x01, 0x96, 0x00, 0x00, 0x00, 0x02, 0xAA, 0x00, 0x00, 0x00 }),
-		dxl2_instruction(0xFE, kDxlBulkRead, Bytes{ 0x01, 0x90, 0x00, 0x02, 0x00, 0x02, 0x92, 0x00, 0x01, 0x00 }),
+		dxl2_instruction(
+			0xFE, kDxlSyncWrite,
+			Bytes{ 0x74, 0x00, 0x04, 0x00, 0x01, 0x96, 0x00, 0x00, 0x00, 0x02, 0xAA, 0x00, 0x00, 0x00 }),
+		dxl2_instruction(0xFE, kDxlBulkRead,
+				 Bytes{ 0x01, 0x90, 0x00, 0x02, 0x00, 0x02, 0x92, 0x00, 0x01, 0x00 }),
 		dxl2_instruction(0xFE, kDxlBulkWrite,
 				 Bytes{ 0x01, 0x20, 0x00, 0x02, 0x00, 0xA0, 0x00, 0x02, 0x1F, 0x00, 0x01, 0x00, 0x50 }),
 		// Torque on, goals in each mode, a profile, indirect addresses.
 		[] {
 			Bytes s;
 			for (const Bytes &b :
-			     { write_of(2, 11, { 5 }), write_of(2, 102, { 0xC8, 0x00 }), write_of(2, 112, { 100, 0, 0, 0 }),
-			       write_of(2, 108, { 20, 0, 0, 0 }), write_of(2, 64, { 1 }), write_of(2, 116, { 0, 8, 0, 0 }),
-			       write_of(3, 11, { 1 }), write_of(3, 98, { 1 }), write_of(3, 64, { 1 }),
-			       write_of(3, 104, { 50, 0, 0, 0 }), write_of(1, 168, { 132, 0, 133, 0, 134, 0, 135, 0 }),
+			     { write_of(2, 11, { 5 }), write_of(2, 102, { 0xC8, 0x00 }),
+			       write_of(2, 112, { 100, 0, 0, 0 }), write_of(2, 108, { 20, 0, 0, 0 }),
+			       write_of(2, 64, { 1 }), write_of(2, 116, { 0, 8, 0, 0 }), write_of(3, 11, { 1 }),
+			       write_of(3, 98, { 1 }), write_of(3, 64, { 1 }), write_of(3, 104, { 50, 0, 0, 0 }),
+			       write_of(1, 168, { 132, 0, 133, 0, 134, 0, 135, 0 }),
 			       dxl2_instruction(1, kDxlRead, Bytes{ 224, 0, 4, 0 }), write_of(1, 10, { 5 }),
 			       write_of(1, 11, { 16 }), write_of(1, 64, { 1 }), write_of(1, 100, { 0x20, 0x03 }) })
 				s.insert(s.end(), b.begin(), b.end());
@@ -199,7 +203,8 @@ std::vector<std::string> tcs_fuzz_seeds()
 			s.insert(s.end(), w.begin(), w.end());
 			w.back() ^= 1;
 			s.insert(s.end(), w.begin(), w.end());
-			const Bytes bad = { 0xFF, 0xFF, 0xFD, 0x00, 0x01, 0x02, 0x00, 0xFF, 0xFF, 0xFD, 0x00, 0x01, 0x01, 0x04 };
+			const Bytes bad = { 0xFF, 0xFF, 0xFD, 0x00, 0x01, 0x02, 0x00,
+					    0xFF, 0xFF, 0xFD, 0x00, 0x01, 0x01, 0x04 };
 			s.insert(s.end(), bad.begin(), bad.end());
 			return s;
 		}(),
@@ -212,10 +217,19 @@ std::vector<std::string> tcs_fuzz_seeds()
 
 std::vector<std::string> tcs_fuzz_tokens()
 {
-	return { std::string("\xFF\xFF\xFD\x00", 4), std::string("\xFF\xFF\xFD\xFD", 4), std::string("\xFF\xFF\xFD", 3),
-		 std::string("\x00\x04", 2), std::string("\xFF\xFF", 2), std::string("\xFE", 1),
-		 std::string("\x55", 1), std::string("\x82", 1), std::string("\x92", 1), std::string("\x93", 1),
-		 std::string("\x74\x00", 2), std::string("\x40\x00\x01", 3), std::string("\xA8\x00", 2),
+	return { std::string("\xFF\xFF\xFD\x00", 4),
+		 std::string("\xFF\xFF\xFD\xFD", 4),
+		 std::string("\xFF\xFF\xFD", 3),
+		 std::string("\x00\x04", 2),
+		 std::string("\xFF\xFF", 2),
+		 std::string("\xFE", 1),
+		 std::string("\x55", 1),
+		 std::string("\x82", 1),
+		 std::string("\x92", 1),
+		 std::string("\x93", 1),
+		 std::string("\x74\x00", 2),
+		 std::string("\x40\x00\x01", 3),
+		 std::string("\xA8\x00", 2),
 		 std::string("\x95\x02", 2) };
 }
 
@@ -225,12 +239,14 @@ bool tcs_fuzz_mutate(std::string &s, tcs_fuzz::Rng &rng)
 	if (s.size() < 2)
 		return false;
 	static const uint8_t kIds[] = { 1, 2, 3, 0xFE, 7, 0 };
-	static const uint8_t kInstructions[] = { tcs::kDxlPing,		tcs::kDxlRead,	      tcs::kDxlWrite,
-						 tcs::kDxlRegWrite,	tcs::kDxlAction,      tcs::kDxlFactoryReset,
-						 tcs::kDxlReboot,	tcs::kDxlClear,	      tcs::kDxlSyncRead,
-						 tcs::kDxlSyncWrite,	tcs::kDxlBulkRead,    tcs::kDxlBulkWrite };
-	static const uint16_t kAddresses[] = { 0,  7,	8,   9,	  10,  11,  12,	 13,  20,  38,	48,  63,  64,  65, 68,
-					       98, 100, 102, 104, 108, 112, 116, 120, 132, 168, 224, 578, 634, 660, 661 };
+	static const uint8_t kInstructions[] = { tcs::kDxlPing,      tcs::kDxlRead,     tcs::kDxlWrite,
+						 tcs::kDxlRegWrite,  tcs::kDxlAction,   tcs::kDxlFactoryReset,
+						 tcs::kDxlReboot,    tcs::kDxlClear,    tcs::kDxlSyncRead,
+						 tcs::kDxlSyncWrite, tcs::kDxlBulkRead, tcs::kDxlBulkWrite };
+	static const uint16_t kAddresses[] = {
+		0,  7,   8,   9,   10,  11,  12,  13,  20,  38,  48,  63,  64,  65,  68,
+		98, 100, 102, 104, 108, 112, 116, 120, 132, 168, 224, 578, 634, 660, 661
+	};
 	const uint8_t id = kIds[rng.below(sizeof kIds)];
 	const uint8_t instruction = kInstructions[rng.below(sizeof kInstructions)];
 	const uint16_t addr = kAddresses[rng.below(sizeof kAddresses / sizeof kAddresses[0])];

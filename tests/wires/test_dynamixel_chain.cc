@@ -136,7 +136,9 @@ void sync_read_answers_in_the_packets_order(void **)
 	assert_true(ids_of(r) == (std::vector<uint8_t>{ 3, 2 }));
 	// Too few params: no one answers.
 	std::vector<std::string> notes;
-	assert_int_equal(send(chain, tcs::dxl2_instruction(0xFE, tcs::kDxlSyncRead, Bytes{ 0x84, 0x00, 0x04 }), &notes).size(), 0);
+	assert_int_equal(
+		send(chain, tcs::dxl2_instruction(0xFE, tcs::kDxlSyncRead, Bytes{ 0x84, 0x00, 0x04 }), &notes).size(),
+		0);
 	assert_int_equal(notes.size(), 1);
 }
 
@@ -150,7 +152,8 @@ void bulk_read_answers_in_the_packets_order(void **)
 	assert_int_equal(status_of(r[0]).params.size(), 2);
 	assert_int_equal(status_of(r[1]).params.size(), 5);
 	// A broken entry: ignored by all.
-	assert_int_equal(send(chain, tcs::dxl2_instruction(0xFE, tcs::kDxlBulkRead, Bytes{ 2, 65, 0, 1, 0, 1 })).size(), 0);
+	assert_int_equal(send(chain, tcs::dxl2_instruction(0xFE, tcs::kDxlBulkRead, Bytes{ 2, 65, 0, 1, 0, 1 })).size(),
+			 0);
 }
 
 void malformed_writes_to_many_are_ignored(void **)

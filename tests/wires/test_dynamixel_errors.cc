@@ -26,7 +26,7 @@ using tcs::DynamixelChain;
 // Status packets from id 1 with no params: the error and its CRC.
 Bytes status1(uint8_t error)
 {
-	static const uint8_t crc[8][2] = { { 0xA1, 0x0C }, { 0, 0 },	   { 0xAE, 0x8C }, { 0xAB, 0x0C },
+	static const uint8_t crc[8][2] = { { 0xA1, 0x0C }, { 0, 0 },       { 0xAE, 0x8C }, { 0xAB, 0x0C },
 					   { 0xBA, 0x8C }, { 0xBF, 0x0C }, { 0xB5, 0x0C }, { 0xB0, 0x8C } };
 	return { 0xFF, 0xFF, 0xFD, 0x00, 0x01, 0x04, 0x00, 0x55, error, crc[error][0], crc[error][1] };
 }
@@ -82,9 +82,11 @@ void lengths(void **)
 	// 2 of Goal Position's 4 bytes.
 	assert_true(s.ask(write_of(1, tcs::kDxlGoalPosition, { 0x00, 0x02 })) == status1(tcs::kDxlDataLengthError));
 	// An address and no data.
-	assert_true(s.ask(tcs::dxl2_instruction(1, tcs::kDxlWrite, Bytes{ 0x41, 0x00 })) == status1(tcs::kDxlDataLengthError));
+	assert_true(s.ask(tcs::dxl2_instruction(1, tcs::kDxlWrite, Bytes{ 0x41, 0x00 })) ==
+		    status1(tcs::kDxlDataLengthError));
 	// READ with 3 params.
-	assert_true(s.ask(tcs::dxl2_instruction(1, tcs::kDxlRead, Bytes{ 0x84, 0x00, 0x04 })) == status1(tcs::kDxlDataLengthError));
+	assert_true(s.ask(tcs::dxl2_instruction(1, tcs::kDxlRead, Bytes{ 0x84, 0x00, 0x04 })) ==
+		    status1(tcs::kDxlDataLengthError));
 }
 
 void ranges_and_limits(void **)

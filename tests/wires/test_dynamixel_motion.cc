@@ -29,10 +29,7 @@ constexpr double kDt = 0.001;
 
 struct Servo {
 	DynamixelChain chain;
-	Servo()
-	{
-		assert_true(chain.add(1).ok());
-	}
+	Servo() { assert_true(chain.add(1).ok()); }
 	tcs::DynamixelServo &s() { return chain.servo(0); }
 	int64_t get(uint16_t addr) { return s().table().get(addr); }
 	// A WRITE that must succeed.
@@ -58,6 +55,34 @@ struct Joint {
 	}
 };
 
+// Powered on where the joint is, in Operating Mode `mode`, torque on,
+// aimed at `goal`: Goal Velocity in Velocity Control Mode, else Goal
+// Position (with Profile Velocity `profile`).
+void start(Servo &sv, Joint &joint, int mode, int64_t goal, int64_t profile = 0)
+{
+	joint.step(sv);
+	if (mode != tcs::kDxlPositionMode)
+		sv.set(tcs::kDxlOperatingMode, mode, 1);
+	sv.set(tcs::kDxlProfileVelocity, profile, 4);
+	sv.set(tcs::kDxlTorqueEnable, 1, 1);
+	if (mode == tcs::kDxlVelocityMode)
+		sv.set(tcs::kDxlGoalVelocity, goal, 4);
+	else
+		sv.set(tcs::kDxlGoalPosition, goal, 4);
+}
+
+// At goal +-2 counts, at rest, `before` ms on and for `then` ms more.
+void settles_at(Servo &sv, Joint &joint, int64_t goal, int before, int then)
+{
+	for (int ms = 1; ms <= before + then; ms++) {
+		joint.step(sv);
+		if (ms >= before) {
+			assert_true(std::llabs(goal - sv.get(tcs::kDxlPresentPosition)) <= 2);
+			assert_true(std::fabs(joint.omega) < 0.01);
+		}
+	}
+}
+
 void present_registers_from_the_joint(void **)
 {
 	Servo sv;
@@ -68,7 +93,7 @@ void present_registers_from_the_joint(void **)
 	sv.s().step(-kPi / 2, 1.0, kDt);
 	assert_int_equal(sv.get(tcs::kDxlPresentPosition), 1024);
 	assert_int_equal(sv.get(tcs::kDxlPresentVelocity), 42); // 1 rad/s: 41.7 units of 0.229 rpm
-	assert_int_equal(sv.get(tcs::kDxlMoving), 1); // above Moving Threshold 10
+	assert_int_equal(sv.get(tcs::kDxlMoving), 1);           // above Moving Threshold 10
 	sv.s().step(-kPi / 2, -0.2, kDt);
 	assert_int_equal(sv.get(tcs::kDxlPresentVelocity), -8);
 	assert_int_equal(sv.get(tcs::kDxlMoving), 0);
@@ -140,7 +165,7 @@ void pwm_mode_is_the_motor_at_a_voltage(void **)
 	sv.set(tcs::kDxlOperatingMode, 16, 1);
 	sv.set(tcs::kDxlTorqueEnable, 1, 1);
 	sv.set(tcs::kDxlGoalPwm, 885, 2);
-	assert_float_equal(sv.s().step(0, 0, kDt), 4.1, 1e-6); // stall
+	assert_float_equal(sv.s().step(0, 0, kDt), 4.1, 1e-6);               // stall
 	assert_float_equal(sv.s().step(0, 46 * 2 * kPi / 60, kDt), 0, 1e-9); // no-load speed
 	sv.set(tcs::kDxlGoalPwm, 442, 2);
 	assert_float_equal(sv.s().step(0, 0, kDt), 2.0476836, 1e-6); // 5.993 V
@@ -169,18 +194,11 @@ void position_mode_reaches_its_goal(void **)
 	// 300 ms, within 2 counts by 500 ms, and there to stay.
 	Servo sv;
 	Joint joint{ 0.01 };
-	joint.step(sv);
-	sv.set(tcs::kDxlTorqueEnable, 1, 1);
-	sv.set(tcs::kDxlGoalPosition, 3072, 4);
-	for (int ms = 1; ms <= 1500; ms++) {
+	start(sv, joint, tcs::kDxlPositionMode, 3072);
+	for (int ms = 1; ms <= 300; ms++)
 		joint.step(sv);
-		const int64_t error = 3072 - sv.get(tcs::kDxlPresentPosition);
-		if (ms == 300)
-			assert_true(error > 50);
-		if (ms >= 500)
-			assert_true(std::llabs(error) <= 2);
-	}
-	assert_true(std::fabs(joint.omega) < 0.01);
+	assert_true(3072 - sv.get(tcs::kDxlPresentPosition) > 50);
+	settles_at(sv, joint, 3072, 200, 1000);
 	assert_int_equal(sv.get(tcs::kDxlMovingStatus) & 0x01, 1); // In-Position
 	assert_int_equal(sv.get(tcs::kDxlMoving), 0);
 }
@@ -193,9 +211,7 @@ void holds_an_arm_against_gravity(void **)
 	Servo sv;
 	Joint joint{ 0.2 * 0.3 * 0.3 / 3 };
 	joint.mgl = 0.2 * 9.81 * 0.15;
-	joint.step(sv);
-	sv.set(tcs::kDxlTorqueEnable, 1, 1);
-	sv.set(tcs::kDxlGoalPosition, 3072, 4);
+	start(sv, joint, tcs::kDxlPositionMode, 3072);
 	for (int ms = 1; ms <= 3000; ms++) {
 		joint.step(sv);
 		if (ms >= 1000) {
@@ -214,16 +230,8 @@ void a_light_joint_with_its_inertia_given(void **)
 	Servo sv;
 	Joint joint{ 1e-4 };
 	sv.s().set_joint_inertia(1e-4);
-	joint.step(sv);
-	sv.set(tcs::kDxlTorqueEnable, 1, 1);
-	sv.set(tcs::kDxlGoalPosition, 3072, 4);
-	for (int ms = 1; ms <= 1000; ms++) {
-		joint.step(sv);
-		if (ms >= 500) {
-			assert_true(std::llabs(3072 - sv.get(tcs::kDxlPresentPosition)) <= 2);
-			assert_true(std::fabs(joint.omega) < 0.01);
-		}
-	}
+	start(sv, joint, tcs::kDxlPositionMode, 3072);
+	settles_at(sv, joint, 3072, 500, 500);
 }
 
 void velocity_mode_reaches_its_goal(void **)
@@ -232,10 +240,7 @@ void velocity_mode_reaches_its_goal(void **)
 	// 2.99 V (220 PWM), at 1920 / 65536 PWM per unit*ms of error.
 	Servo sv;
 	Joint joint{ 0.01 };
-	joint.step(sv);
-	sv.set(tcs::kDxlOperatingMode, 1, 1);
-	sv.set(tcs::kDxlTorqueEnable, 1, 1);
-	sv.set(tcs::kDxlGoalVelocity, 50, 4);
+	start(sv, joint, tcs::kDxlVelocityMode, 50);
 	for (int ms = 1; ms <= 2000; ms++) {
 		joint.step(sv);
 		if (ms >= 1000) {
@@ -251,10 +256,7 @@ void a_rectangular_profile(void **)
 	// take 655 ms; at 300 ms the trajectory is at 2048 + 469.0.
 	Servo sv;
 	Joint joint{ 0.01 };
-	joint.step(sv);
-	sv.set(tcs::kDxlProfileVelocity, 100, 4);
-	sv.set(tcs::kDxlTorqueEnable, 1, 1);
-	sv.set(tcs::kDxlGoalPosition, 3072, 4);
+	start(sv, joint, tcs::kDxlPositionMode, 3072, 100);
 	for (int ms = 1; ms <= 1200; ms++) {
 		joint.step(sv);
 		if (ms == 300) {
@@ -326,10 +328,7 @@ void the_bus_watchdog_stops_it(void **)
 {
 	Servo sv;
 	Joint joint{ 0.01 };
-	joint.step(sv);
-	sv.set(tcs::kDxlOperatingMode, 1, 1);
-	sv.set(tcs::kDxlTorqueEnable, 1, 1);
-	sv.set(tcs::kDxlGoalVelocity, 50, 4);
+	start(sv, joint, tcs::kDxlVelocityMode, 50);
 	sv.set(tcs::kDxlBusWatchdog, 1, 1); // 20 ms
 	for (int ms = 1; ms <= 100; ms++) {
 		joint.step(sv);

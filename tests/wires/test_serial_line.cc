@@ -44,7 +44,7 @@ void ten_bytes_at_57600(void **)
 	// 100 bits at 57600 baud: 1736111.1 ns.
 	assert_int_equal(line.send(10, 0), 1736111);
 	assert_int_equal(line.pending(), 10);
-	assert_int_equal(line.arrival(0), 173611); // 1e10 / 57600
+	assert_int_equal(line.arrival(0), 173611);  // 1e10 / 57600
 	assert_int_equal(line.arrival(8), 1562500); // 9e10 / 57600, exactly
 	assert_int_equal(line.idle_at(), 1736111);
 }

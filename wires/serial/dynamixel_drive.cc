@@ -212,7 +212,8 @@ double DxlDrive::step(DxlControlTable &t, double position_rad, double velocity_r
 		const double cap = std::min(std::fabs(double(t.get(kDxlGoalPwm))), pwm_limit);
 		const double cap_volts = cap / kDxlPwmFull * supply_;
 		const double amp_limit = double(t.get(kDxlCurrentLimit)) * kDxlCurrentUnit;
-		const double current_cap = std::min(std::fabs(double(t.get(kDxlGoalCurrent))), double(t.get(kDxlCurrentLimit)));
+		const double current_cap =
+			std::min(std::fabs(double(t.get(kDxlGoalCurrent))), double(t.get(kDxlCurrentLimit)));
 		// The back-EMF's damping over the step, exact for a joint of known
 		// inertia (kDxlBackEmfDamping * dt / J large: a light joint that an
 		// explicit damper would throw back and forth).
@@ -224,12 +225,14 @@ double DxlDrive::step(DxlControlTable &t, double position_rad, double velocity_r
 		double wanted_amps = 0;
 		switch (mode) {
 		case kDxlPwmMode:
-			volts = std::clamp(tripped ? 0.0 : double(t.get(kDxlGoalPwm)), -pwm_limit, pwm_limit) / kDxlPwmFull *
-				supply_;
+			volts = std::clamp(tripped ? 0.0 : double(t.get(kDxlGoalPwm)), -pwm_limit, pwm_limit) /
+				kDxlPwmFull * supply_;
 			break;
 		case kDxlCurrentMode:
 			current_driven = true;
-			wanted_amps = tripped ? 0.0 : std::clamp(double(t.get(kDxlGoalCurrent)), -current_cap, current_cap) * kDxlCurrentUnit;
+			wanted_amps = tripped ? 0.0
+					      : std::clamp(double(t.get(kDxlGoalCurrent)), -current_cap, current_cap) *
+							kDxlCurrentUnit;
 			break;
 		case kDxlVelocityMode:
 			volts = velocity_loop(t, dt_ms, cap) / kDxlPwmFull * supply_;

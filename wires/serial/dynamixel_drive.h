@@ -18,6 +18,10 @@
 // The voltage is limited by Goal PWM (and PWM Limit), the current by
 // Current Limit; the integrators stop at the output limit (anti-windup).
 // With Torque Enable 0 the motor is left open: no torque, no braking.
+// Choosing an Operating Mode resets what the e-Manual lists (Profile
+// Velocity and Acceleration to 0, Goal PWM and Current to their limits);
+// the gains stay as they are. Moving Status's In-Position bit is set
+// within 10 counts of the goal (the XM430 has no threshold item; ours).
 //
 // Present Position is 2048 + the joint's angle * 4096 / 2pi, rounded, plus
 // Homing Offset; it is put within one turn (0-4095) at power-on, at a
@@ -71,13 +75,13 @@ private:
 	void report(DxlControlTable &t, double volts, double amps);
 
 	bool fresh_ = true;
-	int64_t raw_ = 2048; // encoder counts, all turns, direction applied
-	int64_t turns_ = 0; // counts taken off raw_ (a multiple of 4096)
+	int64_t raw_ = 2048;   // encoder counts, all turns, direction applied
+	int64_t turns_ = 0;    // counts taken off raw_ (a multiple of 4096)
 	double vel_units_ = 0; // 0.229 rpm, direction applied
 	DxlProfile profile_;
 	double time_v_ = 0, time_a_ = 0; // a time-based profile's limits
-	double vel_cmd_ = 0; // velocity mode's trajectory (0.229 rpm)
-	double pos_i_ = 0, vel_i_ = 0; // the integrals
+	double vel_cmd_ = 0;             // velocity mode's trajectory (0.229 rpm)
+	double pos_i_ = 0, vel_i_ = 0;   // the integrals
 	double tick_ms_ = 0;
 	double quiet_ms_ = 0;
 	int64_t hold_ = 0; // where a tripped watchdog holds
