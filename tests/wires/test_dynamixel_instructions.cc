@@ -136,6 +136,7 @@ void reboot_example(void **)
 	place(chain, 0, 2048);
 	send(chain, write_of(1, tcs::kDxlReturnDelayTime, { 10 }));
 	send(chain, write_of(1, tcs::kDxlTorqueEnable, { 1 }));
+	place(chain, 0, 3000 + 4096); // a turn and more
 	send(chain, write_of(1, tcs::kDxlLed, { 1 }));
 	const std::vector<DxlReply> r = send(chain, { 0xFF, 0xFF, 0xFD, 0x00, 0x01, 0x03, 0x00, 0x08, 0x2F, 0x4E });
 	assert_true(r.size() == 1 && r[0].bytes == kOk);
@@ -143,6 +144,10 @@ void reboot_example(void **)
 	assert_int_equal(t.get(tcs::kDxlTorqueEnable), 0);
 	assert_int_equal(t.get(tcs::kDxlLed), 0);
 	assert_int_equal(t.get(tcs::kDxlReturnDelayTime), 10);
+	// Restarted where it is: within a turn, its goal there.
+	assert_int_equal(t.get(tcs::kDxlPresentPosition), 3000);
+	assert_int_equal(t.get(tcs::kDxlGoalPosition), 3000);
+	assert_int_equal(t.get(tcs::kDxlPresentInputVoltage), 120);
 }
 
 void clear_example(void **)

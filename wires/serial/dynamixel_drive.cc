@@ -54,11 +54,17 @@ int64_t DxlDrive::present(const DxlControlTable &t) const
 	return to_int32(double(raw_ - turns_ + t.get(kDxlHomingOffset)));
 }
 
-void DxlDrive::power_on()
+void DxlDrive::power_on(DxlControlTable &t)
 {
-	fresh_ = true;
 	pos_i_ = vel_i_ = vel_cmd_ = 0;
 	quiet_ms_ = 0;
+	if (fresh_)
+		return;
+	wrap_turns(t);
+	t.set(kDxlGoalPosition, present(t));
+	t.set(kDxlPresentVelocity, to_int32(vel_units_));
+	profile_.restart(double(present(t)));
+	report(t, 0, 0);
 }
 
 void DxlDrive::wrap_turns(DxlControlTable &t)

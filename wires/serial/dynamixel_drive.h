@@ -45,9 +45,10 @@ public:
 	// the loop for dt_s and returns the torque on the joint (N*m).
 	double step(DxlControlTable &t, double position_rad, double velocity_rad_s, double dt_s);
 
-	// Power-on and REBOOT: the next step puts Present Position within one
-	// turn and Goal Position where the joint is.
-	void power_on();
+	// REBOOT and FACTORY_RESET (the table just reset): Present Position
+	// within one turn and Goal Position where the joint is, now if a step
+	// has read the joint, else at the first step (power-on).
+	void power_on(DxlControlTable &t);
 	// Present Position back within one turn.
 	void wrap_turns(DxlControlTable &t);
 	// Torque Enable turned to 1: the loops start from where the joint is.
@@ -74,7 +75,7 @@ private:
 	void watchdog(DxlControlTable &t, double dt_ms);
 	void report(DxlControlTable &t, double volts, double amps);
 
-	bool fresh_ = true;
+	bool fresh_ = true; // no step has read the joint yet
 	int64_t raw_ = 2048;   // encoder counts, all turns, direction applied
 	int64_t turns_ = 0;    // counts taken off raw_ (a multiple of 4096)
 	double vel_units_ = 0; // 0.229 rpm, direction applied

@@ -205,7 +205,7 @@ DxlAnswer DynamixelServo::factory_reset(const Dxl2Packet &p, DxlAddressing how)
 		     : option == 0x01 ? DxlReset::factory_but_id
 				      : DxlReset::factory_but_id_baud);
 	registered_.clear();
-	drive_.power_on();
+	drive_.power_on(table_);
 	return {};
 }
 
@@ -213,7 +213,7 @@ DxlAnswer DynamixelServo::reboot()
 {
 	table_.reset(DxlReset::reboot);
 	registered_.clear();
-	drive_.power_on();
+	drive_.power_on(table_);
 	return {};
 }
 
