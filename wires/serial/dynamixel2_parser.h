@@ -31,16 +31,16 @@ constexpr size_t kDxl2MaxLength = 1024;
 // What a receiver drops.
 struct Dxl2Fault {
 	enum Kind {
-		garbage, // bytes skipped while hunting for a header
-		bad_crc, // a whole packet whose CRC did not match
+		garbage,    // bytes skipped while hunting for a header
+		bad_crc,    // a whole packet whose CRC did not match
 		bad_length, // a length below 3: no room for the instruction and CRC
-		too_long, // a length above the receive buffer
+		too_long,   // a length above the receive buffer
 	};
 	Kind kind = garbage;
-	uint8_t id = 0; // not for garbage
+	uint8_t id = 0;          // not for garbage
 	uint8_t instruction = 0; // bad_crc: the instruction byte as received
-	uint16_t length = 0; // the length field (not for garbage)
-	size_t bytes = 0; // how many bytes were dropped
+	uint16_t length = 0;     // the length field (not for garbage)
+	size_t bytes = 0;        // how many bytes were dropped
 
 	bool operator==(const Dxl2Fault &) const = default;
 	// One line for a log: "skipped 5 bytes before a header", ...

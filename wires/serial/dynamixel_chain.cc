@@ -103,7 +103,8 @@ std::vector<DxlReply> DynamixelChain::handle(const Dxl2Packet &p, int64_t line_b
 			out.push_back(reply_of(id, delay, a));
 	}
 	if (p.id == kDxlBroadcastId)
-		std::stable_sort(out.begin(), out.end(), [](const DxlReply &a, const DxlReply &b) { return a.id < b.id; });
+		std::stable_sort(out.begin(), out.end(),
+				 [](const DxlReply &a, const DxlReply &b) { return a.id < b.id; });
 	return out;
 }
 
@@ -160,7 +161,8 @@ void DynamixelChain::sync_write(const Dxl2Packet &p, int64_t baud, std::vector<s
 {
 	const size_t n = p.params.size() >= 4 ? le16(p.params.data() + 2) : 0;
 	if (n == 0 || (p.params.size() - 4) % (n + 1) != 0) {
-		note(notes, "SYNC_WRITE whose " + std::to_string(p.params.size()) + " params are no whole entries, ignored");
+		note(notes,
+		     "SYNC_WRITE whose " + std::to_string(p.params.size()) + " params are no whole entries, ignored");
 		return;
 	}
 	std::vector<bool> seen(256);
@@ -173,7 +175,8 @@ void DynamixelChain::bulk_read(const Dxl2Packet &p, int64_t baud, std::vector<Dx
 			       std::vector<std::string> *notes)
 {
 	if (p.params.empty() || p.params.size() % 5 != 0) {
-		note(notes, "BULK_READ whose " + std::to_string(p.params.size()) + " params are no whole entries, ignored");
+		note(notes,
+		     "BULK_READ whose " + std::to_string(p.params.size()) + " params are no whole entries, ignored");
 		return;
 	}
 	std::vector<bool> seen(256);

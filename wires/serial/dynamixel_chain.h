@@ -53,9 +53,11 @@ public:
 
 	// A packet from the controller, at line_baud bit/s (0: any). Notes
 	// (one line each, for the log) say what was refused or ignored.
-	std::vector<DxlReply> handle(const Dxl2Packet &p, int64_t line_baud = 0, std::vector<std::string> *notes = nullptr);
+	std::vector<DxlReply> handle(const Dxl2Packet &p, int64_t line_baud = 0,
+				     std::vector<std::string> *notes = nullptr);
 	// A packet the parser dropped: only a bad CRC is answered.
-	std::vector<DxlReply> handle(const Dxl2Fault &f, int64_t line_baud = 0, std::vector<std::string> *notes = nullptr);
+	std::vector<DxlReply> handle(const Dxl2Fault &f, int64_t line_baud = 0,
+				     std::vector<std::string> *notes = nullptr);
 
 private:
 	bool hears(const DynamixelServo &s, int64_t line_baud) const;

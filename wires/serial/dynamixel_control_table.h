@@ -28,9 +28,9 @@
 namespace tcs {
 
 enum class DxlReset {
-	reboot, // the RAM area to its initial values
-	factory_all, // everything (FACTORY_RESET 0xFF)
-	factory_but_id, // everything but ID (0x01)
+	reboot,              // the RAM area to its initial values
+	factory_all,         // everything (FACTORY_RESET 0xFF)
+	factory_but_id,      // everything but ID (0x01)
 	factory_but_id_baud, // everything but ID and Baud Rate (0x02)
 };
 

@@ -54,11 +54,17 @@ int64_t DxlDrive::present(const DxlControlTable &t) const
 	return to_int32(double(raw_ - turns_ + t.get(kDxlHomingOffset)));
 }
 
-void DxlDrive::power_on()
+void DxlDrive::power_on(DxlControlTable &t)
 {
-	fresh_ = true;
 	pos_i_ = vel_i_ = vel_cmd_ = 0;
 	quiet_ms_ = 0;
+	if (fresh_)
+		return;
+	wrap_turns(t);
+	t.set(kDxlGoalPosition, present(t));
+	t.set(kDxlPresentVelocity, to_int32(vel_units_));
+	profile_.restart(double(present(t)));
+	report(t, 0, 0);
 }
 
 void DxlDrive::wrap_turns(DxlControlTable &t)
@@ -212,7 +218,8 @@ double DxlDrive::step(DxlControlTable &t, double position_rad, double velocity_r
 		const double cap = std::min(std::fabs(double(t.get(kDxlGoalPwm))), pwm_limit);
 		const double cap_volts = cap / kDxlPwmFull * supply_;
 		const double amp_limit = double(t.get(kDxlCurrentLimit)) * kDxlCurrentUnit;
-		const double current_cap = std::min(std::fabs(double(t.get(kDxlGoalCurrent))), double(t.get(kDxlCurrentLimit)));
+		const double current_cap =
+			std::min(std::fabs(double(t.get(kDxlGoalCurrent))), double(t.get(kDxlCurrentLimit)));
 		// The back-EMF's damping over the step, exact for a joint of known
 		// inertia (kDxlBackEmfDamping * dt / J large: a light joint that an
 		// explicit damper would throw back and forth).
@@ -224,12 +231,14 @@ double DxlDrive::step(DxlControlTable &t, double position_rad, double velocity_r
 		double wanted_amps = 0;
 		switch (mode) {
 		case kDxlPwmMode:
-			volts = std::clamp(tripped ? 0.0 : double(t.get(kDxlGoalPwm)), -pwm_limit, pwm_limit) / kDxlPwmFull *
-				supply_;
+			volts = std::clamp(tripped ? 0.0 : double(t.get(kDxlGoalPwm)), -pwm_limit, pwm_limit) /
+				kDxlPwmFull * supply_;
 			break;
 		case kDxlCurrentMode:
 			current_driven = true;
-			wanted_amps = tripped ? 0.0 : std::clamp(double(t.get(kDxlGoalCurrent)), -current_cap, current_cap) * kDxlCurrentUnit;
+			wanted_amps = tripped ? 0.0
+					      : std::clamp(double(t.get(kDxlGoalCurrent)), -current_cap, current_cap) *
+							kDxlCurrentUnit;
 			break;
 		case kDxlVelocityMode:
 			volts = velocity_loop(t, dt_ms, cap) / kDxlPwmFull * supply_;

@@ -18,6 +18,10 @@
 // The voltage is limited by Goal PWM (and PWM Limit), the current by
 // Current Limit; the integrators stop at the output limit (anti-windup).
 // With Torque Enable 0 the motor is left open: no torque, no braking.
+// Choosing an Operating Mode resets what the e-Manual lists (Profile
+// Velocity and Acceleration to 0, Goal PWM and Current to their limits);
+// the gains stay as they are. Moving Status's In-Position bit is set
+// within 10 counts of the goal (the XM430 has no threshold item; ours).
 //
 // Present Position is 2048 + the joint's angle * 4096 / 2pi, rounded, plus
 // Homing Offset; it is put within one turn (0-4095) at power-on, at a
@@ -41,9 +45,10 @@ public:
 	// the loop for dt_s and returns the torque on the joint (N*m).
 	double step(DxlControlTable &t, double position_rad, double velocity_rad_s, double dt_s);
 
-	// Power-on and REBOOT: the next step puts Present Position within one
-	// turn and Goal Position where the joint is.
-	void power_on();
+	// REBOOT and FACTORY_RESET (the table just reset): Present Position
+	// within one turn and Goal Position where the joint is, now if a step
+	// has read the joint, else at the first step (power-on).
+	void power_on(DxlControlTable &t);
 	// Present Position back within one turn.
 	void wrap_turns(DxlControlTable &t);
 	// Torque Enable turned to 1: the loops start from where the joint is.
@@ -70,14 +75,14 @@ private:
 	void watchdog(DxlControlTable &t, double dt_ms);
 	void report(DxlControlTable &t, double volts, double amps);
 
-	bool fresh_ = true;
-	int64_t raw_ = 2048; // encoder counts, all turns, direction applied
-	int64_t turns_ = 0; // counts taken off raw_ (a multiple of 4096)
+	bool fresh_ = true; // no step has read the joint yet
+	int64_t raw_ = 2048;   // encoder counts, all turns, direction applied
+	int64_t turns_ = 0;    // counts taken off raw_ (a multiple of 4096)
 	double vel_units_ = 0; // 0.229 rpm, direction applied
 	DxlProfile profile_;
 	double time_v_ = 0, time_a_ = 0; // a time-based profile's limits
-	double vel_cmd_ = 0; // velocity mode's trajectory (0.229 rpm)
-	double pos_i_ = 0, vel_i_ = 0; // the integrals
+	double vel_cmd_ = 0;             // velocity mode's trajectory (0.229 rpm)
+	double pos_i_ = 0, vel_i_ = 0;   // the integrals
 	double tick_ms_ = 0;
 	double quiet_ms_ = 0;
 	int64_t hold_ = 0; // where a tripped watchdog holds

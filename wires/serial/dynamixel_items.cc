@@ -106,7 +106,13 @@ std::optional<DxlItem> dxl_item(uint16_t addr)
 		if (addr >= base && addr < base + 2 * kDxlIndirectPerBlock) {
 			const uint16_t at = uint16_t(addr - (addr - base) % 2);
 			// By default each points at its own Indirect Data: plain storage.
-			return DxlItem{ at, 2, RW, U, kDxlRamStart, kDxlTableBytes - 1, data + (at - base) / 2,
+			return DxlItem{ at,
+					2,
+					RW,
+					U,
+					kDxlRamStart,
+					kDxlTableBytes - 1,
+					data + (at - base) / 2,
 					"Indirect Address" };
 		}
 		if (addr >= data && addr < data + kDxlIndirectPerBlock)

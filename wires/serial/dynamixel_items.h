@@ -15,7 +15,7 @@ constexpr uint16_t kDxlTableBytes = 662; // to Indirect Data 56 (661)
 constexpr uint16_t kDxlRamStart = 64;
 
 constexpr uint16_t kDxlXm430W350 = 1020; // Model Number
-constexpr uint8_t kDxlFirmware = 46; // Firmware Version: one with every item below
+constexpr uint8_t kDxlFirmware = 46;     // Firmware Version: one with every item below
 
 // EEPROM area.
 constexpr uint16_t kDxlModelNumber = 0;
@@ -92,7 +92,7 @@ struct DxlItem {
 	bool writable;
 	bool is_signed;
 	int64_t min, max; // what a WRITE may give (more checks: dxl_check_value)
-	int64_t initial; // at power-on and after a factory reset
+	int64_t initial;  // at power-on and after a factory reset
 	const char *name;
 };
 

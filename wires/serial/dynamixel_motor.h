@@ -17,21 +17,21 @@
 
 namespace tcs {
 
-constexpr double kDxlStallTorque = 4.1; // N*m at 12 V
-constexpr double kDxlStallCurrent = 2.3; // A
+constexpr double kDxlStallTorque = 4.1;                              // N*m at 12 V
+constexpr double kDxlStallCurrent = 2.3;                             // A
 constexpr double kDxlNoLoadSpeed = 46.0 * 2 * std::numbers::pi / 60; // rad/s at 12 V
 constexpr double kDxlRatedVolts = 12.0;
 
-constexpr double kDxlKt = kDxlStallTorque / kDxlStallCurrent; // N*m/A
-constexpr double kDxlResistance = kDxlRatedVolts / kDxlStallCurrent; // ohm
-constexpr double kDxlKe = kDxlRatedVolts / kDxlNoLoadSpeed; // V*s/rad
+constexpr double kDxlKt = kDxlStallTorque / kDxlStallCurrent;           // N*m/A
+constexpr double kDxlResistance = kDxlRatedVolts / kDxlStallCurrent;    // ohm
+constexpr double kDxlKe = kDxlRatedVolts / kDxlNoLoadSpeed;             // V*s/rad
 constexpr double kDxlBackEmfDamping = kDxlKt * kDxlKe / kDxlResistance; // N*m*s/rad
 
 // Control table units.
-constexpr double kDxlCurrentUnit = 2.69e-3; // A (Goal/Present Current)
-constexpr double kDxlVelocityUnit = 0.229 * 2 * std::numbers::pi / 60; // rad/s (0.229 rpm)
+constexpr double kDxlCurrentUnit = 2.69e-3;                                    // A (Goal/Present Current)
+constexpr double kDxlVelocityUnit = 0.229 * 2 * std::numbers::pi / 60;         // rad/s (0.229 rpm)
 constexpr double kDxlAccelerationUnit = 214.577 * 2 * std::numbers::pi / 3600; // rad/s^2 (214.577 rev/min^2)
-constexpr double kDxlPwmFull = 885; // PWM at 100 %
+constexpr double kDxlPwmFull = 885;                                            // PWM at 100 %
 constexpr double kDxlCountsPerRad = 4096 / (2 * std::numbers::pi);
 
 // The current the motor draws at `volts` turning at w rad/s (output

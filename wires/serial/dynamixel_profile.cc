@@ -40,8 +40,11 @@ void DxlProfile::step(double goal, double v_max, double a_max, double dt_ms)
 	const double before = vel;
 	const double sign = left >= 0 ? 1 : -1;
 	if (a_max > 0) {
-		// As fast as still lets it stop at the goal.
-		const double target = sign * std::min(v_max, std::sqrt(2 * a_max * std::fabs(left)));
+		// As fast as still lets it stop at the goal, a_max * dt_ms less a
+		// step: from n such steps it covers a_max * dt^2 * n (n + 1) / 2.
+		const double step_v = a_max * dt_ms;
+		const double braking = step_v * (std::sqrt(0.25 + 2 * std::fabs(left) / (step_v * dt_ms)) - 0.5);
+		const double target = sign * std::min(v_max, braking);
 		vel += std::clamp(target - vel, -a_max * dt_ms, a_max * dt_ms);
 	} else {
 		vel = sign * v_max;

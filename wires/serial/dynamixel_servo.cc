@@ -58,7 +58,7 @@ DxlAnswer DynamixelServo::execute(const Dxl2Packet &p, DxlAddressing how)
 	// Decided before executing: a REBOOT or a WRITE to Status Return
 	// Level(68) answers at the level the packet found.
 	const bool answer = how == DxlAddressing::id ? answers(p.instruction)
-						       : how == DxlAddressing::broadcast && p.instruction == kDxlPing;
+						     : how == DxlAddressing::broadcast && p.instruction == kDxlPing;
 	DxlAnswer a;
 	switch (p.instruction) {
 	case kDxlPing:
@@ -66,8 +66,8 @@ DxlAnswer DynamixelServo::execute(const Dxl2Packet &p, DxlAddressing how)
 		break;
 	case kDxlRead:
 		if (p.params.size() != 4)
-			a = refused(kDxlDataLengthError, "READ with " + std::to_string(p.params.size()) +
-								 " params (address and length: 4)");
+			a = refused(kDxlDataLengthError,
+				    "READ with " + std::to_string(p.params.size()) + " params (address and length: 4)");
 		else if (how == DxlAddressing::id)
 			a = read(le16(p.params.data()), le16(p.params.data() + 2));
 		break;
@@ -188,12 +188,12 @@ DxlAnswer DynamixelServo::action()
 DxlAnswer DynamixelServo::factory_reset(const Dxl2Packet &p, DxlAddressing how)
 {
 	if (p.params.size() != 1)
-		return refused(kDxlDataLengthError, "FACTORY_RESET with " + std::to_string(p.params.size()) +
-							    " params (an option: 1)");
+		return refused(kDxlDataLengthError,
+			       "FACTORY_RESET with " + std::to_string(p.params.size()) + " params (an option: 1)");
 	const uint8_t option = p.params[0];
 	if (option != 0xFF && option != 0x01 && option != 0x02)
-		return refused(kDxlDataRangeError, "FACTORY_RESET option " + std::to_string(option) +
-							   " (0xFF, 0x01 or 0x02)");
+		return refused(kDxlDataRangeError,
+			       "FACTORY_RESET option " + std::to_string(option) + " (0xFF, 0x01 or 0x02)");
 	if (how == DxlAddressing::broadcast && option == 0xFF) {
 		DxlAnswer a;
 		a.note = "FACTORY_RESET 0xFF to the broadcast ID is not executed";
@@ -201,10 +201,11 @@ DxlAnswer DynamixelServo::factory_reset(const Dxl2Packet &p, DxlAddressing how)
 	}
 	if (table_.get(kDxlTorqueEnable) == 1 || how == DxlAddressing::secondary)
 		return refused(kDxlAccessError, "FACTORY_RESET refused: the EEPROM area is locked");
-	table_.reset(option == 0xFF ? DxlReset::factory_all
-				    : option == 0x01 ? DxlReset::factory_but_id : DxlReset::factory_but_id_baud);
+	table_.reset(option == 0xFF   ? DxlReset::factory_all
+		     : option == 0x01 ? DxlReset::factory_but_id
+				      : DxlReset::factory_but_id_baud);
 	registered_.clear();
-	drive_.power_on();
+	drive_.power_on(table_);
 	return {};
 }
 
@@ -212,7 +213,7 @@ DxlAnswer DynamixelServo::reboot()
 {
 	table_.reset(DxlReset::reboot);
 	registered_.clear();
-	drive_.power_on();
+	drive_.power_on(table_);
 	return {};
 }
 

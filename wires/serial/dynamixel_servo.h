@@ -40,7 +40,7 @@
 namespace tcs {
 
 enum class DxlAddressing {
-	id, // the packet's ID is the servo's
+	id,        // the packet's ID is the servo's
 	broadcast, // 0xFE, or the servo's ID in a SYNC/BULK instruction
 	secondary, // the packet's ID is the servo's Secondary ID(12)
 };

@@ -48,7 +48,7 @@ int serial_frame_bits_cflag(uint32_t c_cflag)
 }
 
 SerialDirection::SerialDirection(int64_t baud, int bits_per_byte)
-	: baud_(std::max<int64_t>(baud, 1)), bits_(std::max(bits_per_byte, 1))
+    : baud_(std::max<int64_t>(baud, 1)), bits_(std::max(bits_per_byte, 1))
 {
 }
 
@@ -63,7 +63,7 @@ uint64_t SerialDirection::arrived_by(const Run &r, int64_t t_ns)
 	if (t_ns < r.start)
 		return 0;
 	// The k with floor((k + 1) * bits * 1e9 / baud) <= t - start.
-	const __int128 n = ((__int128)(t_ns - r.start + 1) * r.baud - 1) / ((__int128)r.bits * kNsPerS);
+	const __int128 n = (((__int128)t_ns - r.start + 1) * r.baud - 1) / ((__int128)r.bits * kNsPerS);
 	return n >= (__int128)r.sent ? r.sent : (uint64_t)n;
 }
 

@@ -26,8 +26,8 @@ public:
 	SerialDirection(int64_t baud, int bits_per_byte);
 
 	// Queues n bytes handed to the line at ready_ns behind those still on
-	// the wire; returns when the last of them has arrived (n = 0: when the
-	// wire is idle).
+	// the wire; returns when the last of them has arrived (n = 0: ready_ns,
+	// or when the wire is idle if that is later).
 	int64_t send(size_t n, int64_t ready_ns);
 
 	// How many bytes have arrived by t_ns since the last take(): they are
