@@ -188,6 +188,52 @@ void DxlDrive::report(DxlControlTable &t, double volts, double amps)
 	t.set(kDxlPresentTemperature, std::clamp<int64_t>(to_int32(temperature_), 0, 0xFF));
 }
 
+void DxlDrive::drive(DxlControlTable &t, int64_t mode, double w, double dt_ms, double *volts, double *amps)
+{
+	watchdog(t, dt_ms);
+	const bool tripped = t.get(kDxlBusWatchdog) == -1;
+	const double pwm_limit = double(t.get(kDxlPwmLimit));
+	const double cap = std::min(std::fabs(double(t.get(kDxlGoalPwm))), pwm_limit);
+	const double cap_volts = cap / kDxlPwmFull * supply_;
+	const double amp_limit = double(t.get(kDxlCurrentLimit)) * kDxlCurrentUnit;
+	const double current_cap = std::min(std::fabs(double(t.get(kDxlGoalCurrent))), double(t.get(kDxlCurrentLimit)));
+	// The back-EMF's damping over the step, exact for a joint of known
+	// inertia (kDxlBackEmfDamping * dt / J large: a light joint that an
+	// explicit damper would throw back and forth).
+	double damping = 1;
+	const double x = inertia_ > 0 ? kDxlBackEmfDamping * dt_ms / 1000 / inertia_ : 0;
+	if (x > 1e-12)
+		damping = (1 - std::exp(-x)) / x;
+	// Current modes: the current loop gives the voltage that draws it.
+	bool current_driven = false;
+	double wanted_amps = 0;
+	switch (mode) {
+	case kDxlPwmMode:
+		*volts = std::clamp(tripped ? 0.0 : double(t.get(kDxlGoalPwm)), -pwm_limit, pwm_limit) / kDxlPwmFull *
+			 supply_;
+		break;
+	case kDxlCurrentMode:
+		current_driven = true;
+		if (!tripped)
+			wanted_amps =
+				std::clamp(double(t.get(kDxlGoalCurrent)), -current_cap, current_cap) * kDxlCurrentUnit;
+		break;
+	case kDxlVelocityMode:
+		*volts = velocity_loop(t, dt_ms, cap) / kDxlPwmFull * supply_;
+		break;
+	case kDxlCurrentPositionMode:
+		current_driven = true;
+		wanted_amps = position_loop(t, dt_ms, current_cap) * kDxlCurrentUnit;
+		break;
+	default:
+		*volts = position_loop(t, dt_ms, cap) / kDxlPwmFull * supply_;
+		break;
+	}
+	if (current_driven)
+		*volts = std::clamp(wanted_amps * kDxlResistance + kDxlKe * w * damping, -cap_volts, cap_volts);
+	*amps = std::clamp(dxl_motor_current(*volts, w, damping), -amp_limit, amp_limit);
+}
+
 double DxlDrive::step(DxlControlTable &t, double position_rad, double velocity_rad_s, double dt_s)
 {
 	if (!std::isfinite(position_rad) || !std::isfinite(velocity_rad_s))
@@ -211,52 +257,10 @@ double DxlDrive::step(DxlControlTable &t, double position_rad, double velocity_r
 	const int64_t mode = t.get(kDxlOperatingMode);
 	const bool on = t.get(kDxlTorqueEnable) == 1;
 	double volts = 0, amps = 0;
-	if (on) {
-		watchdog(t, dt_ms);
-		const bool tripped = t.get(kDxlBusWatchdog) == -1;
-		const double pwm_limit = double(t.get(kDxlPwmLimit));
-		const double cap = std::min(std::fabs(double(t.get(kDxlGoalPwm))), pwm_limit);
-		const double cap_volts = cap / kDxlPwmFull * supply_;
-		const double amp_limit = double(t.get(kDxlCurrentLimit)) * kDxlCurrentUnit;
-		const double current_cap =
-			std::min(std::fabs(double(t.get(kDxlGoalCurrent))), double(t.get(kDxlCurrentLimit)));
-		// The back-EMF's damping over the step, exact for a joint of known
-		// inertia (kDxlBackEmfDamping * dt / J large: a light joint that an
-		// explicit damper would throw back and forth).
-		double damping = 1;
-		const double x = inertia_ > 0 ? kDxlBackEmfDamping * dt_ms / 1000 / inertia_ : 0;
-		if (x > 1e-12)
-			damping = (1 - std::exp(-x)) / x;
-		bool current_driven = false;
-		double wanted_amps = 0;
-		switch (mode) {
-		case kDxlPwmMode:
-			volts = std::clamp(tripped ? 0.0 : double(t.get(kDxlGoalPwm)), -pwm_limit, pwm_limit) /
-				kDxlPwmFull * supply_;
-			break;
-		case kDxlCurrentMode:
-			current_driven = true;
-			wanted_amps = tripped ? 0.0
-					      : std::clamp(double(t.get(kDxlGoalCurrent)), -current_cap, current_cap) *
-							kDxlCurrentUnit;
-			break;
-		case kDxlVelocityMode:
-			volts = velocity_loop(t, dt_ms, cap) / kDxlPwmFull * supply_;
-			break;
-		case kDxlCurrentPositionMode:
-			current_driven = true;
-			wanted_amps = position_loop(t, dt_ms, current_cap) * kDxlCurrentUnit;
-			break;
-		default:
-			volts = position_loop(t, dt_ms, cap) / kDxlPwmFull * supply_;
-			break;
-		}
-		if (current_driven)
-			volts = std::clamp(wanted_amps * kDxlResistance + kDxlKe * w * damping, -cap_volts, cap_volts);
-		amps = std::clamp(dxl_motor_current(volts, w, damping), -amp_limit, amp_limit);
-	} else {
+	if (on)
+		drive(t, mode, w, dt_ms, &volts, &amps);
+	else
 		pos_i_ = vel_i_ = 0;
-	}
 	report(t, volts, amps);
 
 	const int64_t here = present(t);

@@ -32,6 +32,7 @@
 // as set), the gearbox's backlash and friction.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #include "dynamixel_control_table.h"
@@ -60,12 +61,14 @@ public:
 	// An instruction packet heard: the Bus Watchdog counts from 0 again.
 	void heard() { quiet_ms_ = 0; }
 
-	void set_supply(double volts) { supply_ = volts; }
-	void set_temperature(double celsius) { temperature_ = celsius; }
-	void set_joint_inertia(double kg_m2) { inertia_ = kg_m2; }
+	// Settings from the caller: a figure not finite, or below 0, is 0.
+	void set_supply(double volts) { supply_ = sane(volts); }
+	void set_temperature(double celsius) { temperature_ = sane(celsius); }
+	void set_joint_inertia(double kg_m2) { inertia_ = sane(kg_m2); }
 	double supply() const { return supply_; }
 
 private:
+	static double sane(double v) { return std::isfinite(v) && v > 0 ? v : 0; }
 	int direction(const DxlControlTable &t) const;
 	int64_t present(const DxlControlTable &t) const;
 	// The profile's limits in counts/ms and counts/ms^2.
@@ -73,9 +76,12 @@ private:
 	double position_loop(DxlControlTable &t, double dt_ms, double cap);
 	double velocity_loop(DxlControlTable &t, double dt_ms, double cap);
 	void watchdog(DxlControlTable &t, double dt_ms);
+	// Torque on: the mode's loop, the voltage it puts on the motor and the
+	// current drawn (the motor turning at w rad/s).
+	void drive(DxlControlTable &t, int64_t mode, double w, double dt_ms, double *volts, double *amps);
 	void report(DxlControlTable &t, double volts, double amps);
 
-	bool fresh_ = true; // no step has read the joint yet
+	bool fresh_ = true;    // no step has read the joint yet
 	int64_t raw_ = 2048;   // encoder counts, all turns, direction applied
 	int64_t turns_ = 0;    // counts taken off raw_ (a multiple of 4096)
 	double vel_units_ = 0; // 0.229 rpm, direction applied
