@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "i2c_wire.h"
 #include "serial_wire.h"
 
 namespace tcs {
@@ -18,6 +19,12 @@ Status Wires::bind(const WiresConfig &cfg, const SimWorld *world, WireBus::Warn 
 	buses_.clear();
 	for (const SerialSpec &s : cfg.serials) {
 		auto bus = SerialWire::create(s, cfg.scenario_file, world, warn);
+		if (!bus)
+			return bus.error();
+		buses_.push_back(std::move(*bus));
+	}
+	for (const I2cSpec &s : cfg.i2cs) {
+		auto bus = I2cWire::create(s, cfg.scenario_file, world, warn);
 		if (!bus)
 			return bus.error();
 		buses_.push_back(std::move(*bus));
