@@ -88,7 +88,7 @@ struct CanFieldSpec {
 	SignalRef signal;         // "<model>.<part>.<field>[index]": a sensor frame's value, or an effort a command sets
 	std::string type = "int16"; // int8 int16 int32 uint8 uint16 uint32 float32
 	double scale = 1, offset = 0;
-	int start = -1; // byte; -1: after the previous field
+	int start = 0;  // byte: as written, else where the field before it ends
 	int line = 0;
 };
 
@@ -166,8 +166,12 @@ Result<Scenario> parse_scenario_file(const std::string &path);
 // model paths stay as written: there is no folder to resolve them against.
 Result<Scenario> parse_scenario_text(const std::string &text, const std::string &name_for_errors);
 
-// Checks every device signal against the signal names of the world actually
-// built (the plug-in's list): "FILE:LINE: unknown signal 'x' (model 'm' has: ...)".
+// Checks every name of the scenario against the signal names of the world
+// actually built (the plug-in's list), the first in the file reported: a
+// signal (a device's, a sensor model's, a CAN field's without its index),
+// a motor's or servo's joint J (J.position, J.velocity, J.effort), an I2C
+// chip's link L (L.pose, L.twist): "FILE:LINE: unknown signal 'x' (model
+// 'm' has: ...)", "unknown joint 'm.j' (model 'm' has: m.hinge)".
 Status check_signals(const Scenario &scenario, const std::vector<std::string> &known);
 
 // "FILE:LINE: what" as an Error: for later checks on a parsed scenario.

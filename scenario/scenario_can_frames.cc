@@ -109,17 +109,20 @@ Status parse_field(ScenarioReader &r, const toml::table &t, const CanSpec &bus, 
 		f.offset = *v;
 	}
 	int64_t start = *next;
-	if (const Entry *e = find_entry(es, "start")) {
-		auto v = r.get_integer(*e, "0");
+	const Entry *written = find_entry(es, "start");
+	if (written) {
+		auto v = r.get_integer(*written, "0");
 		if (!v)
 			return v.error();
 		if (*v < 0)
-			return r.err(e->line, "start must be a byte number >= 0");
+			return r.err(written->line, "start must be a byte number >= 0");
 		start = *v;
 	}
+	// Where the field's place is wrong: its start, else the field itself.
+	const int where = written ? written->line : f.line;
 	const int most = bus.data_bitrate ? kFdBytes : kClassicBytes;
 	if (start > most - size)
-		return r.err(f.line, "field '" + f.signal.name + "' (" + f.type + " at byte " + std::to_string(start) +
+		return r.err(where, "field '" + f.signal.name + "' (" + f.type + " at byte " + std::to_string(start) +
 					     ") runs past the " + std::to_string(most) +
 					     (bus.data_bitrate ? " bytes of a CAN FD frame"
 							       : " bytes of a CAN frame (an interface with data_bitrate, "
@@ -128,7 +131,7 @@ Status parse_field(ScenarioReader &r, const toml::table &t, const CanSpec &bus, 
 	for (const CanFieldSpec &o : frame.fields) {
 		const int o_size = type_bytes(o.type);
 		if (f.start < o.start + o_size && o.start < f.start + size)
-			return r.err(f.line, "field '" + f.signal.name + "' (" + bytes_text(f.start, size) +
+			return r.err(where, "field '" + f.signal.name + "' (" + bytes_text(f.start, size) +
 						     ") overlaps field '" + o.signal.name + "' (" +
 						     bytes_text(o.start, o_size) + ", line " + std::to_string(o.line) + ")");
 	}

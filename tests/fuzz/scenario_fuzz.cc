@@ -1,8 +1,9 @@
 // The fuzz target for the scenario parser: an input is a scenario file's
 // text, parsed by tcs::parse_scenario_text. An error must read
 // "NAME:LINE: what" (scenario.h) with LINE a line of the text; a scenario
-// accepted must hold what scenario.h says of each field. The seeds are
-// the files in scenarios/ (TCS_SCENARIOS_DIR, set by meson) and edge cases.
+// accepted must hold what scenario.h says of each field (its wires':
+// scenario_wire_promises.cc). The seeds are the files in scenarios/
+// (TCS_SCENARIOS_DIR, set by meson) and edge cases.
 #include <dirent.h>
 
 #include <algorithm>
@@ -17,6 +18,7 @@
 #include "read_file.h"
 #include "scenario.h"
 #include "scenario_units.h"
+#include "scenario_wire_promises.h"
 
 #ifndef TCS_SCENARIOS_DIR
 #error "TCS_SCENARIOS_DIR must name the source tree's scenarios/ folder"
@@ -101,18 +103,25 @@ void check_scenario(const tcs::Scenario &s, const std::string &name)
 			check(s.sensors[j].signal.name != sm.signal.name);
 		known.push_back(sm.signal.name);
 	}
+	scenario_wire_promises::check_wires(s, &known);
 	for (const tcs::ControllerEntry &c : s.controllers) {
 		check(!c.argv.empty() && c.line >= 1);
 		check(!c.cpu_scale || (*c.cpu_scale > 0 && *c.cpu_scale <= 1e6));
 	}
-	// Against the world's signals: all there, then one missing.
+	// Against the world's signals: all there, then one missing, which a
+	// signal (perhaps indexed), a joint or a link needed.
 	check(tcs::check_signals(s, known).ok());
 	if (!known.empty()) {
 		const std::string gone = known.front();
+		const std::string stem = gone.substr(0, gone.rfind('.'));
 		known.erase(std::remove(known.begin(), known.end(), gone), known.end());
 		auto r = tcs::check_signals(s, known);
-		check(!r.ok() && r.error().message.rfind(name + ":", 0) == 0 &&
-		      r.error().message.find("unknown signal '" + gone + "'") != std::string::npos);
+		check(!r.ok() && r.error().message.rfind(name + ":", 0) == 0);
+		const std::string &m = r.error().message;
+		check(m.find("unknown signal '" + gone + "'") != std::string::npos ||
+		      m.find("unknown signal '" + gone + "[") != std::string::npos ||
+		      m.find("unknown joint '" + stem + "'") != std::string::npos ||
+		      m.find("unknown link '" + stem + "'") != std::string::npos);
 	}
 }
 
@@ -181,6 +190,26 @@ std::vector<std::string> tcs_fuzz_seeds()
 		"latency = \"2ms\"\nrate = \"500Hz\"\n[[sensor]]\nsignal = \"arm.imu.linear_acceleration\"\n",
 		"[sim]\nmodel = \"w.world\"\n[model]\nfixed = false\npose = [1e308, -0, 0, 0, 0, 0]\n",
 		"[sim]\nstep = \"10us\"\nstep = \"1s\"\n",
+		// The wires (DESIGN §9).
+		head + "[[can]]\ninterface = \"can0\"\nbitrate = \"1Mbit/s\"\ndata_bitrate = \"5Mbit/s\"\n"
+		       "[[can.motor]]\nprotocol = \"mit\"\nid = 1\nreply_id = 0\njoint = \"pendulum.hinge\"\n"
+		       "position_range = 12.5\nvelocity_range = 50\ntorque_range = 5\nkp_max = 500\nkd_max = 5\n"
+		       "[[can.frame]]\nid = 0x100\nrate = \"100Hz\"\nbyte_order = \"little\"\nfields = [\n"
+		       "{ signal = \"pendulum.hinge.position\", type = \"int16\", scale = 0.001, offset = 0.0, start = 0 },\n"
+		       "{ signal = \"pendulum.rod.pose[2]\", type = \"float32\", start = 60 }]\n"
+		       "[[can.frame]]\nid = 0x1FFFFFFF\nextended = true\ncommand = true\nbyte_order = \"big\"\n"
+		       "fields = [{ signal = \"pendulum.u.effort[1]\", type = \"int32\" }]\n",
+		head + "[[can]]\ninterface = \"vcan_1.x-y\"\nbitrate = 125000\n[[can.frame]]\nid = 0\nrate = \"1kHz\"\n"
+		       "command = false\nbyte_order = \"big\"\nfields = []\n[[can.frame]]\nid = 0x7FF\ncommand = true\n"
+		       "byte_order = \"little\"\n[[can.frame.fields]]\nsignal = \"pendulum.hinge.effort\"\ntype = \"uint8\"\n"
+		       "start = 7\n[[can]]\ninterface = \"can1\"\nbitrate = \"83.333kbit/s\"\n",
+		head + "[[device]]\npath = \"/dev/ttyUSB1\"\nkind = \"actuator\"\nsignals = [\"pendulum.a.effort\"]\n"
+		       "[[serial]]\npath = \"/dev/ttyUSB0\"\nbaud = 57600\n[[serial.servo]]\nprotocol = \"dynamixel2\"\n"
+		       "id = 1\njoint = \"pendulum.hinge\"\n[[serial.servo]]\nprotocol = \"dynamixel2\"\nid = 252\n"
+		       "joint = \"pendulum.b\"\n[[serial]]\npath = \"/dev/ttyS0\"\nbaud = 50\n",
+		head + "[[i2c]]\nbus = 1\nclock = \"400kHz\"\n[[i2c.device]]\naddress = 0x68\nchip = \"mpu6050\"\n"
+		       "link = \"pendulum.rod\"\naccel_noise = 0.05\ngyro_noise = 0.001\n[[i2c.device]]\naddress = 0x69\n"
+		       "chip = \"mpu6050\"\nlink = \"pendulum.rod\"\n[[i2c]]\nbus = 255\nclock = 3400000\n",
 		"[\n",
 		"[[[sim]]]\n",
 	};
@@ -202,7 +231,15 @@ std::vector<std::string> tcs_fuzz_tokens()
 		 " Hz\"", "kHz\"", "MHz\"", "ns\"", "us\"", "\xc2\xb5s\"", "ms\"", "s\"", "1e-12", "1e308", "1e-4000",
 		 "inf", "nan", "-0", "0x7fffffffffffffff", "9223372036854775808", "1979-05-27T07:32:00Z", "true",
 		 "'''", "\"\"\"", "\\u00e9", "\\U0001F916", "\xc2\xa0", "\xe2\x80\xa8", "\xef\xbb\xbf",
-		 "\xf3\xb0\x83\xa9", "# c\n", " = ", "{ a = 1 }", "[1, 2]", ".", "\n" };
+		 "\xf3\xb0\x83\xa9", "# c\n", " = ", "{ a = 1 }", "[1, 2]", ".", "\n", "[[can]]\n", "[[can.motor]]\n",
+		 "[[can.frame]]\n", "[[can.frame.fields]]\n", "[[serial]]\n", "[[serial.servo]]\n", "[[i2c]]\n",
+		 "[[i2c.device]]\n", "interface = ", "bitrate = ", "data_bitrate = ", "protocol = ", "id = ",
+		 "reply_id = ", "joint = ", "extended = ", "command = ", "byte_order = ", "fields = ", "start = ",
+		 "scale = ", "offset = ", "baud = ", "bus = ", "clock = ", "address = ", "chip = ", "link = ",
+		 "\"mit\"", "\"dynamixel2\"", "\"mpu6050\"", "\"can0\"", "\"int16\"", "\"float32\"", "\"uint8\"",
+		 "\"little\"", "\"big\"", "\"pendulum.hinge\"", "\"pendulum.rod\"", "\"pendulum.rod.pose[6]\"",
+		 "Mbit/s\"", "kbit/s\"", "0x7FF", "0x1FFFFFFF", "0x68", "0x77", "252", "57600", "[{ signal = ",
+		 ", type = \"int32\" }]" };
 }
 
 // Whole lines moved about: a key into another table, a table twice.

@@ -295,6 +295,14 @@ void test_fields_refused(void **)
 	assert_int_equal(s.cans[0].frames[0].fields[0].start, 60);
 	expect_error(fd + "fields = [" + field("pendulum.hinge.position", "float32", ", start = 61") + "]\n", 11,
 		     "field 'pendulum.hinge.position' (float32 at byte 61) runs past the 64 bytes of a CAN FD frame");
+	// Written as tables, the field's place is wrong at its start, else at its table.
+	const std::string tables = f + "[[can.frame.fields]]\nsignal = \"pendulum.hinge.position\"\ntype = \"int32\"\n"
+				       "[[can.frame.fields]]\nsignal = \"pendulum.hinge.velocity\"\ntype = \"int16\"\n";
+	expect_error(tables + "start = 2\n", 16,
+		     "field 'pendulum.hinge.velocity' (bytes 2 to 3) overlaps field 'pendulum.hinge.position' (bytes 0 to 3, "
+		     "line 10)");
+	expect_error(tables + "[[can.frame.fields]]\nsignal = \"pendulum.rod.pose[0]\"\ntype = \"float32\"\n", 16,
+		     "field 'pendulum.rod.pose[0]' (float32 at byte 6) runs past the 8 bytes");
 	// Fields may not share a byte.
 	expect_error(f + "fields = [\n" + field("pendulum.hinge.position", "int32") + ",\n" +
 			     field("pendulum.hinge.velocity", "int16", ", start = 3") + "]\n",
