@@ -104,6 +104,11 @@ int64_t I2cWire::transfer(WirePort &port, std::string_view payload, int64_t v)
 		msgs[i].flags = m.flags;
 		if (m.flags & I2C_M_RD) {
 			msgs[i].data.assign(m.len, 0);
+			if ((m.flags & I2C_M_RECV_LEN) && m.len > 0) { // (its first byte, which i2c-dev reads)
+				if (payload.size() - at < 1)
+					return -EINVAL;
+				msgs[i].data[0] = uint8_t(payload[at++]);
+			}
 		} else {
 			if (payload.size() - at < m.len)
 				return -EINVAL;

@@ -16,6 +16,7 @@
 #include "raw_syscall.h"
 #include "report.h"
 #include "roundtrip.h"
+#include "i2c.h"
 #include "serial.h"
 #include "spin.h"
 #include "vclock.h"
@@ -254,6 +255,8 @@ long tcs_device_read(int fd, void *buf, size_t n)
 {
 	if (tcs_device_kind(fd) == TCS_DEVICE_SERIAL)
 		return tcs_serial_read(fd, tcs_device_handle(fd), buf, n);
+	if (tcs_device_kind(fd) == TCS_DEVICE_I2C)
+		return tcs_i2c_read(fd, tcs_device_handle(fd), buf, n);
 	if (__builtin_expect(tcs_journal_on(), 0))
 		return tcs_device_read_journalled(fd, buf, n);
 	return tcs_device_read_live(fd, buf, n);
@@ -315,6 +318,8 @@ long tcs_device_write(int fd, const void *buf, size_t n)
 	int h = tcs_device_handle(fd);
 	if (tcs_device_kind(fd) == TCS_DEVICE_SERIAL)
 		return tcs_serial_write(fd, h, buf, n);
+	if (tcs_device_kind(fd) == TCS_DEVICE_I2C)
+		return tcs_i2c_write(fd, h, buf, n);
 	if (tcs_device_kind(fd) == TCS_DEVICE_SENSOR)
 		return -EBADF; /* read-only, like the file it stands for */
 	int lazy = tcs_active() && tcs_lazy_write_begin(h, tcs_device_entry(fd), buf, n);

@@ -19,6 +19,7 @@
 #include "random.h"
 #include "raw_syscall.h"
 #include "real.h"
+#include "i2c.h"
 #include "serial.h"
 
 /* ---- open ---------------------------------------------------------------- */
@@ -246,6 +247,8 @@ TCS_EXPORT int ioctl(int fd, unsigned long request, ...)
 		return tcs_errno_result(tcs_sys3(SYS_ioctl, fd, request, arg));
 	if (tcs_serial_fd(fd))
 		return tcs_errno_result(tcs_serial_ioctl(fd, tcs_device_handle(fd), request, arg));
+	if (tcs_device_kind(fd) == TCS_DEVICE_I2C)
+		return tcs_errno_result(tcs_i2c_ioctl(fd, tcs_device_handle(fd), request, arg));
 	switch (request) {	case TCGETS: {
 		struct tcs_kernel_termios *t = (struct tcs_kernel_termios *)arg;
 		memset(t, 0, sizeof *t);

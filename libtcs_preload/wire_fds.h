@@ -15,6 +15,7 @@ struct tcs_wire_fd {
 	struct termios tio;  /* serial: as tcgetattr shows it */
 	uint32_t baud;       /* serial: the line's rate, also where c_cflag cannot say it (BOTHER) */
 	uint16_t i2c_addr;   /* I2C: I2C_SLAVE's; 0xffff: none set */
+	uint8_t i2c_tenbit;  /* I2C: I2C_TENBIT */
 	uint8_t can_fd_frames; /* CAN: CAN_RAW_FD_FRAMES */
 	uint8_t can_stamp;     /* CAN: 0, or SO_TIMESTAMP, SO_TIMESTAMPNS, SO_TIMESTAMPING */
 };
