@@ -78,7 +78,8 @@ void I2cWire::answer(WirePort &port, int64_t v, const I2cResult &r, const std::s
 {
 	const int64_t start = std::max(v, free_at_);
 	free_at_ = start + r.wire_ns;
-	if (!r.note.empty() && ++notes_ <= kMaxNotes)
+	// (No chip answering is how a bus is scanned: not worth a word.)
+	if (!r.note.empty() && r.error != -ENXIO && ++notes_ <= kMaxNotes)
 		warn_("/dev/i2c-" + std::to_string(spec_.bus) + ": " + r.note);
 	tcs_wire_i2c_reply head{ r.error < 0 ? r.error : int32_t(r.done), uint32_t(data.size()) };
 	std::string packet(reinterpret_cast<const char *>(&head), sizeof head);
