@@ -149,6 +149,7 @@ Status Coordinator::init()
 		};
 	if (auto s = run.devices.bind(run.cfg.devices, run.world.get(), warn); !s)
 		return s;
+	run.cfg.wires.noise_key = run.sensor_key ? run.sensor_key : 1;
 	if (auto s = run.wires.bind(run.cfg.wires, run.world.get(), warn); !s)
 		return s;
 	if (!run.cfg.trace_path.empty()) {

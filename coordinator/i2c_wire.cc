@@ -10,7 +10,9 @@
 
 #include "i2c_dev.h"
 #include "link_motion.h"
+#include "sensor_models.h"
 #include "smbus.h"
+#include "tcs/random_stream.h"
 
 namespace tcs {
 
@@ -23,7 +25,7 @@ constexpr uint64_t kMaxNotes = 20;
 I2cWire::I2cWire(const I2cSpec &spec, Warn warn) : spec_(spec), warn_(std::move(warn)), bus_(spec.clock_hz) {}
 
 Result<std::unique_ptr<I2cWire>> I2cWire::create(const I2cSpec &spec, const std::string &scenario_file,
-						 const SimWorld *world, Warn warn)
+						 const SimWorld *world, Warn warn, uint64_t noise_key)
 {
 	std::unique_ptr<I2cWire> w(new I2cWire(spec, std::move(warn)));
 	w->step_ns_ = world ? world->step_ns() : 0;
@@ -31,6 +33,9 @@ Result<std::unique_ptr<I2cWire>> I2cWire::create(const I2cSpec &spec, const std:
 		auto chip = std::make_unique<Mpu6050>();
 		Imu imu;
 		imu.chip = chip.get();
+		imu.accel_noise = d.accel_noise;
+		imu.gyro_noise = d.gyro_noise;
+		imu.key = tcs_random_key(noise_key, 0x12c00 + (uint64_t(spec.bus) << 8) + d.address);
 		if (Status s = w->bus_.attach(uint16_t(d.address), std::move(chip)); !s)
 			return Error{ scenario_file + ":" + std::to_string(d.line) + ": " + s.error().message };
 		if (world) {
@@ -66,8 +71,10 @@ void I2cWire::step(int64_t s, const SimWorld &world)
 		if (!imu.chip->sampling() || s < imu.next_sample)
 			continue;
 		ImuReading r;
-		std::copy(m.accel, m.accel + 3, r.accel);
-		std::copy(m.gyro, m.gyro + 3, r.gyro);
+		for (int i = 0; i < 3; i++) {
+			r.accel[i] = m.accel[i] + (imu.accel_noise > 0 ? imu.accel_noise * gaussian_draw(imu.key, imu.drawn) : 0);
+			r.gyro[i] = m.gyro[i] + (imu.gyro_noise > 0 ? imu.gyro_noise * gaussian_draw(imu.key, imu.drawn) : 0);
+		}
 		r.temp_c = 25;
 		imu.chip->sample(r);
 		imu.next_sample = s + std::max<int64_t>(imu.chip->sample_period_ns(), 1);

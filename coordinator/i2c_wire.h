@@ -21,7 +21,7 @@ namespace tcs {
 class I2cWire final : public WireBus {
 public:
 	static Result<std::unique_ptr<I2cWire>> create(const I2cSpec &spec, const std::string &scenario_file,
-						       const SimWorld *world, Warn warn);
+						       const SimWorld *world, Warn warn, uint64_t noise_key);
 	int socket_type() const override;
 	void opened(const std::shared_ptr<WirePort> &port) override {}
 	int64_t take(WirePort &port, uint32_t type, std::string_view payload, int64_t v, const SimWorld *world) override;
@@ -43,6 +43,8 @@ private:
 		double v_before[3] = { 0, 0, 0 };
 		bool have_before = false;
 		int64_t next_sample = 0;
+		double accel_noise = 0, gyro_noise = 0; // standard deviations
+		uint64_t key = 1, drawn = 0;            // its noise stream
 	};
 	I2cSpec spec_;
 	Warn warn_;

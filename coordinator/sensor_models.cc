@@ -40,12 +40,17 @@ SensorModels::SensorModels(std::vector<SensorModel> models, uint64_t key)
 	}
 }
 
-// Box-Muller: two draws of the signal's stream a normal deviate.
+// Box-Muller: two draws of the stream a normal deviate.
+double gaussian_draw(uint64_t key, uint64_t &drawn)
+{
+	double u1 = uniform(tcs_random_block(key, drawn++));
+	double u2 = uniform(tcs_random_block(key, drawn++));
+	return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
+}
+
 double SensorModels::gaussian(State &s)
 {
-	double u1 = uniform(tcs_random_block(s.key, s.drawn++));
-	double u2 = uniform(tcs_random_block(s.key, s.drawn++));
-	return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
+	return gaussian_draw(s.key, s.drawn);
 }
 
 void SensorModels::observe(int64_t t_ns, const std::function<void(size_t, double *)> &truth)

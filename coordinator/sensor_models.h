@@ -23,6 +23,10 @@ struct SensorModel {
 	int64_t period_ns = 0; // 0: a sample each step
 };
 
+// A standard normal deviate from stream key, its drawn-th and next
+// blocks (drawn moves on by two): the same draws for the same key.
+double gaussian_draw(uint64_t key, uint64_t &drawn);
+
 class SensorModels {
 public:
 	// key: the run's seed mixed (tcs_random_key), never 0.

@@ -24,7 +24,7 @@ Status Wires::bind(const WiresConfig &cfg, const SimWorld *world, WireBus::Warn 
 		buses_.push_back(std::move(*bus));
 	}
 	for (const I2cSpec &s : cfg.i2cs) {
-		auto bus = I2cWire::create(s, cfg.scenario_file, world, warn);
+		auto bus = I2cWire::create(s, cfg.scenario_file, world, warn, cfg.noise_key);
 		if (!bus)
 			return bus.error();
 		buses_.push_back(std::move(*bus));

@@ -22,6 +22,7 @@ struct WiresConfig {
 	std::vector<I2cSpec> i2cs;
 	std::vector<CanSpec> cans;
 	std::string scenario_file; // for FILE:LINE in errors
+	uint64_t noise_key = 1;    // the chips' noise streams derive from it (the run's sensor key)
 };
 
 class Wires {
