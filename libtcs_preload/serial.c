@@ -14,6 +14,7 @@
 
 #include "devices.h"
 #include "raw_syscall.h"
+#include "spin.h"
 #include "tcs/protocol.h"
 #include "tcs/wire_protocol.h"
 #include "vclock.h"
@@ -139,7 +140,19 @@ long tcs_serial_drain(int fd, int h)
 		return 0;
 	long r = tcs_device_sync_until(h, TCS_SYNC_DRAIN, 0, -1);
 	tcs_wait_leave();
+	tcs_spin_waited(); /* (it waited for the wire: no spin, spin.h) */
 	return r;
+}
+
+/* A read's end. One that got bytes ends a spin, as a device's record does,
+ * and one that waited for them (VMIN, VTIME) made a wait: either way the
+ * thread's next clock read is no spin's (spin.h), so that a clock read
+ * after a reply is its arrival's time, not a spin's read later. */
+static long tcs_serial_read_end(long got, int waited)
+{
+	if (got > 0 || waited)
+		tcs_spin_waited();
+	return got;
 }
 
 long tcs_serial_read(int fd, int h, void *buf, size_t n)
@@ -155,24 +168,25 @@ long tcs_serial_read(int fd, int h, void *buf, size_t n)
 	const int64_t tenths = (int64_t)vtime * 100 * TCS_NS_PER_MS;
 	const size_t want = vmin < n ? vmin : n;
 	size_t got = 0;
+	int waited = 0;
 	for (int first = 1;; first = 0) {
 		/* What is in the fd arrived by the time it was put there. */
 		long k = tcs_sys6(SYS_recvfrom, fd, (char *)buf + got, n - got, MSG_DONTWAIT, 0, 0);
 		if (k > 0)
 			got += (size_t)k;
 		if (got > 0 && got >= want)
-			return (long)got;
+			return tcs_serial_read_end((long)got, waited);
 		if (!first && (nonblock || vmin == 0 || (vtime > 0 && k <= 0)))
-			return got > 0 || !nonblock ? (long)got : -EAGAIN;
+			return got > 0 || !nonblock ? tcs_serial_read_end((long)got, waited) : -EAGAIN;
 		long r;
-		if (nonblock || (vmin == 0 && vtime == 0))
+		if (nonblock || (vmin == 0 && vtime == 0)) {
 			r = tcs_wire_sync(fd, h, 0, -1);
-		else if (vmin == 0 || (vtime > 0 && got > 0))
-			r = tcs_wire_sync(fd, h, 1, tcs_vnow() + tenths);
-		else
-			r = tcs_wire_sync(fd, h, 1, -1);
+		} else {
+			waited = 1;
+			r = tcs_wire_sync(fd, h, 1, vmin == 0 || (vtime > 0 && got > 0) ? tcs_vnow() + tenths : -1);
+		}
 		if (r < 0 && r != -EAGAIN)
-			return got > 0 ? (long)got : r;
+			return got > 0 ? tcs_serial_read_end((long)got, waited) : r;
 	}
 }
 
