@@ -59,8 +59,11 @@ void check_accepted(const tcs_msg &m)
 	case TCS_MSG_DEV_SYNC:
 		// (size_t)arg indexes the controller's open devices; a handle
 		// fits the int the preload keeps it in.
-		check(m.kind == TCS_SYNC_READ || m.kind == TCS_SYNC_WRITE || m.kind == TCS_SYNC_POLL);
+		check(m.kind == TCS_SYNC_READ || m.kind == TCS_SYNC_WRITE || m.kind == TCS_SYNC_POLL ||
+		      m.kind == TCS_SYNC_DRAIN);
 		check((m.flags & ~TCS_DEV_FLAGS_ALL) == 0);
+		// A wire's read waits until its deadline at most: never one before 0.
+		check(!(m.flags & TCS_DEV_DEADLINE) || m.deadline >= 0);
 		check(m.arg >= 0 && m.arg <= INT32_MAX && m.v >= 0 && m.cpu >= 0);
 		break;
 	case TCS_MSG_TIMER:

@@ -253,9 +253,17 @@ static void test_device_messages(void **state)
 	assert_int_equal(out.kind, TCS_SYNC_WRITE);
 	m.kind = 0;
 	assert_non_null(tcs_msg_check(&m, sizeof m, &out));
-	m.kind = 4;
+	m.kind = TCS_SYNC_DRAIN; /* (a wire's tcdrain) */
+	assert_null(tcs_msg_check(&m, sizeof m, &out));
+	m.kind = 5;
 	assert_non_null(tcs_msg_check(&m, sizeof m, &out));
 	m.kind = TCS_SYNC_READ;
+	m.flags = TCS_DEV_DEADLINE; /* a wire's read with a deadline: never a negative one */
+	m.deadline = -1;
+	assert_non_null(tcs_msg_check(&m, sizeof m, &out));
+	m.deadline = 9;
+	assert_null(tcs_msg_check(&m, sizeof m, &out));
+	m.flags = 0;
 	m.arg = -3;
 	assert_non_null(tcs_msg_check(&m, sizeof m, &out));
 	m.arg = 1;
