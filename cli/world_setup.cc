@@ -7,7 +7,8 @@ namespace tcs {
 
 // The wires, each a device in the table (after the others, in the order
 // the coordinator's Wires binds them: serial lines, I2C buses, CAN
-// interfaces), and their buses for the coordinator.
+// interfaces), and their buses for the coordinator. Every CAN interface
+// is on the one bus after the others (its socket may bind to any).
 static void add_wires(const Scenario &sc, WorldSetup &out)
 {
 	out.wires.scenario_file = sc.file;
@@ -27,8 +28,11 @@ static void add_wires(const Scenario &sc, WorldSetup &out)
 		add(s.path, TCS_DEVICE_SERIAL, uint32_t(s.baud));
 	for (const I2cSpec &b : sc.i2cs)
 		add("/dev/i2c-" + std::to_string(b.bus), TCS_DEVICE_I2C, 0);
-	for (const CanSpec &c : sc.cans)
+	const size_t can_bus = index;
+	for (const CanSpec &c : sc.cans) {
 		add(c.interface, TCS_DEVICE_CAN, c.data_bitrate > 0 ? 72 : 16);
+		out.devices.back().wire = can_bus;
+	}
 }
 
 Result<WorldSetup> world_setup(const Scenario &sc)

@@ -30,6 +30,7 @@ struct WirePort {
 	std::vector<CanFilter> filters = { CanFilter{} }; // default: everything
 	uint32_t err_mask = 0;
 	bool loopback = true, recv_own = false, fd_frames = false, join_filters = false;
+	uint32_t can_source = 0;  // its transmit queue on the bus (CanBus's source)
 
 	// Arrivals kept for a reader that does not read (a controller is
 	// untrusted: no unbounded growth). The oldest go first.

@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "can_wire.h"
 #include "i2c_wire.h"
 #include "serial_wire.h"
 
@@ -25,6 +26,13 @@ Status Wires::bind(const WiresConfig &cfg, const SimWorld *world, WireBus::Warn 
 	}
 	for (const I2cSpec &s : cfg.i2cs) {
 		auto bus = I2cWire::create(s, cfg.scenario_file, world, warn, cfg.noise_key);
+		if (!bus)
+			return bus.error();
+		buses_.push_back(std::move(*bus));
+	}
+	// One bus for every CAN interface: a socket may be bound to all.
+	if (!cfg.cans.empty()) {
+		auto bus = CanWire::create(cfg.cans, cfg.scenario_file, world, warn);
 		if (!bus)
 			return bus.error();
 		buses_.push_back(std::move(*bus));

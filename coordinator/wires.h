@@ -1,6 +1,6 @@
 // The run's wires (docs/DESIGN.md §9): every serial line, I2C bus and CAN
 // interface of the scenario, each a WireBus, in the order of their entries
-// in the device table. What a controller writes on a wire's fd is read
+// in the device table; the CAN interfaces are one WireBus, the last. What a controller writes on a wire's fd is read
 // here, packet by packet, and handed to its bus; the buses advance in
 // virtual time with the world (wire_bus.h says when).
 #pragma once

@@ -16,6 +16,7 @@
 #include "raw_syscall.h"
 #include "report.h"
 #include "roundtrip.h"
+#include "can.h"
 #include "i2c.h"
 #include "serial.h"
 #include "spin.h"
@@ -136,6 +137,8 @@ long tcs_device_open(int dev, int oflags)
 		}
 		if (e->kind == TCS_DEVICE_SERIAL)
 			tcs_serial_opened(wf, e->width);
+		if (e->kind == TCS_DEVICE_CAN)
+			tcs_can_opened(wf);
 	}
 	tcs_fd_kind[fd] = (uint8_t)(e->kind | (e->kind == TCS_DEVICE_SENSOR && !e->latest ? TCS_FD_STREAM : 0));
 	tcs_fd_dev[fd] = (uint8_t)dev;
@@ -257,6 +260,11 @@ long tcs_device_read(int fd, void *buf, size_t n)
 		return tcs_serial_read(fd, tcs_device_handle(fd), buf, n);
 	if (tcs_device_kind(fd) == TCS_DEVICE_I2C)
 		return tcs_i2c_read(fd, tcs_device_handle(fd), buf, n);
+	if (tcs_device_kind(fd) == TCS_DEVICE_CAN) {
+		struct iovec iov = { buf, n };
+		struct msghdr mh = { .msg_iov = &iov, .msg_iovlen = 1 };
+		return tcs_can_recvmsg(fd, tcs_device_handle(fd), &mh, 0);
+	}
 	if (__builtin_expect(tcs_journal_on(), 0))
 		return tcs_device_read_journalled(fd, buf, n);
 	return tcs_device_read_live(fd, buf, n);
@@ -289,6 +297,10 @@ long tcs_device_readv(int fd, const struct iovec *iov, int n)
 			i++;
 		return i < n ? tcs_serial_read(fd, tcs_device_handle(fd), iov[i].iov_base, iov[i].iov_len) : 0;
 	}
+	if (tcs_device_kind(fd) == TCS_DEVICE_CAN) {
+		struct msghdr mh = { .msg_iov = (struct iovec *)iov, .msg_iovlen = n > 0 ? (size_t)n : 0 };
+		return tcs_can_recvmsg(fd, tcs_device_handle(fd), &mh, 0);
+	}
 	if (__builtin_expect(tcs_journal_on(), 0)) {
 		int i = 0;
 		while (i < n && iov[i].iov_len == 0)
@@ -320,6 +332,11 @@ long tcs_device_write(int fd, const void *buf, size_t n)
 		return tcs_serial_write(fd, h, buf, n);
 	if (tcs_device_kind(fd) == TCS_DEVICE_I2C)
 		return tcs_i2c_write(fd, h, buf, n);
+	if (tcs_device_kind(fd) == TCS_DEVICE_CAN) {
+		struct iovec iov = { (void *)buf, n };
+		struct msghdr mh = { .msg_iov = &iov, .msg_iovlen = 1 };
+		return tcs_can_sendmsg(fd, h, &mh, 0);
+	}
 	if (tcs_device_kind(fd) == TCS_DEVICE_SENSOR)
 		return -EBADF; /* read-only, like the file it stands for */
 	int lazy = tcs_active() && tcs_lazy_write_begin(h, tcs_device_entry(fd), buf, n);
@@ -343,6 +360,10 @@ long tcs_device_writev(int fd, const struct iovec *iov, int n)
 			done += r;
 		}
 		return done;
+	}
+	if (tcs_device_kind(fd) == TCS_DEVICE_CAN) {
+		struct msghdr mh = { .msg_iov = (struct iovec *)iov, .msg_iovlen = n > 0 ? (size_t)n : 0 };
+		return tcs_can_sendmsg(fd, h, &mh, 0);
 	}
 	if (tcs_device_kind(fd) == TCS_DEVICE_SENSOR)
 		return -EBADF;

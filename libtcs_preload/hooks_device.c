@@ -19,6 +19,7 @@
 #include "random.h"
 #include "raw_syscall.h"
 #include "real.h"
+#include "can.h"
 #include "i2c.h"
 #include "serial.h"
 
@@ -243,13 +244,19 @@ TCS_EXPORT int ioctl(int fd, unsigned long request, ...)
 	va_start(ap, request);
 	void *arg = va_arg(ap, void *);
 	va_end(ap);
-	if (tcs_device_handle(fd) < 0)
-		return tcs_errno_result(tcs_sys3(SYS_ioctl, fd, request, arg));
+	if (tcs_device_handle(fd) < 0) {
+		/* A CAN interface's name or index, asked of any socket. */
+		long r = tcs_can_if_ioctl(request, arg);
+		return tcs_errno_result(r == 1 ? tcs_sys3(SYS_ioctl, fd, request, arg) : r);
+	}
+	if (tcs_device_kind(fd) == TCS_DEVICE_CAN)
+		return tcs_errno_result(tcs_can_ioctl(fd, tcs_device_handle(fd), request, arg));
 	if (tcs_serial_fd(fd))
 		return tcs_errno_result(tcs_serial_ioctl(fd, tcs_device_handle(fd), request, arg));
 	if (tcs_device_kind(fd) == TCS_DEVICE_I2C)
 		return tcs_errno_result(tcs_i2c_ioctl(fd, tcs_device_handle(fd), request, arg));
-	switch (request) {	case TCGETS: {
+	switch (request) {
+	case TCGETS: {
 		struct tcs_kernel_termios *t = (struct tcs_kernel_termios *)arg;
 		memset(t, 0, sizeof *t);
 		t->c_cflag = CS8 | CREAD | CLOCAL | B115200;

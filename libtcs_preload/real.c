@@ -29,6 +29,8 @@ void tcs_real_resolve(void)
 	TCS_RESOLVE(fopen64, "fopen64");
 	TCS_RESOLVE(tcgetattr, "tcgetattr");
 	TCS_RESOLVE(tcsetattr, "tcsetattr");
+	TCS_RESOLVE(if_nametoindex, "if_nametoindex");
+	TCS_RESOLVE(if_indextoname, "if_indextoname");
 	TCS_RESOLVE(fork, "fork");
 	TCS_RESOLVE(posix_spawn, "posix_spawn");
 	TCS_RESOLVE(posix_spawnp, "posix_spawnp");

@@ -27,6 +27,9 @@ struct tcs_real_fns {
 	struct _IO_FILE *(*fopen64)(const char *, const char *);
 	int (*tcgetattr)(int, struct termios *);
 	int (*tcsetattr)(int, int, const struct termios *);
+	/* Network interfaces that are not a scenario's CAN interfaces. */
+	unsigned int (*if_nametoindex)(const char *);
+	char *(*if_indextoname)(unsigned int, char *);
 	/* Processes and threads. */
 	pid_t (*fork)(void);
 	int (*posix_spawn)(pid_t *, const char *, const posix_spawn_file_actions_t *, const posix_spawnattr_t *,

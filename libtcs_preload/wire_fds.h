@@ -17,7 +17,14 @@ struct tcs_wire_fd {
 	uint16_t i2c_addr;   /* I2C: I2C_SLAVE's; 0xffff: none set */
 	uint8_t i2c_tenbit;  /* I2C: I2C_TENBIT */
 	uint8_t can_fd_frames; /* CAN: CAN_RAW_FD_FRAMES */
-	uint8_t can_stamp;     /* CAN: 0, or SO_TIMESTAMP, SO_TIMESTAMPNS, SO_TIMESTAMPING */
+	uint8_t can_stamp;     /* CAN: 0, or SO_TIMESTAMP, SO_TIMESTAMPNS (the one reported) */
+	/* CAN: what getsockopt, getsockname and the cmsgs of a read show;
+	 * the coordinator keeps what decides delivery. */
+	uint8_t can_loopback, can_recv_own, can_join, can_rxq_ovfl;
+	uint32_t can_err_mask;
+	uint32_t can_timestamping; /* SO_TIMESTAMPING's flags */
+	int32_t can_ifindex;       /* bound to (0: every interface, or not bound) */
+	int64_t can_last_ns;       /* the last frame read's arrival (virtual), -1: none */
 };
 
 /* The state of wire fd, or NULL. */

@@ -17,8 +17,10 @@ extern "C" {
 #endif
 
 /* A packet's payload is at most this (a CAN FD frame, an I2C transfer of
- * I2C_RDWR's 42 messages is far less; serial writes are cut to it). */
-#define TCS_WIRE_PAYLOAD_MAX 4096
+ * I2C_RDWR's 42 messages is far less; serial writes are cut to it): the
+ * largest is CAN_RAW_FILTER's 512 filters (4096 bytes) and their option's
+ * head. */
+#define TCS_WIRE_PAYLOAD_MAX (4096 + 8)
 
 enum tcs_wire_type {
 	TCS_WIRE_DATA = 1,   /* serial: bytes to send; CAN: one frame, 16 or 72 bytes */
