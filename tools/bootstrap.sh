@@ -26,6 +26,8 @@ packages=(gcc g++ libc6-dev binutils pkg-config meson ninja-build python3 libcmo
 [[ $what == bench ]] && packages+=(faketime)
 # Real programs nobody wrote for tcs, which the tests run under it.
 [[ $what == test ]] && packages+=(rt-tests stress-ng coreutils)
+# Stock bus tools, unmodified, on the scenario's CAN and I2C buses.
+[[ $what == test ]] && packages+=(can-utils i2c-tools)
 # Counting a lockstep round trip's system calls.
 [[ $what == test ]] && packages+=(strace)
 # The agent tests put an agent in a network namespace of its own.
