@@ -88,6 +88,34 @@ int run_under_daemon(const std::string &socket, const std::vector<std::string> &
 
 } // namespace
 
+// A wire's line in --list-signals: its kind and its rate ("can  1 Mbit/s").
+static std::string wire_line(const tcs::WorldSetup &setup, const tcs::DeviceConfig &d)
+{
+	auto rate = [](int64_t hz, const char *unit) {
+		char buf[64];
+		if (hz % 1000000 == 0)
+			snprintf(buf, sizeof buf, "%lld M%s", (long long)(hz / 1000000), unit);
+		else if (hz % 1000 == 0)
+			snprintf(buf, sizeof buf, "%lld k%s", (long long)(hz / 1000), unit);
+		else
+			snprintf(buf, sizeof buf, "%lld %s", (long long)hz, unit);
+		return std::string(buf);
+	};
+	if (d.kind == TCS_DEVICE_SERIAL)
+		return "serial  " + std::to_string(d.table_width) + " baud";
+	if (d.kind == TCS_DEVICE_I2C) {
+		for (const auto &b : setup.wires.i2cs)
+			if (d.path == "/dev/i2c-" + std::to_string(b.bus))
+				return "i2c     " + rate(b.clock_hz, "Hz");
+		return "i2c";
+	}
+	for (const auto &c : setup.wires.cans)
+		if (d.path == c.interface)
+			return "can     " + rate(c.bitrate, "bit/s") +
+			       (c.data_bitrate ? ", data " + rate(c.data_bitrate, "bit/s") : std::string());
+	return "can";
+}
+
 int main(int argc, char **argv)
 {
 	enum { OPT_CPU_SCALE = 256, OPT_EPOCH, OPT_CONNECT, OPT_LIST_SIGNALS, OPT_NO_SLACK, OPT_SPIN_COST, OPT_SEED,
@@ -200,6 +228,10 @@ int main(int argc, char **argv)
 			printf("  %s\n", line.c_str());
 		printf("devices\n");
 		for (const auto &d : setup->devices) {
+			if (is_wire(d.kind)) {
+				printf("  %-28s %s\n", d.path.c_str(), wire_line(*setup, d).c_str());
+				continue;
+			}
 			std::string sigs;
 			for (const auto &sig : d.signals)
 				sigs += (sigs.empty() ? "" : " ") + sig;
