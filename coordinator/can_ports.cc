@@ -1,14 +1,17 @@
 // What a CAN_RAW socket receives, as the kernel decides it (net/can/raw.c
 // and af_can.c, read as facts): its binding, its filters, its options;
 // and the options themselves, checked as raw_setsockopt checks them.
+#include "can_ports.h"
+
 #include <linux/can.h>
 #include <linux/can/raw.h>
 #include <sys/socket.h>
 
 #include <cerrno>
 #include <cstring>
+#include <string>
 
-#include "can_wire.h"
+#include "tcs/wire_protocol.h"
 
 namespace tcs {
 
@@ -97,18 +100,19 @@ int64_t can_set_option(WirePort &port, int32_t level, int32_t name, std::string_
 	}
 }
 
-// The frame d that has ended on f to every socket that receives it (as
+// The frame d that has ended on its interface to every socket that receives it (as
 // can_send's loopback and raw_rcv decide): bound to f or to every
 // interface; the sender's own socket only with CAN_RAW_RECV_OWN_MSGS, and
 // another local one only when the sender had CAN_RAW_LOOPBACK on; an FD
 // frame only where CAN_RAW_FD_FRAMES is; past the socket's filters.
-void CanWire::to_ports(const Iface &f, const CanDelivery &d, bool loopback)
+void can_deliver(const std::vector<std::weak_ptr<WirePort>> &ports, int32_t ifindex, const CanDelivery &d,
+		 bool loopback)
 {
-	const bool from_socket = d.source < 0x80000000u;
+	const bool from_socket = d.source < kCanWorldSources;
 	const size_t size = linux_frame_size(d.frame);
-	for (const auto &wp : ports_) {
+	for (const auto &wp : ports) {
 		auto p = wp.lock();
-		if (!p || p->gone || (p->ifindex != 0 && p->ifindex != f.ifindex))
+		if (!p || p->gone || (p->ifindex != 0 && p->ifindex != ifindex))
 			continue;
 		const bool own = from_socket && p->can_source == d.source;
 		if (from_socket && (!loopback || (own && !p->recv_own)))
@@ -117,7 +121,7 @@ void CanWire::to_ports(const Iface &f, const CanDelivery &d, bool loopback)
 			continue;
 		if (!can_filters_pass(*p, d.frame))
 			continue;
-		tcs_wire_can_rx head{ d.end_ns, f.ifindex,
+		tcs_wire_can_rx head{ d.end_ns, ifindex,
 				      from_socket ? (TCS_CAN_RX_LOCAL | (own ? TCS_CAN_RX_OWN : 0u)) : 0u };
 		std::string packet(reinterpret_cast<const char *>(&head), sizeof head);
 		packet.resize(sizeof head + size);

@@ -15,9 +15,6 @@ namespace tcs {
 namespace {
 
 constexpr uint64_t kMaxNotes = 20;
-// The world's transmit queues (motors, sensor frames) are numbered from
-// here; the sockets' below it.
-constexpr uint32_t kWorldSources = 0x80000000u;
 
 CanType can_type_of(const std::string &name)
 {
@@ -56,7 +53,7 @@ Result<std::unique_ptr<CanWire>> CanWire::create(const std::vector<CanSpec> &spe
 {
 	std::unique_ptr<CanWire> w(new CanWire(std::move(warn)));
 	auto where = [&](int line) { return scenario_file + ":" + std::to_string(line) + ": "; };
-	uint32_t world_source = kWorldSources;
+	uint32_t world_source = kCanWorldSources;
 	// A "<model>.<part>.<field>[N]" signal of the world.
 	auto value_of = [&](const SignalRef &ref, Value *out) -> Status {
 		std::string name = ref.name;
@@ -131,7 +128,7 @@ void CanWire::opened(const std::shared_ptr<WirePort> &port)
 {
 	std::erase_if(ports_, [](const std::weak_ptr<WirePort> &p) { return p.expired(); });
 	port->can_source = next_source_++;
-	if (next_source_ >= kWorldSources)
+	if (next_source_ >= kCanWorldSources)
 		next_source_ = 1; // (two billion sockets later: an old number again)
 	ports_.push_back(port);
 }
@@ -252,7 +249,7 @@ void CanWire::delivered(Iface &f, const CanDelivery &d, const SimWorld *world)
 		if (q->second.empty())
 			f.loopback.erase(q);
 	}
-	to_ports(f, d, loopback);
+	can_deliver(ports_, f.ifindex, d, loopback);
 	std::vector<double> values;
 	for (Motor &m : f.motors) {
 		if (m.source == d.source)

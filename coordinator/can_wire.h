@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "can_bus.h"
+#include "can_ports.h"
 #include "can_signals.h"
 #include "error.h"
 #include "mit_motor.h"
@@ -88,8 +89,6 @@ private:
 	int64_t next_on(const Iface &f) const;
 	void send_sensors(Iface &f, int64_t t, const SimWorld *world);
 	void delivered(Iface &f, const CanDelivery &d, const SimWorld *world);
-	// can_ports.cc: the frame to the sockets that receive it.
-	void to_ports(const Iface &f, const CanDelivery &d, bool loopback);
 
 	Warn warn_;
 	std::vector<Iface> ifaces_;
@@ -97,12 +96,5 @@ private:
 	uint32_t next_source_ = 1; // the ports'; the world's from 0x80000000
 	uint64_t notes_ = 0;
 };
-
-// CAN_RAW's socket options on port as the kernel's net/can/raw.c takes
-// them (can_ports.cc): 0, -EINVAL for a bad length, -ENOPROTOOPT for an
-// unknown option.
-int64_t can_set_option(WirePort &port, int32_t level, int32_t name, std::string_view value);
-// Whether port's filters pass the frame (can_ports.cc).
-bool can_filters_pass(const WirePort &port, const CanFrame &frame);
 
 } // namespace tcs

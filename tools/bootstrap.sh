@@ -32,6 +32,8 @@ packages=(gcc g++ libc6-dev binutils pkg-config meson ninja-build python3 libcmo
 [[ $what == test ]] && packages+=(strace)
 # The agent tests put an agent in a network namespace of its own.
 [[ $what == test ]] && packages+=(iproute2)
+# Stock bus tools the wire tests run unmodified on the emulated buses.
+[[ $what == test ]] && packages+=(can-utils i2c-tools)
 missing=()
 for p in "${packages[@]}"; do
 	dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

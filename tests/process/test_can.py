@@ -1,0 +1,170 @@
+"""SocketCAN in virtual time (docs/DESIGN.md §9, [[can]]): stock can-utils
+programs, unmodified, on an emulated interface. A frame reaches a reader
+when its last bit has crossed the bus at the declared bit rate, stuff bits
+included (counted here from the frame's bits, with this file's own CRC-15:
+nothing is imported from tcs); frames queued behind one on the wire follow
+it back to back; an MIT motor answers its commands and moves its joint;
+CAN_RAW filters and loopback flags are the kernel's."""
+
+import shutil
+
+from harness import check, main, scenario_file, skip, tcs
+
+BUS = """\
+[sim]
+step = "1ms"
+model = "pendulum"
+
+[[can]]
+interface = "can0"
+bitrate = "1Mbit/s"
+"""
+
+MOTOR = BUS + """
+[[can.motor]]
+protocol = "mit"
+id = 1
+joint = "pendulum.hinge"
+"""
+
+EPOCH = 1700000000
+
+
+def crc15(bits):
+    crc = 0
+    for b in bits:
+        top = b ^ ((crc >> 14) & 1)
+        crc = (crc << 1) & 0x7FFF
+        if top:
+            crc ^= 0x4599
+    return crc
+
+
+def frame_bits(can_id, data):
+    """A classic standard data frame's bits on the wire (ISO 11898-1): SOF,
+    id, RTR, IDE, r0, DLC, data, CRC-15, stuffed after five equal bits up
+    to the CRC's end; then the CRC delimiter, ACK, its delimiter, EOF and
+    intermission (13)."""
+    bits = [0] + [(can_id >> (10 - i)) & 1 for i in range(11)] + [0, 0, 0]
+    bits += [(len(data) >> (3 - i)) & 1 for i in range(4)]
+    for byte in data:
+        bits += [(byte >> (7 - i)) & 1 for i in range(8)]
+    crc = crc15(bits)
+    bits += [(crc >> (14 - i)) & 1 for i in range(15)]
+    stuffed, run, last = 0, 0, None
+    for b in bits:
+        run, last = (run + 1, b) if b == last else (1, b)
+        if run == 5:
+            stuffed, run, last = stuffed + 1, 1, 1 - b
+    return len(bits) + stuffed + 13
+
+
+def dump_rows(text):
+    """candump -t a lines: (time in µs since the epoch, id, data bytes)."""
+    rows = []
+    for line in text.splitlines():
+        f = line.replace("TX - -", "").replace("RX - -", "").split()
+        t = round((float(f[0].strip("()")) - EPOCH) * 1e6)
+        rows.append((t, int(f[2], 16), bytes(int(x, 16) for x in f[4:]), "TX" in line))
+    return rows
+
+
+def run_sh(world, script, timeout=60):
+    r = tcs("-q", "-m", "lockstep", "--epoch", str(EPOCH), "-w", world, "--", "sh", "-c", script, timeout=timeout)
+    check(r.returncode == 0, "the programs end", r)
+    return r
+
+
+def need_can_utils():
+    if not shutil.which("candump"):
+        skip("can-utils is not installed (tools/bootstrap.sh installs it)")
+
+
+def test_cansend_reaches_candump_when_its_last_bit_has():
+    need_can_utils()
+    with scenario_file(BUS) as world:
+        script = "candump -t a -n 1 can0 & sleep 0.01; cansend can0 123#DEADBEEF; wait"
+        r = run_sh(world, script)
+        again = run_sh(world, script)
+    rows = dump_rows(r.stdout)
+    check(len(rows) == 1 and rows[0][1] == 0x123 and rows[0][2] == bytes.fromhex("DEADBEEF"), "one frame", r)
+    bits = frame_bits(0x123, bytes.fromhex("DEADBEEF"))
+    start = rows[0][0] - bits
+    check(bits == 81, "123#DEADBEEF is 81 bits with its stuff bits")
+    check(10000 <= start < 10200, "sent after candump's 10 ms, at %d µs; arrived %d µs later" % (start, bits), r)
+    check(r.stdout == again.stdout, "the same virtual times again", again)
+    print("  123#DEADBEEF sent at %d µs, candump stamps it %d µs later (81 bits at 1 Mbit/s), on the epoch" %
+          (start, bits))
+
+
+def test_frames_queued_behind_each_other_take_their_bit_times_back_to_back():
+    need_can_utils()
+    with scenario_file(BUS) as world:
+        r = run_sh(world, "candump -t a -n 10 can0 & sleep 0.01; cangen can0 -g 0 -n 10 -I 123 -L 8 -D i; wait")
+    rows = dump_rows(r.stdout)
+    check(len(rows) == 10, "10 frames", r)
+    bits = [frame_bits(cid, data) for _, cid, data, _ in rows]
+    gaps = [rows[i + 1][0] - rows[i][0] for i in range(9)]
+    check(gaps == bits[1:], "each frame ends its own bit time after the one before: %s µs, bits %s" %
+          (gaps, bits[1:]), r)
+    print("  10 frames back to back: %d µs from the first's end to the last's = the sum of their bits" %
+          sum(gaps))
+
+
+def test_a_hundred_frames_a_millisecond_apart():
+    need_can_utils()
+    with scenario_file(BUS) as world:
+        r = run_sh(world, "candump -t a -n 100 can0 & sleep 0.01; cangen can0 -g 1 -n 100 -I 42 -L 8 -D i; wait",
+                   timeout=120)
+    rows = dump_rows(r.stdout)
+    check(len(rows) == 100 and [d[0] for _, _, d, _ in rows] == [i % 256 for i in range(100)],
+          "100 frames in order", r)
+    gaps = [rows[i + 1][0] - rows[i][0] - frame_bits(0x42, rows[i + 1][2]) + frame_bits(0x42, rows[i][2])
+            for i in range(99)]
+    check(all(g >= 1000 for g in gaps), "sent at least 1 ms apart (the send times, their bits taken out)", r)
+    print("  100 frames at 1 ms: the last at %d µs" % rows[-1][0])
+
+
+def test_an_mit_motor_answers_and_moves_its_joint():
+    need_can_utils()
+    with scenario_file(MOTOR) as world:
+        r = run_sh(world, "candump -x -t a -n 6 can0 & sleep 0.01; cansend can0 001#FFFFFFFFFFFFFFFC; "
+                   "sleep 0.2; cansend can0 001#8000800000000FFF; sleep 0.3; cansend can0 001#8000800000000FFF; wait")
+    rows = dump_rows(r.stdout)
+    check(len(rows) == 6, "three commands, three replies", r)
+    for i in (1, 3, 5):
+        t, cid, data, tx = rows[i]
+        check(cid == 0 and len(data) == 6 and data[0] == 1 and not tx, "a 6-byte reply from motor 1 on id 0", r)
+        check(t - rows[i - 1][0] == frame_bits(0, data), "sent when the command ended: %d µs later, its bits" %
+              (t - rows[i - 1][0]), r)
+        check(rows[i - 1][3], "the commands are local (TX), the replies not", r)
+    position = int.from_bytes(rows[5][2][1:3], "big")
+    torque = ((rows[5][2][4] & 0xF) << 8) | rows[5][2][5]
+    check(position > 0x8000 + 1000, "5 N·m for 0.3 s has turned the joint (position 0x%04x)" % position, r)
+    check(torque == 0xFFF, "the reply reports the torque applied: +5 N·m", r)
+    print("  motor 1: FC, then 5 N·m: position field 0x%04x after 0.3 s" % position)
+
+
+def test_filters_pass_what_they_match():
+    need_can_utils()
+    with scenario_file(BUS) as world:
+        # Either filter (candump's default), and both (",j": CAN_RAW_JOIN_FILTERS).
+        either = run_sh(world, "candump -t a -n 3 can0,120:7F0,300~7FF & sleep 0.01; for i in 300 121 125 12A; do "
+                        "cansend can0 $i#01; done; wait")
+        both = run_sh(world, "candump -t a -n 2 can0,120:7F0,125~7FF,j & sleep 0.01; for i in 110 121 125 12A; do "
+                      "cansend can0 $i#01; done; wait")
+    ids = [cid for _, cid, _, _ in dump_rows(either.stdout)]
+    check(ids == [0x121, 0x125, 0x12A], "12x by the first, none by the inverted 300: %s" % [hex(i) for i in ids],
+          either)
+    ids = [cid for _, cid, _, _ in dump_rows(both.stdout)]
+    check(ids == [0x121, 0x12A], "joined: 12x but not 125: %s" % [hex(i) for i in ids], both)
+
+
+def test_a_bad_can_table_exits_2_at_its_line():
+    with scenario_file(BUS.replace('bitrate = "1Mbit/s"', 'bitrate = "5Mbit/s"')) as world:
+        r = tcs("-q", "-w", world, "--", "true", timeout=30)
+    check(r.returncode == 2 and (":7:" in r.stderr), "exit 2 naming FILE:LINE", r)
+
+
+if __name__ == "__main__":
+    main(globals())
