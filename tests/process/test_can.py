@@ -160,6 +160,41 @@ def test_filters_pass_what_they_match():
     check(ids == [0x121, 0x12A], "joined: 12x but not 125: %s" % [hex(i) for i in ids], both)
 
 
+OVERTAKE = """\
+import socket, struct, time
+def sock():
+    s = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
+    s.bind(("can0",))
+    return s
+reader, first, second = sock(), sock(), sock()
+frame = lambda cid, data: struct.pack("=IB3x8s", cid, len(data), data)
+first.send(frame(0x700, bytes(8)))      # on the wire at once, alone
+time.sleep(20e-6)                       # (sent together, 0x100 would win the first arbitration)
+first.send(frame(0x600, bytes(8)))      # queued behind it (its own socket's order)
+second.send(frame(0x100, bytes(8)))     # queued later, from another node, higher priority
+t0 = time.monotonic_ns()
+for _ in range(3):
+    cid = struct.unpack("=I", reader.recv(16)[:4])[0]
+    print(hex(cid), time.monotonic_ns() - t0)
+"""
+
+
+def test_a_high_priority_frame_overtakes_a_queued_low_priority_one():
+    with scenario_file(BUS) as world, scenario_file(OVERTAKE) as prog:
+        r = tcs("-q", "-m", "lockstep", "-w", world, "--", "python3", prog, timeout=60)
+    check(r.returncode == 0, "the program ends", r)
+    rows = [(int(a, 16), int(b)) for a, b in (line.split() for line in r.stdout.splitlines())]
+    check([cid for cid, _ in rows] == [0x700, 0x100, 0x600],
+          "0x700 (on the wire), then 0x100 (won the arbitration), then 0x600 (queued first)", r)
+    bits = [frame_bits(cid, bytes(8)) for cid, _ in rows]
+    ends = [t for _, t in rows]
+    # Each ends its own bit time after the one before (1 µs a bit), the
+    # first its bits after it was sent (less the few ns a clock read costs).
+    check(ends[1] - ends[0] == bits[1] * 1000 and ends[2] - ends[1] == bits[2] * 1000,
+          "back to back: %s ns apart, bits %s" % ([ends[1] - ends[0], ends[2] - ends[1]], bits[1:]), r)
+    print("  0x700, then 0x100 overtaking 0x600: ends %s ns after the sends" % ends)
+
+
 def test_a_bad_can_table_exits_2_at_its_line():
     with scenario_file(BUS.replace('bitrate = "1Mbit/s"', 'bitrate = "5Mbit/s"')) as world:
         r = tcs("-q", "-w", world, "--", "true", timeout=30)
