@@ -48,7 +48,7 @@ def test_an_overloaded_loop_falls_in_cpu_mode_but_lockstep_says_fine():
     # In cpu mode the loop falls to 5 Hz, each torque 200 ms late on the
     # state it answers; the rod leans past where the motor's 4 N*m can
     # hold its 4.9 and falls. The margins, measured: with 60 ms a cycle it
-    # still balances (16 Hz), with 80 ms it swings 0.24 rad either side,
+    # still balances (16 Hz), with 80 ms it swings out to 0.24 rad,
     # from 150 ms it falls. The work is calibrated on the machine, so it
     # is 200 ms on a slow machine and a fast one; the loop's own system
     # calls (a few microseconds, 200 times over) only add to it.
