@@ -78,8 +78,8 @@ void drain_journal(Run &run, Controller &c, bool flush)
 	// (Not with a stop last: what it drains next may go before it.)
 	bool full = c.journal_batch.size() >= kBatch && c.journal_batch.back().kind != TCS_J_STOP;
 	if (full || (flush && !c.journal_batch.empty())) {
-		run.trace.journal(c.id, std::move(c.journal_batch));
-		c.journal_batch.clear();
+		run.trace.journal(c.id, c.journal_batch);
+		c.journal_batch.clear(); // (its room kept for the next batch)
 	}
 }
 

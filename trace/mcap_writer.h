@@ -105,10 +105,13 @@ public:
 	size_t pending_bytes() const { return chunk_.size(); }
 
 private:
+	// As a Message Index record lays its entries out (mcap_writer.cc
+	// copies them whole).
 	struct IndexEntry {
 		uint64_t log_time;
 		uint64_t offset; // in the uncompressed chunk
 	};
+	static_assert(sizeof(IndexEntry) == 16);
 	struct Schema {
 		std::string name, encoding, data;
 		uint64_t in_chunk = 0; // the chunk generation it was last written into
