@@ -89,12 +89,16 @@ public:
 	void finish() { out_.resize(at_); }
 
 private:
-	void room(size_t n)
+	// Inline, every field: a comparison; the buffer grows out of line.
+	__attribute__((always_inline)) void room(size_t n)
 	{
-		if (__builtin_expect(at_ + n > out_.size(), 0)) {
-			out_.resize(std::max(at_ + n, 2 * out_.size() + 64));
-			p_ = out_.data();
-		}
+		if (__builtin_expect(at_ + n > out_.size(), 0))
+			grow(n);
+	}
+	__attribute__((noinline)) void grow(size_t n)
+	{
+		out_.resize(std::max(at_ + n, 2 * out_.size() + 64));
+		p_ = out_.data();
 	}
 	void align(size_t n)
 	{

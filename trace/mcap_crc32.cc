@@ -153,4 +153,41 @@ uint32_t mcap_crc32_by_tables(uint32_t crc, const void *data, size_t size)
 	return ~crc_by_tables(~crc, static_cast<const uint8_t *>(data), size);
 }
 
+namespace {
+
+// Polynomials mod P as the reflected register holds them: bit 31 is x^0,
+// bit 0 is x^31. a * b mod P, b taken times x once for each bit of a.
+uint32_t multiply_mod(uint32_t a, uint32_t b)
+{
+	uint32_t product = 0;
+	for (uint32_t bit = 1u << 31; bit != 0; bit >>= 1) {
+		if (a & bit)
+			product ^= b;
+		b = (b & 1) ? (b >> 1) ^ 0xEDB88320u : b >> 1;
+	}
+	return product;
+}
+
+// x^(8 n) mod P, by squaring.
+uint32_t x_pow_8n(uint64_t n)
+{
+	uint32_t result = 1u << 31, power = 1u << 23; // x^0, x^8
+	for (; n != 0; n >>= 1) {
+		if (n & 1)
+			result = multiply_mod(result, power);
+		power = multiply_mod(power, power);
+	}
+	return result;
+}
+
+} // namespace
+
+// The register after A, carried over size_b zero bytes, is A's share of
+// the CRC of A and B; the initial and final inversions cancel out between
+// the two CRCs, so B's CRC is the rest.
+uint32_t mcap_crc32_combine(uint32_t crc_a, uint32_t crc_b, uint64_t size_b)
+{
+	return multiply_mod(x_pow_8n(size_b), crc_a) ^ crc_b;
+}
+
 } // namespace tcs

@@ -376,8 +376,14 @@ Status McapWriter::finish_chunk()
 		{ const_cast<uint8_t *>(payload), size_t(payload_size) },
 		{ message_indexes_.data(), message_indexes_.size() },
 	};
-	for (const struct iovec &v : iov)
-		data_crc_ = mcap_crc32(data_crc_, v.iov_base, v.iov_len);
+	// The data section's CRC: an uncompressed payload's is the chunk's,
+	// already computed as it filled, not read again.
+	data_crc_ = mcap_crc32(data_crc_, chunk_head_.data(), chunk_head_.size());
+	if (payload == chunk_.data())
+		data_crc_ = mcap_crc32_combine(data_crc_, crc, payload_size);
+	else
+		data_crc_ = mcap_crc32(data_crc_, payload, payload_size);
+	data_crc_ = mcap_crc32(data_crc_, message_indexes_.data(), message_indexes_.size());
 	if (Status s = write_all(iov, 3); !s)
 		return s;
 

@@ -68,6 +68,13 @@ void test_crc32(void **)
 	uint32_t whole = ref_crc32(data.data(), data.size());
 	assert_int_equal(tcs::mcap_crc32(0, data.data(), data.size()), whole);
 	assert_int_equal(tcs::mcap_crc32_by_tables(0, data.data(), data.size()), whole);
+	// Two CRCs combined as the data section's is (a chunk's own CRC, not
+	// read again), the first carried on from a CRC so far.
+	for (size_t split : { size_t(0), size_t(1), size_t(4096), data.size() - 3, data.size() }) {
+		uint32_t a = tcs::mcap_crc32(tcs::mcap_crc32(0, data.data(), 5), data.data() + 5, split - std::min(split, size_t(5)));
+		uint32_t b = tcs::mcap_crc32(0, data.data() + std::max(split, size_t(5)), data.size() - std::max(split, size_t(5)));
+		assert_int_equal(tcs::mcap_crc32_combine(a, b, data.size() - std::max(split, size_t(5))), whole);
+	}
 	uint32_t pieces = 0;
 	for (size_t at = 0, step = 1; at < data.size(); at += step, step = step * 3 + 1)
 		pieces = tcs::mcap_crc32(pieces, data.data() + at, std::min(step, data.size() - at));
