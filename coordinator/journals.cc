@@ -43,7 +43,10 @@ static void keep_in_order(std::vector<tcs_journal_entry> &batch, const tcs_journ
 	if (e.kind == TCS_J_CLOCK || e.kind == TCS_J_CHARGE || e.kind == TCS_J_READ)
 		while (at > 0 && batch[at - 1].kind == TCS_J_STOP && batch[at - 1].value > e.value)
 			at--;
-	batch.insert(batch.begin() + (long)at, e);
+	if (at == batch.size())
+		batch.push_back(e); // (nearly always: entries come in order)
+	else
+		batch.insert(batch.begin() + (long)at, e);
 }
 
 void drain_journal(Run &run, Controller &c, bool flush)
@@ -57,8 +60,9 @@ void drain_journal(Run &run, Controller &c, bool flush)
 	if (head - tail > cap)
 		head = tail + cap; // (a controller's word)
 	tcs_journal_entry *ring = tcs_journal_entries(j);
-	for (; tail != head; tail++) {
-		tcs_journal_entry *e = &ring[tail % cap];
+	// The slot's index kept as it goes round (not a division an entry).
+	for (uint64_t slot = tail % cap; tail != head; tail++, slot = slot + 1 == cap ? 0 : slot + 1) {
+		tcs_journal_entry *e = &ring[slot];
 		uint16_t kind = __atomic_load_n(&e->kind, __ATOMIC_ACQUIRE);
 		if (kind == 0)
 			break; // claimed, not yet filled: next time
@@ -78,8 +82,8 @@ void drain_journal(Run &run, Controller &c, bool flush)
 	// (Not with a stop last: what it drains next may go before it.)
 	bool full = c.journal_batch.size() >= kBatch && c.journal_batch.back().kind != TCS_J_STOP;
 	if (full || (flush && !c.journal_batch.empty())) {
-		run.trace.journal(c.id, std::move(c.journal_batch));
-		c.journal_batch.clear();
+		run.trace.journal(c.id, c.journal_batch);
+		c.journal_batch.clear(); // (its room kept for the next batch)
 	}
 }
 

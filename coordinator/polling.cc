@@ -51,19 +51,13 @@ Status MailboxPoller::turn(EventLoop &loop, const Lanes &lanes, const std::vecto
 		}
 		if (take_all(ctls))
 			polled_at_ = now;
-		// Polling on while it has work of its own between looks: a sleep
-		// would cost the next request a doorbell and a wake-up.
-		if (now - polled_at_ < kPollFor || idle_work_) {
+		if (now - polled_at_ < kPollFor) {
 			auto n = loop.dispatch(0);
 			if (!n)
 				return n.error();
-			if (*n > 0) {
+			if (*n > 0)
 				polled_at_ = now;
-				return Ok{};
-			}
-			bool worked = idle_work_ && idle_work_();
-			if (worked || now - polled_at_ < kPollFor)
-				return Ok{};
+			return Ok{};
 		}
 	}
 	if (polling_) {
@@ -73,10 +67,7 @@ Status MailboxPoller::turn(EventLoop &loop, const Lanes &lanes, const std::vecto
 		if (take_all(ctls))
 			return Ok{};
 	}
-	// Its core is its own while no controller runs on it: work before
-	// sleeping, looking for news after each piece.
-	const bool own_core = enabled_ && lanes.home().running.empty();
-	auto n = loop.dispatch(own_core && idle_work_ && idle_work_() ? 0 : -1);
+	auto n = loop.dispatch(-1);
 	if (!n)
 		return n.error();
 	return Ok{};

@@ -87,6 +87,7 @@ struct Run {
 	DurationStats step_walls; // wall cost of each world step
 	Trace trace;
 	std::vector<size_t> joint_signals;
+	std::vector<double> trace_joints; // a step's joint states for the trace (reused)
 	std::vector<std::string> warned;
 	std::vector<Contender> contenders; // (kept: schedule() runs on every request)
 	bool hearing = false; // hear_threads: schedule() waits for the last

@@ -252,12 +252,12 @@ Status step_world(Run &run)
 			return s;
 		run.step_walls.add(run.world->last_step_wall_ns());
 		if (run.trace.is_open()) {
-			std::vector<double> joints;
-			joints.reserve(run.joint_signals.size());
+			std::vector<double> &joints = run.trace_joints; // (its room kept from step to step)
+			joints.clear();
 			for (size_t i : run.joint_signals)
 				run.world->read(i, joints);
 			run.trace.step(run.sim_ns + run.cfg.step_ns, wall_now() - run.wall_start, run.world->last_step_wall_ns(),
-				    std::move(joints));
+				       joints);
 		}
 		if (run.cfg.on_step)
 			run.cfg.on_step(run.sim_ns + run.cfg.step_ns, *run.world);

@@ -32,7 +32,7 @@ static inline long tcs_cpuclock_pid(clockid_t id)
 static int64_t tcs_thread_cpu_scaled(clockid_t id)
 {
 	int64_t ns;
-	if (__builtin_expect(tcs_journal_on(), 0) && tcs_replay_clock(TCS_J_THREAD_CPU, &ns))
+	if (__builtin_expect(tcs_journal_replaying(), 0) && tcs_replay_clock(TCS_J_THREAD_CPU, &ns))
 		return ns;
 	ns = tcs_kernel_clock(id);
 	ns = ns < 0 ? ns : tcs_scale_cpu(ns, tcs_rt.page->cpu_scale);
@@ -46,7 +46,7 @@ static int64_t tcs_thread_cpu_scaled(clockid_t id)
 static int64_t tcs_journalled(unsigned kind, int64_t (*live)(void))
 {
 	int64_t v;
-	if (tcs_replay_clock(kind, &v))
+	if (tcs_journal_replaying() && tcs_replay_clock(kind, &v))
 		return v;
 	v = live();
 	tcs_journal_note(kind, 0, v, 0);

@@ -14,6 +14,11 @@ static uint64_t tcs_journal_capacity;
 /* Threads numbered as they first journal: the first is 0. */
 static uint32_t tcs_journal_threads;
 static __thread uint32_t tcs_journal_thread; /* its number + 1 (0: none yet) */
+/* Recording: how far the ring's head may go, as this thread last read the
+ * coordinator's tail (plus the capacity). The tail is on a line the
+ * coordinator writes at every drain, a few times a cycle: read once a lap
+ * instead of at every append, or when the ring looks full. */
+static __thread uint64_t tcs_journal_room_end;
 /* Recording: the request whose charge point was taken, journalled when its
  * WAKE says at what time it was charged; and the time the program had
  * reached then. */
@@ -82,9 +87,12 @@ void tcs_journal_note(unsigned kind, unsigned type, int64_t value, int64_t arg)
 		return;
 	uint64_t h = __atomic_load_n(&j->head, __ATOMIC_RELAXED);
 	do {
-		if (h - __atomic_load_n(&j->tail, __ATOMIC_ACQUIRE) >= tcs_journal_capacity) {
-			__atomic_add_fetch(&j->lost, 1, __ATOMIC_RELAXED);
-			return;
+		if (h >= tcs_journal_room_end) {
+			tcs_journal_room_end = __atomic_load_n(&j->tail, __ATOMIC_ACQUIRE) + tcs_journal_capacity;
+			if (h >= tcs_journal_room_end) {
+				__atomic_add_fetch(&j->lost, 1, __ATOMIC_RELAXED);
+				return;
+			}
 		}
 	} while (!__atomic_compare_exchange_n(&j->head, &h, h + 1, 1, __ATOMIC_ACQ_REL, __ATOMIC_RELAXED));
 	struct tcs_journal_entry *e = &tcs_journal_entries(j)[h % tcs_journal_capacity];

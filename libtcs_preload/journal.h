@@ -52,4 +52,11 @@ static inline int tcs_journal_on(void)
 	return tcs_rt.journal != NULL;
 }
 
+/* A journal to replay (departed from or not): a recording clock read need
+ * not ask tcs_replay_clock, a call that says no. */
+static inline int tcs_journal_replaying(void)
+{
+	return tcs_rt.journal != NULL && tcs_rt.journal->replaying;
+}
+
 #endif

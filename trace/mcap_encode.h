@@ -1,5 +1,5 @@
 // How the writer lays records out: little-endian fields appended to byte
-// vectors, records whose length is filled in once their content is there,
+// vectors (of any allocator: the chunk's grows without zeroing), records whose length is filled in once their content is there,
 // and the Schema and Channel records it writes both in chunks and in the
 // summary. MCAP format version 0: every record is <opcode u8><content
 // length u64><content>; strings and arrays are prefixed with their byte
@@ -24,26 +24,26 @@ inline void store_le(uint8_t *p, uint64_t v, int bytes)
 		p[i] = uint8_t(v >> (8 * i));
 }
 
-inline void put_le(std::vector<uint8_t> &b, uint64_t v, int bytes)
+template <class Bytes> void put_le(Bytes &b, uint64_t v, int bytes)
 {
 	uint8_t tmp[8];
 	store_le(tmp, v, bytes);
 	b.insert(b.end(), tmp, tmp + bytes);
 }
 
-inline void put_u8(std::vector<uint8_t> &b, uint8_t v) { b.push_back(v); }
-inline void put_u16(std::vector<uint8_t> &b, uint16_t v) { put_le(b, v, 2); }
-inline void put_u32(std::vector<uint8_t> &b, uint32_t v) { put_le(b, v, 4); }
-inline void put_u64(std::vector<uint8_t> &b, uint64_t v) { put_le(b, v, 8); }
+template <class Bytes> void put_u8(Bytes &b, uint8_t v) { b.push_back(v); }
+template <class Bytes> void put_u16(Bytes &b, uint16_t v) { put_le(b, v, 2); }
+template <class Bytes> void put_u32(Bytes &b, uint32_t v) { put_le(b, v, 4); }
+template <class Bytes> void put_u64(Bytes &b, uint64_t v) { put_le(b, v, 8); }
 
-inline void put_bytes(std::vector<uint8_t> &b, const void *data, size_t size)
+template <class Bytes> void put_bytes(Bytes &b, const void *data, size_t size)
 {
 	const uint8_t *p = static_cast<const uint8_t *>(data);
 	b.insert(b.end(), p, p + size);
 }
 
 // Callers have checked that s fits a u32 length.
-inline void put_string(std::vector<uint8_t> &b, std::string_view s)
+template <class Bytes> void put_string(Bytes &b, std::string_view s)
 {
 	put_u32(b, uint32_t(s.size()));
 	put_bytes(b, s.data(), s.size());
@@ -51,7 +51,7 @@ inline void put_string(std::vector<uint8_t> &b, std::string_view s)
 
 // Starts a record; returns where its content length goes, which
 // end_record() fills in once the content is there.
-inline size_t begin_record(std::vector<uint8_t> &b, McapOpcode op)
+template <class Bytes> size_t begin_record(Bytes &b, McapOpcode op)
 {
 	put_u8(b, op);
 	size_t at = b.size();
@@ -59,7 +59,7 @@ inline size_t begin_record(std::vector<uint8_t> &b, McapOpcode op)
 	return at;
 }
 
-inline void end_record(std::vector<uint8_t> &b, size_t at)
+template <class Bytes> void end_record(Bytes &b, size_t at)
 {
 	store_le(b.data() + at, b.size() - at - 8, 8);
 }
@@ -74,7 +74,7 @@ inline uint64_t metadata_bytes(const std::map<std::string, std::string> &m)
 }
 
 // A Schema record of id; SchemaT has name, encoding and data.
-template <class SchemaT> void put_schema(std::vector<uint8_t> &b, uint16_t id, const SchemaT &s)
+template <class Bytes, class SchemaT> void put_schema(Bytes &b, uint16_t id, const SchemaT &s)
 {
 	size_t at = begin_record(b, mcap_schema);
 	put_u16(b, id);
@@ -86,7 +86,7 @@ template <class SchemaT> void put_schema(std::vector<uint8_t> &b, uint16_t id, c
 
 // A Channel record of id; ChannelT has schema_id, topic, message_encoding
 // and metadata. Callers have checked that the metadata fits a u32 length.
-template <class ChannelT> void put_channel(std::vector<uint8_t> &b, uint16_t id, const ChannelT &c)
+template <class Bytes, class ChannelT> void put_channel(Bytes &b, uint16_t id, const ChannelT &c)
 {
 	size_t at = begin_record(b, mcap_channel);
 	put_u16(b, id);

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cerrno>
 #include <climits>
 #include <cstring>
@@ -21,6 +22,8 @@ namespace tcs {
 using namespace mcap_encode;
 
 namespace {
+
+static_assert(std::endian::native == std::endian::little, "the writer stores native integers as MCAP's little-endian");
 
 // McapOpcode, content length, channel id, sequence, log time, publish time.
 constexpr size_t kMessageHead = 1 + 8 + 2 + 4 + 8 + 8;
@@ -189,16 +192,22 @@ Status McapWriter::write(uint16_t channel_id, uint64_t log_time_ns, uint64_t pub
 		chunk_channels_.push_back(channel_id);
 	}
 
-	uint8_t head[kMessageHead];
+	// The head and the message in one step: a few stores and a copy (the
+	// coordinator writes several messages a cycle).
+	const uint64_t at = chunk_.size();
+	chunk_.resize(at + kMessageHead + size);
+	uint8_t *head = chunk_.data() + at;
+	const uint64_t length = uint64_t(kMessageHead - 9) + size;
+	const uint16_t channel = channel_id;
+	const uint32_t sequence = c.sequence;
 	head[0] = mcap_message;
-	store_le(head + 1, uint64_t(kMessageHead - 9) + size, 8);
-	store_le(head + 9, channel_id, 2);
-	store_le(head + 11, c.sequence, 4);
-	store_le(head + 15, log_time_ns, 8);
-	store_le(head + 23, publish_time_ns, 8);
-	uint64_t at = chunk_.size();
-	chunk_.insert(chunk_.end(), head, head + kMessageHead);
-	put_bytes(chunk_, data, size);
+	std::memcpy(head + 1, &length, 8);
+	std::memcpy(head + 9, &channel, 2);
+	std::memcpy(head + 11, &sequence, 4);
+	std::memcpy(head + 15, &log_time_ns, 8);
+	std::memcpy(head + 23, &publish_time_ns, 8);
+	if (size)
+		std::memcpy(head + kMessageHead, data, size);
 
 	if (!c.index.empty() && log_time_ns < c.index.back().log_time)
 		c.unsorted = true;
@@ -351,10 +360,9 @@ Status McapWriter::finish_chunk()
 		size_t mi_at = begin_record(message_indexes_, mcap_message_index);
 		put_u16(message_indexes_, id);
 		put_u32(message_indexes_, uint32_t(c.index.size() * 16));
-		for (const IndexEntry &e : c.index) {
-			put_u64(message_indexes_, e.log_time);
-			put_u64(message_indexes_, e.offset);
-		}
+		// The entries as they are held: (log time, offset), each a
+		// little-endian u64, as MCAP lays them out.
+		put_bytes(message_indexes_, c.index.data(), c.index.size() * sizeof(IndexEntry));
 		end_record(message_indexes_, mi_at);
 	}
 	put_u64(ci, message_indexes_.size());
@@ -368,8 +376,14 @@ Status McapWriter::finish_chunk()
 		{ const_cast<uint8_t *>(payload), size_t(payload_size) },
 		{ message_indexes_.data(), message_indexes_.size() },
 	};
-	for (const struct iovec &v : iov)
-		data_crc_ = mcap_crc32(data_crc_, v.iov_base, v.iov_len);
+	// The data section's CRC: an uncompressed payload's is the chunk's,
+	// already computed as it filled, not read again.
+	data_crc_ = mcap_crc32(data_crc_, chunk_head_.data(), chunk_head_.size());
+	if (payload == chunk_.data())
+		data_crc_ = mcap_crc32_combine(data_crc_, crc, payload_size);
+	else
+		data_crc_ = mcap_crc32(data_crc_, payload, payload_size);
+	data_crc_ = mcap_crc32(data_crc_, message_indexes_.data(), message_indexes_.size());
 	if (Status s = write_all(iov, 3); !s)
 		return s;
 

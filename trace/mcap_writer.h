@@ -22,6 +22,8 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "error.h"
@@ -33,6 +35,25 @@ struct iovec;
 namespace tcs {
 
 enum class McapCompression { none, zstd };
+
+// An allocator whose vectors grow without zeroing what they add (resize()
+// default-initialises bytes: leaves them as they are), for the chunk, into
+// which each message is then copied.
+template <class T> struct GrowUninitialised : std::allocator<T> {
+	template <class U> struct rebind {
+		using other = GrowUninitialised<U>;
+	};
+	GrowUninitialised() = default;
+	template <class U> GrowUninitialised(const GrowUninitialised<U> &) noexcept {}
+	template <class U> void construct(U *p) noexcept(std::is_nothrow_default_constructible_v<U>)
+	{
+		::new (static_cast<void *>(p)) U;
+	}
+	template <class U, class... Args> void construct(U *p, Args &&...args)
+	{
+		::new (static_cast<void *>(p)) U(std::forward<Args>(args)...);
+	}
+};
 
 struct McapWriterOptions {
 	// A chunk is closed and written once its uncompressed records reach
@@ -105,10 +126,13 @@ public:
 	size_t pending_bytes() const { return chunk_.size(); }
 
 private:
+	// As a Message Index record lays its entries out (mcap_writer.cc
+	// copies them whole).
 	struct IndexEntry {
 		uint64_t log_time;
 		uint64_t offset; // in the uncompressed chunk
 	};
+	static_assert(sizeof(IndexEntry) == 16);
 	struct Schema {
 		std::string name, encoding, data;
 		uint64_t in_chunk = 0; // the chunk generation it was last written into
@@ -152,7 +176,7 @@ private:
 	// The chunk being filled, and how much of it was fed to the CRC and
 	// the compressor, whose output so far is compressed_[0, zpos_).
 	uint64_t chunk_gen_ = 1;
-	std::vector<uint8_t> chunk_;
+	std::vector<uint8_t, GrowUninitialised<uint8_t>> chunk_;
 	size_t fed_ = 0;
 	uint32_t chunk_crc_ = 0;
 	size_t zpos_ = 0;

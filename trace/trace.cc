@@ -1,11 +1,13 @@
-// Trace: the topics, their schemas, and their messages written without
-// allocation on the per-message path (one reused buffer).
+// Trace: the topics, their schemas, and their messages, encoded without
+// allocation on the per-message path (one reused buffer) and written by the
+// caller or by a thread of the trace's own.
 #include "trace.h"
 
 #include "cdr_writer.h"
 #include "json.h"
 
 #include <algorithm>
+#include <cstring>
 #include <utility>
 
 #include <sched.h>
@@ -102,7 +104,7 @@ Status Trace::open(const std::string &path, TraceWriting how, bool record)
 	// Written by the coordinator, between its requests: uncompressed, as
 	// compressing cost a 1 kHz run 15 to 25 % more wall time; a thread of
 	// its own compresses off the coordinator's core (docs/PERFORMANCE.md).
-	writer_.emplace(McapWriterOptions{ .compression = how.pumped ? McapCompression::none : McapCompression::zstd,
+	writer_.emplace(McapWriterOptions{ .compression = how.by_caller ? McapCompression::none : McapCompression::zstd,
 					   .zstd_level = 1 });
 	if (auto s = writer_->open(path, "", "tcs"); !s)
 		return s;
@@ -133,10 +135,11 @@ Status Trace::open(const std::string &path, TraceWriting how, bool record)
 			return channel.error();
 		*t.id = *channel;
 	}
-	buf_.reserve(4096);
+	buf_.resize(4096);
+	set_joint_names(std::move(joint_names_));
 	open_ = true;
-	pumped_ = how.pumped;
-	if (!pumped_)
+	by_caller_ = how.by_caller;
+	if (!by_caller_)
 		thread_ = std::thread([this, avoid = how.avoid_cpu] { writer_loop(avoid); });
 	return Ok{};
 }
@@ -145,10 +148,7 @@ Status Trace::close()
 {
 	if (!open_)
 		return Ok{};
-	if (pumped_) {
-		while (!pending_.empty())
-			write_oldest();
-	} else {
+	if (!by_caller_) {
 		{
 			std::lock_guard<std::mutex> lk(mu_);
 			stop_ = true;
@@ -161,43 +161,34 @@ Status Trace::close()
 	return status_ ? s : status_;
 }
 
-// Past this many messages waiting, the coordinator writes as it emits: a
-// run that never leaves it idle (a world stepped back to back) keeps its
-// trace's memory bounded all the same.
-constexpr size_t kMostPending = 8192;
+// What the thread is woken for: this much staged (some 100 cycles of a
+// 1 kHz run); else it looks every 20 ms.
+constexpr size_t kStagedEnough = 64 * 1024;
 
-void Trace::emit(Event &&e)
+void Trace::put(uint16_t channel, int64_t v, size_t size)
 {
-	if (pumped_) {
-		pending_.push_back(std::move(e));
-		if (pending_.size() > kMostPending) {
-			write_oldest();
-			write_oldest();
-		}
+	const uint64_t t = v < 0 ? 0 : (uint64_t)v;
+	if (by_caller_) {
+		if (!status_)
+			return;
+		if (auto s = writer_->write(channel, t, t, buf_.data(), size); !s)
+			status_ = s;
 		return;
 	}
+	char head[2 + 8 + 4];
+	const uint32_t n = (uint32_t)size;
+	std::memcpy(head, &channel, 2);
+	std::memcpy(head + 2, &t, 8);
+	std::memcpy(head + 10, &n, 4);
+	bool enough;
 	{
 		std::lock_guard<std::mutex> lk(mu_);
-		queue_.push_back(std::move(e));
-		if (queue_.size() < 1024)
-			return;
+		staged_.insert(staged_.end(), head, head + sizeof head);
+		staged_.insert(staged_.end(), buf_.data(), buf_.data() + size);
+		enough = staged_.size() >= kStagedEnough;
 	}
-	cv_.notify_one();
-}
-
-void Trace::write_oldest()
-{
-	if (status_)
-		write_event(pending_.front());
-	pending_.pop_front();
-}
-
-bool Trace::pump()
-{
-	if (pending_.empty())
-		return false;
-	write_oldest();
-	return true;
+	if (enough)
+		cv_.notify_one();
 }
 
 void Trace::writer_loop(int avoid_cpu)
@@ -215,191 +206,159 @@ void Trace::writer_loop(int avoid_cpu)
 		CPU_CLR(avoid_cpu, &all);
 		sched_setaffinity(0, sizeof all, &all); // fails harmlessly on one core
 	}
-	std::vector<Event> batch;
+	std::vector<char> batch;
 	for (;;) {
 		{
 			std::unique_lock<std::mutex> lk(mu_);
 			// Written at least every 20 ms, so a killed run loses little.
-			cv_.wait_for(lk, std::chrono::milliseconds(20), [this] { return stop_ || queue_.size() >= 1024; });
-			batch.swap(queue_);
+			cv_.wait_for(lk, std::chrono::milliseconds(20),
+				     [this] { return stop_ || staged_.size() >= kStagedEnough; });
+			batch.swap(staged_);
 			if (stop_ && batch.empty())
 				return;
 		}
-		for (const auto &e : batch)
-			if (status_)
-				write_event(e);
+		if (status_)
+			write_staged(batch);
 		batch.clear();
+	}
+}
+
+void Trace::write_staged(const std::vector<char> &staged)
+{
+	for (size_t at = 0; at + 14 <= staged.size() && status_;) {
+		uint16_t channel;
+		uint64_t t;
+		uint32_t n;
+		std::memcpy(&channel, &staged[at], 2);
+		std::memcpy(&t, &staged[at + 2], 8);
+		std::memcpy(&n, &staged[at + 10], 4);
+		at += 14;
+		if (auto s = writer_->write(channel, t, t, &staged[at], n); !s)
+			status_ = s;
+		at += n;
 	}
 }
 
 void Trace::controller(int controller, const std::string &name, int pid, double cpu_scale, int mode,
 			int64_t step_ns)
 {
-	Event e{ Event::ControllerInfo };
-	e.controller = controller;
-	e.path = &name;
-	e.f[0] = pid;
-	e.f[1] = step_ns;
-	e.scale = cpu_scale;
-	e.text = mode == 1 ? "lockstep" : "cpu";
-	emit(std::move(e));
+	JsonValue msg;
+	msg.type = JsonValue::Type::Object;
+	auto add = [&msg](const char *key, JsonValue x) { msg.object.emplace_back(key, std::move(x)); };
+	add("controller", json_integer(controller));
+	add("name", json_string(name));
+	add("pid", json_integer(pid));
+	add("cpu_scale", json_number(cpu_scale));
+	add("mode", json_string(mode == 1 ? "lockstep" : "cpu"));
+	add("step_ns", json_integer(step_ns));
+	std::string text;
+	json_append(text, msg);
+	if (buf_.size() < text.size())
+		buf_.resize(text.size());
+	std::memcpy(buf_.data(), text.data(), text.size());
+	put(controller_, 0, text.size());
 }
 
 void Trace::slice(int controller, const Slice &s)
 {
-	Event e{ Event::SliceEnd };
-	e.controller = controller;
-	int64_t f[] = { s.v_start, s.v_end, s.charged_ns, s.cpu_ns, s.wall_start, s.wall_end, s.budget_ns,
-			s.overshoot_ns, s.sim_ns };
-	std::copy(std::begin(f), std::end(f), e.f);
-	e.text = s.why;
-	emit(std::move(e));
+	CdrWriter w(buf_);
+	w.put<int32_t>(controller);
+	// Nine int64s in a row: stored at once.
+	const int64_t f[] = { s.v_start, s.v_end, s.charged_ns, s.cpu_ns, s.wall_start, s.wall_end, s.budget_ns,
+			      s.overshoot_ns, s.sim_ns };
+	std::memcpy(w.place(sizeof f, 8), f, sizeof f);
+	w.put_string(s.why);
+	put(slice_, s.v_start, w.size());
 }
 
 void Trace::wait(int controller, const char *kind, int64_t v_request, int64_t deadline, int64_t v_end, bool absolute)
 {
-	Event e{ Event::Wait };
-	e.controller = controller;
-	e.text = kind;
-	e.f[0] = v_request;
-	e.f[1] = deadline == INT64_MAX ? -1 : deadline;
-	e.f[2] = v_end;
-	e.flag = absolute;
-	emit(std::move(e));
+	CdrWriter w(buf_);
+	w.put<int32_t>(controller);
+	w.put_string(kind);
+	const int64_t f[] = { v_request, deadline == INT64_MAX ? -1 : deadline, v_end };
+	std::memcpy(w.place(sizeof f, 8), f, sizeof f);
+	w.put_bool(absolute);
+	put(wait_, v_request, w.size());
 }
 
-void Trace::command(int controller, const std::string &path, int64_t v, std::vector<double> values, bool malformed)
+void Trace::command(int controller, std::string_view path, int64_t v, std::span<const double> values, bool malformed)
 {
-	Event e{ Event::Command };
-	e.controller = controller;
-	e.path = &path;
-	e.f[0] = v;
-	e.values = std::move(values);
-	e.flag = malformed;
-	emit(std::move(e));
+	CdrWriter w(buf_);
+	w.put<int32_t>(controller);
+	w.put_string(path);
+	w.put<int64_t>(v);
+	w.put_count(values.size());
+	w.put_array(values.data(), values.size());
+	w.put_bool(malformed);
+	put(device_, v, w.size());
 }
 
-void Trace::step(int64_t v, int64_t wall_ns, int64_t wall_cost_ns, std::vector<double> joint_values)
+void Trace::set_joint_names(std::vector<std::string> names)
 {
-	Event e{ Event::Step };
-	e.f[0] = v;
-	e.f[1] = wall_ns;
-	e.f[2] = wall_cost_ns;
-	e.values = std::move(joint_values);
-	emit(std::move(e));
+	joint_names_ = std::move(names);
+	// Encoded where a step's names go, right after its three times (8-byte
+	// aligned there as at the header's end), then kept without the header.
+	std::string block;
+	CdrWriter w(block);
+	w.put_count(joint_names_.size());
+	for (const std::string &name : joint_names_)
+		w.put_string(name);
+	step_names_.assign(w.view().substr(4));
 }
 
-void Trace::record_run(std::string json)
+void Trace::step(int64_t v, int64_t wall_ns, int64_t wall_cost_ns, std::span<const double> joint_values)
 {
-	Event e{ Event::RecordRun };
-	e.json = std::move(json);
-	emit(std::move(e));
-}
-
-void Trace::journal(int controller, std::vector<tcs_journal_entry> entries)
-{
-	if (entries.empty())
-		return;
-	Event e{ Event::Journal };
-	e.controller = controller;
-	e.entries = std::move(entries);
-	emit(std::move(e));
-}
-
-void Trace::write_event(const Event &e)
-{
-	auto put = [this](uint16_t channel, int64_t v) {
-		uint64_t t = v < 0 ? 0 : (uint64_t)v;
-		if (auto s = writer_->write(channel, t, t, buf_); !s)
-			status_ = s;
-	};
-	buf_.clear();
-	switch (e.kind) {
-	case Event::ControllerInfo: {
-		JsonValue msg;
-		msg.type = JsonValue::Type::Object;
-		auto add = [&msg](const char *key, JsonValue x) { msg.object.emplace_back(key, std::move(x)); };
-		add("controller", json_integer(e.controller));
-		add("name", json_string(*e.path));
-		add("pid", json_integer(e.f[0]));
-		add("cpu_scale", json_number(e.scale));
-		add("mode", json_string(e.text));
-		add("step_ns", json_integer(e.f[1]));
-		json_append(buf_, msg);
-		put(controller_, 0);
-		return;
-	}
-	case Event::SliceEnd: {
-		CdrWriter w(buf_);
-		w.put<int32_t>(e.controller);
-		for (int64_t f : e.f)
-			w.put<int64_t>(f);
-		w.put_string(e.text);
-		put(slice_, e.f[0]);
-		return;
-	}
-	case Event::Wait: {
-		CdrWriter w(buf_);
-		w.put<int32_t>(e.controller);
-		w.put_string(e.text);
-		for (int i = 0; i < 3; i++)
-			w.put<int64_t>(e.f[i]);
-		w.put_bool(e.flag);
-		put(wait_, e.f[0]);
-		return;
-	}
-	case Event::Command: {
-		CdrWriter w(buf_);
-		w.put<int32_t>(e.controller);
-		w.put_string(*e.path);
-		w.put<int64_t>(e.f[0]);
-		w.put_count(e.values.size());
-		for (double v : e.values)
-			w.put<double>(v);
-		w.put_bool(e.flag);
-		put(device_, e.f[0]);
-		return;
-	}
-	case Event::Step: {
-		const size_t n = std::min(e.values.size(), joint_names_.size());
-		CdrWriter w(buf_);
-		for (int i = 0; i < 3; i++)
-			w.put<int64_t>(e.f[i]);
+	const size_t n = std::min(joint_values.size(), joint_names_.size());
+	CdrWriter w(buf_);
+	const int64_t f[] = { v, wall_ns, wall_cost_ns };
+	std::memcpy(w.place(sizeof f, 8), f, sizeof f);
+	if (n == joint_names_.size()) {
+		w.put_bytes(step_names_.data(), step_names_.size());
+	} else {
 		w.put_count(n);
 		for (size_t i = 0; i < n; i++)
 			w.put_string(joint_names_[i]);
-		w.put_count(n);
-		for (size_t i = 0; i < n; i++)
-			w.put<double>(e.values[i]);
-		put(step_, e.f[0]);
-		CdrWriter clock(buf_);
-		clock.put<int32_t>((int32_t)(e.f[0] / 1000000000));
-		clock.put<uint32_t>((uint32_t)(e.f[0] % 1000000000));
-		put(clock_, e.f[0]);
-		return;
 	}
-	case Event::RecordRun:
-		buf_ = e.json;
-		put(record_run_, 0);
+	w.put_count(n);
+	w.put_array(joint_values.data(), n);
+	put(step_, v, w.size());
+	CdrWriter clock(buf_);
+	clock.put<int32_t>((int32_t)(v / 1000000000));
+	clock.put<uint32_t>((uint32_t)(v % 1000000000));
+	put(clock_, v, clock.size());
+}
+
+void Trace::record_run(const std::string &json)
+{
+	if (buf_.size() < json.size())
+		buf_.resize(json.size());
+	std::memcpy(buf_.data(), json.data(), json.size());
+	put(record_run_, 0, json.size());
+}
+
+void Trace::journal(int controller, std::span<const tcs_journal_entry> entries)
+{
+	if (entries.empty())
 		return;
-	case Event::Journal: {
-		CdrWriter w(buf_);
-		w.put<int32_t>(e.controller);
-		w.put_count(e.entries.size());
-		int64_t at = 0;
-		for (const tcs_journal_entry &j : e.entries) {
-			w.put<uint16_t>(j.kind);
-			w.put<uint16_t>(j.type);
-			w.put<uint32_t>(j.thread);
-			w.put<int64_t>(j.value);
-			w.put<int64_t>(j.arg);
-			if (j.kind == TCS_J_CLOCK || j.kind == TCS_J_CHARGE || j.kind == TCS_J_READ)
-				at = j.value;
-		}
-		put(journal_, at); // (logged at its last virtual time)
-		return;
+	CdrWriter w(buf_);
+	w.put<int32_t>(controller);
+	w.put_count(entries.size());
+	// Each entry 24 bytes, 8-aligned, its fields in its own order:
+	// kind (u16), type (u16), thread (u32), value (i64), arg (i64).
+	char *out = w.place(entries.size() * 24, 8);
+	int64_t at = 0;
+	for (const tcs_journal_entry &j : entries) {
+		std::memcpy(out, &j.kind, 2);
+		std::memcpy(out + 2, &j.type, 2);
+		std::memcpy(out + 4, &j.thread, 4);
+		std::memcpy(out + 8, &j.value, 8);
+		std::memcpy(out + 16, &j.arg, 8);
+		out += 24;
+		if (j.kind == TCS_J_CLOCK || j.kind == TCS_J_CHARGE || j.kind == TCS_J_READ)
+			at = j.value;
 	}
-	}
+	put(journal_, at, w.size()); // (logged at its last virtual time)
 }
 
 } // namespace tcs

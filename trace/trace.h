@@ -14,10 +14,11 @@
 
 #include <condition_variable>
 #include <cstdint>
-#include <deque>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -27,15 +28,17 @@
 
 namespace tcs {
 
-// How a trace is written: by a thread of its own, kept off the
-// coordinator's core (avoid_cpu; -1: anywhere), where it takes what time the
-// controllers leave; or by the coordinator itself (pumped), a message at a
-// time in its idle moments (Trace::pump()), on a core of its own where a
-// thread could only run while it sleeps (two cores: the controller's and
-// the coordinator's, each spinning while the other works,
-// docs/PERFORMANCE.md).
+// How a trace is written. Each message is encoded (CDR: a few stores) where
+// it happens, on the caller's thread, and then either written into the file
+// by the caller too (by_caller: chunks uncompressed, some hundred
+// instructions a message and a write(2) a megabyte), or handed to a thread
+// of the trace's own, kept off the coordinator's core (avoid_cpu; -1:
+// anywhere), which compresses the chunks with zstd. The coordinator writes
+// itself where it polls on a core of its own: a thread could run there only
+// while it sleeps (two cores: the controller's and the coordinator's, each
+// spinning while the other works, docs/PERFORMANCE.md).
 struct TraceWriting {
-	bool pumped = false;
+	bool by_caller = false;
 	int avoid_cpu = -1;
 };
 
@@ -45,9 +48,6 @@ public:
 	Status open(const std::string &path, TraceWriting how = TraceWriting{}, bool record = false);
 	bool is_open() const { return open_; }
 	Status close();
-	// Pumped: writes the oldest message not yet written (false: none was
-	// waiting). Some 1 us: the chunks are not compressed.
-	bool pump();
 
 	// Once per controller, before its first slice. name must outlive the
 	// trace (the controller's does).
@@ -65,58 +65,44 @@ public:
 	};
 	void slice(int controller, const Slice &s);
 	void wait(int controller, const char *kind, int64_t v_request, int64_t deadline, int64_t v_end, bool absolute);
-	// path must outlive the trace (a device's configured path does).
-	void command(int controller, const std::string &path, int64_t v, std::vector<double> values, bool malformed);
+	void command(int controller, std::string_view path, int64_t v, std::span<const double> values, bool malformed);
 	// The joint states each step records: their names, set once, then
 	// their values, in that order, with each step.
-	void set_joint_names(std::vector<std::string> names) { joint_names_ = std::move(names); }
-	void step(int64_t v, int64_t wall_ns, int64_t wall_cost_ns, std::vector<double> joint_values);
+	void set_joint_names(std::vector<std::string> names);
+	void step(int64_t v, int64_t wall_ns, int64_t wall_cost_ns, std::span<const double> joint_values);
 	// A record (--record, trace/record.h): the run's settings a replay
 	// needs, once, as JSON; and each controller's journal, in batches.
-	void record_run(std::string json);
-	void journal(int controller, std::vector<tcs_journal_entry> entries);
+	void record_run(const std::string &json);
+	void journal(int controller, std::span<const tcs_journal_entry> entries);
 
 private:
-	// What happened, as raw fields: formatting is the writer thread's work,
-	// so that the run pays only for filling this in.
-	struct Event {
-		enum Kind : uint8_t { ControllerInfo, SliceEnd, Wait, Command, Step, RecordRun, Journal } kind;
-		bool flag = false;          // wait: absolute; command: malformed
-		int controller = 0;
-		int64_t f[9] = {};          // the kind's numbers, in schema order
-		double scale = 1;           // controller
-		const char *text = "";      // why a slice ended; a wait's kind
-		const std::string *path = nullptr; // command: the path; controller: the name
-		std::vector<double> values; // command values; step joint values
-		std::string json;           // the record's settings
-		std::vector<tcs_journal_entry> entries; // a journal's batch
-	};
-	void emit(Event &&e);
-	void write_oldest();
+	// The message in buf_ (its first size bytes), logged at v: written,
+	// or staged for the thread.
+	void put(uint16_t channel, int64_t v, size_t size);
 	void writer_loop(int avoid_cpu);
-	void write_event(const Event &e); // in the writer thread
+	void write_staged(const std::vector<char> &staged); // in the writer thread
 
-	// The writer thread's, once it runs, or the coordinator's. zstd level
-	// 1: on a 1 kHz run's messages 7 % less work than level 3, and no
-	// larger.
+	// The caller's, or the writer thread's once it runs.
 	std::optional<McapWriter> writer_;
 	bool open_ = false;
 	uint16_t controller_ = 0, slice_ = 0, wait_ = 0, device_ = 0, step_ = 0, clock_ = 0;
 	uint16_t record_run_ = 0, journal_ = 0; // a record's
 	std::vector<std::string> joint_names_;
-	std::string buf_; // the message being written
+	// The names' part of a step message (their count and strings), as
+	// CDR lays it out after the step's three times: the same every step.
+	std::string step_names_;
+	std::string buf_; // the message being encoded (only ever grown)
 
-	// Pumped: what is not yet written, all on the coordinator's thread.
-	bool pumped_ = false;
-	std::deque<Event> pending_;
-
-	// With a thread: what it has not yet taken.
+	bool by_caller_ = false;
+	// With a thread: the messages it has not yet taken, one after another,
+	// each its channel (u16), log time (u64) and size (u32), then its
+	// bytes.
 	std::mutex mu_;
 	std::condition_variable cv_;
-	std::vector<Event> queue_;
+	std::vector<char> staged_;
 	bool stop_ = false;
 	std::thread thread_;
-	Status status_ = Ok{}; // the writer thread's first error (it stops writing then)
+	Status status_ = Ok{}; // the first error (writing stops then)
 };
 
 } // namespace tcs

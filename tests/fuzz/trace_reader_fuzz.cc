@@ -204,7 +204,7 @@ std::string tcs_trace(bool record)
 {
 	return tcs_fuzz::written_file([&](const std::string &path) {
 		tcs::Trace t;
-		if (!t.open(path, tcs::TraceWriting{ .pumped = true }, record).ok())
+		if (!t.open(path, tcs::TraceWriting{ .by_caller = true }, record).ok())
 			return;
 		static const std::string name = "pd \"ctl\"", torque = "/dev/tcs/p/torque";
 		t.controller(1, name, 42, 1.5, 0, 1000000);
@@ -213,10 +213,10 @@ std::string tcs_trace(bool record)
 			int64_t v = 1000000LL * i;
 			t.slice(1, { v, v + 900, 900, 1000, v / 40, v / 40 + 1000, i == 1 ? 5000 : -1, i == 1 ? 7 : 0, v, "blocked" });
 			t.wait(1, "nanosleep", v + 900, v + 1000000, v + 1000050, i % 2);
-			t.command(1, torque, v + 800, { 0.5 * i, -1e300 }, i == 2);
-			t.step(v + 1000000, v / 40, 7000, { 3.1 - 0.01 * i, 0.2 });
+			t.command(1, torque, v + 800, std::vector<double>{ 0.5 * i, -1e300 }, i == 2);
+			t.step(v + 1000000, v / 40, 7000, std::vector<double>{ 3.1 - 0.01 * i, 0.2 });
 		}
-		t.journal(1, { { 100, 0, 1, 0, 0 }, { 900, 0, 4, 7, 0 }, { 1000900, 12, 5, 3, 0 } });
+		t.journal(1, std::vector<tcs_journal_entry>{ { 100, 0, 1, 0, 0 }, { 900, 0, 4, 7, 0 }, { 1000900, 12, 5, 3, 0 } });
 		(void)t.close();
 	});
 }

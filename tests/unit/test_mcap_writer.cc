@@ -1,4 +1,4 @@
-// Unit tests for trace/mcap_writer: its CRC-32, and complete files read
+// Unit tests for trace/mcap_writer: its CRC-32 (folded and by tables), and complete files read
 // back (mcap_check.h: messages by the reader, and every record of their
 // layout checked against the MCAP specification): chunks of each
 // compression and size, incompressible data, log times out of order,
@@ -53,8 +53,28 @@ void test_crc32(void **)
 	for (size_t off = 0; off < 8; off++)
 		for (size_t len = 0; len < 80; len++)
 			assert_int_equal(tcs::mcap_crc32(0, data.data() + off, len), ref_crc32(data.data() + off, len));
+	// Folded (64 bytes and more, where the CPU multiplies carry-less) and
+	// by tables alone agree with the bit-by-bit reference, about each
+	// multiple of 16 and 64, and carried on from a CRC so far.
+	for (size_t len : { 63, 64, 65, 79, 80, 95, 127, 128, 129, 191, 192, 193, 255, 256, 1000, 4095, 4096, 8193 })
+		for (size_t off = 0; off < 3; off++) {
+			const uint8_t *p = data.data() + off;
+			uint32_t want = ref_crc32(p, len);
+			assert_int_equal(tcs::mcap_crc32(0, p, len), want);
+			assert_int_equal(tcs::mcap_crc32_by_tables(0, p, len), want);
+			for (size_t first : { size_t(1), size_t(17), len / 2 })
+				assert_int_equal(tcs::mcap_crc32(tcs::mcap_crc32(0, p, first), p + first, len - first), want);
+		}
 	uint32_t whole = ref_crc32(data.data(), data.size());
 	assert_int_equal(tcs::mcap_crc32(0, data.data(), data.size()), whole);
+	assert_int_equal(tcs::mcap_crc32_by_tables(0, data.data(), data.size()), whole);
+	// Two CRCs combined as the data section's is (a chunk's own CRC, not
+	// read again), the first carried on from a CRC so far.
+	for (size_t split : { size_t(0), size_t(1), size_t(4096), data.size() - 3, data.size() }) {
+		uint32_t a = tcs::mcap_crc32(tcs::mcap_crc32(0, data.data(), 5), data.data() + 5, split - std::min(split, size_t(5)));
+		uint32_t b = tcs::mcap_crc32(0, data.data() + std::max(split, size_t(5)), data.size() - std::max(split, size_t(5)));
+		assert_int_equal(tcs::mcap_crc32_combine(a, b, data.size() - std::max(split, size_t(5))), whole);
+	}
 	uint32_t pieces = 0;
 	for (size_t at = 0, step = 1; at < data.size(); at += step, step = step * 3 + 1)
 		pieces = tcs::mcap_crc32(pieces, data.data() + at, std::min(step, data.size() - at));

@@ -54,24 +54,22 @@ tcs_journal_entry entry(uint16_t kind, uint16_t type, int64_t value, int64_t arg
 
 const std::string kTorque = "/dev/tcs/pendulum/torque";
 
-// A record of two controllers, the first's journal in two batches; pumped,
-// its first messages written by pump() (as the coordinator does when idle),
-// the rest by close().
-std::string write_record(const std::string &name, bool pumped = false)
+using Entries = std::vector<tcs_journal_entry>;
+
+// A record of two controllers, the first's journal in two batches; written
+// by the caller (as the coordinator does on a core of its own) or by the
+// trace's thread.
+std::string write_record(const std::string &name, bool by_caller = false)
 {
 	std::string path = test_path(name);
 	tcs::Trace t;
-	CHECK_OK(t.open(path, tcs::TraceWriting{ .pumped = pumped }, true));
+	CHECK_OK(t.open(path, tcs::TraceWriting{ .by_caller = by_caller }, true));
 	t.record_run(tcs::record_run_json(settings()));
-	t.journal(1, { entry(TCS_J_CLOCK, 0, 10), entry(TCS_J_CHARGE, TCS_MSG_DEV_OPEN, 20) });
-	if (pumped) {
-		assert_true(t.pump() && t.pump());
-		assert_false(t.pump()); // (all written)
-	}
-	t.journal(2, { entry(TCS_J_READ, 0, 30, 652) });
-	t.command(1, kTorque, 40, { 1.5, -0.25 }, false);
+	t.journal(1, Entries{ entry(TCS_J_CLOCK, 0, 10), entry(TCS_J_CHARGE, TCS_MSG_DEV_OPEN, 20) });
+	t.journal(2, Entries{ entry(TCS_J_READ, 0, 30, 652) });
+	t.command(1, kTorque, 40, std::vector<double>{ 1.5, -0.25 }, false);
 	t.command(1, kTorque, 50, {}, true);
-	t.journal(1, { entry(TCS_J_STOP, 0, 1000000), entry(TCS_J_CPU, 0, 7, 0), entry(TCS_J_EXIT, 0, 2000000) });
+	t.journal(1, Entries{ entry(TCS_J_STOP, 0, 1000000), entry(TCS_J_CPU, 0, 7, 0), entry(TCS_J_EXIT, 0, 2000000) });
 	CHECK_OK(t.close());
 	return path;
 }
@@ -80,8 +78,8 @@ void check_whole(const std::string &path);
 
 void test_a_record_reads_back_whole(void **)
 {
-	for (bool pumped : { false, true })
-		check_whole(write_record(pumped ? "whole-pumped.mcap" : "whole.mcap", pumped));
+	for (bool by_caller : { false, true })
+		check_whole(write_record(by_caller ? "whole-by-caller.mcap" : "whole.mcap", by_caller));
 }
 
 void check_whole(const std::string &path)
@@ -166,7 +164,7 @@ void test_what_is_not_a_record_is_refused(void **)
 	std::string plain = test_path("plain.mcap");
 	tcs::Trace t;
 	CHECK_OK(t.open(plain, {}, false));
-	t.command(1, kTorque, 40, { 1.0 }, false);
+	t.command(1, kTorque, 40, std::vector<double>{ 1.0 }, false);
 	CHECK_OK(t.close());
 	auto r = tcs::read_record(plain);
 	assert_false(r.ok());

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 extern "C" {
 #include <cmocka.h>
@@ -88,6 +89,7 @@ std::string sample()
 	w.put_count(1);
 	w.put<float>(0.5f);
 	w.put<uint64_t>(UINT64_MAX);
+	w.finish();
 	return out;
 }
 
@@ -131,10 +133,34 @@ uint32 nanosec
 	tcs::CdrWriter w(data);
 	w.put<int32_t>(12);
 	w.put<uint32_t>(345);
+	w.finish();
 	assert_int_equal(data.size(), 12);
 	JsonValue v = decode_ok(m, data);
 	assert_int_equal(v.get("clock")->get_int("sec"), 12);
 	assert_int_equal(v.get("clock")->get_int("nanosec"), 345);
+}
+
+// An empty sequence is its count alone (no padding for elements it does
+// not have), and a buffer reused for a shorter message holds it in its
+// first size() bytes.
+void test_empty_sequences_and_reused_buffers(void **)
+{
+	tcs::Ros2Msg m = parse_ok("p/C", "string path\nfloat64[] values\nbool malformed");
+	std::string buf;
+	for (int round = 0; round < 2; round++) {
+		std::vector<double> values;
+		if (round == 0)
+			values = { 1.5, -0.25, 3.0 };
+		tcs::CdrWriter w(buf);
+		w.put_string("/dev/tcs/a/torque");
+		w.put_count(values.size());
+		w.put_array(values.data(), values.size());
+		w.put_bool(round == 1);
+		assert_true(buf.size() >= w.size());
+		JsonValue v = decode_ok(m, std::string(w.view()));
+		assert_int_equal(v.get("values")->array.size(), values.size());
+		assert_true(v.get_bool("malformed") == (round == 1));
+	}
 }
 
 void test_bad_definitions(void **)
@@ -174,12 +200,14 @@ void test_bad_messages(void **)
 	std::string lie;
 	tcs::CdrWriter w(lie);
 	w.put_count(1000000000);
+	w.finish();
 	expect_error(tcs::cdr_decode(seq, lie), "1000000000 elements, 0 bytes left");
 	// A string longer than the message.
 	tcs::Ros2Msg str = parse_ok("p/S", "string s");
 	std::string long_string;
 	tcs::CdrWriter ws(long_string);
 	ws.put<uint32_t>(50);
+	ws.finish();
 	expect_error(tcs::cdr_decode(str, long_string), "a string of 50 bytes");
 	// Types nested without end: refused at the depth bound.
 	tcs::Ros2Msg loop = parse_ok("p/L", "L[] next\nint8 x");
@@ -187,6 +215,7 @@ void test_bad_messages(void **)
 	tcs::CdrWriter wd(deep);
 	for (int i = 0; i < 40; i++)
 		wd.put_count(1);
+	wd.finish();
 	expect_error(tcs::cdr_decode(loop, deep), "types nested deeper than 32");
 }
 
@@ -197,6 +226,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_fields_decode_as_written),
 		cmocka_unit_test(test_ros2_clock),
+		cmocka_unit_test(test_empty_sequences_and_reused_buffers),
 		cmocka_unit_test(test_bad_definitions),
 		cmocka_unit_test(test_bad_messages),
 	};
