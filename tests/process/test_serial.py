@@ -59,16 +59,20 @@ def probe(mode, baud, case, *args, options=(), model=SWINGING, extra=""):
 
 
 def on_time(v, name, exact, mode, r, byte=None):
-    """A span (name_ns) exactly `exact` in lockstep; in cpu mode no earlier,
-    and late by no more than the CPU the program spent in it (name_cpu,
-    read around it) and what an estimated clock read runs ahead, and if
-    `byte` is given no more than that (one byte's time)."""
+    """A span (name_ns) exactly `exact` in lockstep. In cpu mode late by no
+    more than the CPU the program spent in it (name_cpu, read around it),
+    and if `byte` is given no more than that (one byte's time); and either
+    way give or take what a clock read may run ahead of the CPU the kernel
+    charged (AHEAD): the span's ends are the program's clock reads, what
+    the line did in between is stamped with the kernel's CPU."""
     got = int(v[name + "_ns"])
-    hi = exact if mode == "lockstep" else exact + int(v[name + "_cpu"]) + AHEAD
-    if byte is not None and mode != "lockstep":
-        hi = min(hi, exact + byte)
-    check(exact <= got <= hi, "%s: %s %.6f ms, expected %.6f ms%s" %
-          (mode, name, got / MS, exact / MS, "" if mode == "lockstep" else " to %.6f" % (hi / MS)), r)
+    lo, hi = exact, exact
+    if mode != "lockstep":
+        lo, hi = exact - AHEAD, exact + int(v[name + "_cpu"]) + AHEAD
+        if byte is not None:
+            hi = min(hi, exact + byte)
+    check(lo <= got <= hi, "%s: %s %.6f ms, expected %.6f ms%s" %
+          (mode, name, got / MS, exact / MS, "" if mode == "lockstep" else " (%.6f to %.6f)" % (lo / MS, hi / MS)), r)
     return got
 
 
@@ -154,8 +158,9 @@ def test_a_spin_on_a_nonblocking_read_gets_the_reply_on_time():
     # turn of its loop, well within a byte's time.
     v, r = probe("cpu", baud, "spin")
     got = int(v["reply_ns"])
-    check(v["reply_len"] == "15" and exact <= got <= exact + arrival(0, baud),
+    check(v["reply_len"] == "15" and exact - AHEAD <= got <= exact + arrival(0, baud),
           "cpu: the reply after %.6f ms, expected %.6f ms" % (got / MS, exact / MS), r)
+    print("  cpu:      reply %.6f ms after the write, %s empty reads" % (got / MS, v["reply_tries"]))
 
 
 def test_tcdrain_and_fionread():
@@ -170,11 +175,15 @@ def test_tcdrain_and_fionread():
             """Bytes of the reply arrived by t (from the write)."""
             start = arrival(READ - 1, baud) + DELAY
             return sum(1 for k in range(READ_REPLY) if start + arrival(k, baud) <= t)
+        # The clock reads around each FIONREAD: in cpu mode each may run
+        # ahead of the time its ioctl is stamped with (on_time).
+        ahead = AHEAD if mode == "cpu" else 0
         counts = []
         for i in range(12):
             n, t0, t1 = (int(v["sample%d_%s" % (i, k)]) for k in ("count", "from", "to"))
-            check(arrived(t0) <= n <= arrived(t1), "%s: FIONREAD %d between %.6f and %.6f ms: %d to %d bytes" %
-                  (mode, n, t0 / MS, t1 / MS, arrived(t0), arrived(t1)), r)
+            lo, hi = arrived(t0 - ahead), arrived(t1 + ahead)
+            check(lo <= n <= hi, "%s: FIONREAD %d between %.6f and %.6f ms: %d to %d bytes" %
+                  (mode, n, t0 / MS, t1 / MS, lo, hi), r)
             counts.append(n)
         check(len(set(counts)) >= 5, "%s: FIONREAD counts the reply coming in: %s" % (mode, counts), r)
         check(v["read_len"] == "15" and v["after_read"] == "0", "%s: then read whole, nothing left" % mode, r)
@@ -219,7 +228,8 @@ def test_position_control_moves_the_simulated_joint():
         v, r = probe(mode, 1000000, "move", goal, "/dev/tcs/angle", model=LIGHT, extra=ANGLE)
         start, held, angle = int(v["start"]), int(v["held"]), float(v["angle"])
         check(start == 2048, "%s: hanging at rest, Present Position 2048 (%d)" % (mode, start), r)
-        check(int(v["reached_ns"]) < 1000 * MS, "%s: near the goal within 1 s (%s ns)" % (mode, v["reached_ns"]), r)
+        check(int(v["reached_ns"]) < 1000 * MS,
+              "%s: within 40 counts of the goal within 1 s (%s ns)" % (mode, v["reached_ns"]), r)
         check(abs(goal - sag - held) <= 2, "%s: held at %d, %d short of the goal %d where the weight is held (%d)" %
               (mode, held, goal - held, goal, sag), r)
         check(abs(angle * COUNTS + 2048 - held) <= 1, "%s: the hinge is there: %.4f rad" % (mode, angle), r)
@@ -227,29 +237,27 @@ def test_position_control_moves_the_simulated_joint():
               (mode, goal, int(v["reached_ns"]) / MS, held, sag, angle))
 
 
+SECOND = '[[serial.servo]]\nprotocol = "dynamixel2"\nid = {id}\njoint = "{joint}"\n'
 BAD = [
-    # (what, baud, servo's lines, the line at fault, what the error says)
-    ("an unknown protocol", 57600, None, 9, "unknown protocol 'dynamixel1'"),
-    ("a duplicate id", 57600, 'protocol = "dynamixel2"\nid = 1\njoint = "pendulum.hinge"\n', 14,
+    # (what, baud, the first servo's protocol, a second servo, the line at
+    # fault, what the error says). [[serial]] is at line 5, the first
+    # servo's table at 8 to 11, a second's at 12 to 15.
+    ("an unknown protocol", 57600, "dynamixel1", "", 9, "unknown protocol 'dynamixel1'"),
+    ("a duplicate id", 57600, "dynamixel2", SECOND.format(id=1, joint="pendulum.hinge"), 14,
      "servo id 1 is already used"),
-    ("a joint that does not exist", 57600, 'protocol = "dynamixel2"\nid = 2\njoint = "pendulum.knee"\n', 15,
+    ("a joint that does not exist", 57600, "dynamixel2", SECOND.format(id=2, joint="pendulum.knee"), 15,
      "unknown joint 'pendulum.knee'"),
-    ("a model that does not exist", 57600, 'protocol = "dynamixel2"\nid = 2\njoint = "arm.hinge"\n', 15,
+    ("a model that does not exist", 57600, "dynamixel2", SECOND.format(id=2, joint="arm.hinge"), 15,
      "no model 'arm'"),
     # (The servo's rates are checked where the line is made: at [[serial]].)
-    ("a baud no Dynamixel X takes", 38400, None, 5, "baud 38400 is not a rate of a Dynamixel X servo"),
+    ("a baud no Dynamixel X takes", 38400, "dynamixel2", "", 5, "baud 38400 is not a rate of a Dynamixel X servo"),
 ]
 
 
 def test_a_bad_serial_scenario_is_refused_at_its_line():
-    for what, baud, servo, line, says in BAD:
-        # [[serial]] at line 5, the first servo (id 1) at lines 8 to 11; a
-        # second, if any, at lines 12 to 15.
-        text = SCENARIO.format(model=SWINGING, tty=TTY, baud=baud, extra="")
-        if what == "an unknown protocol":
-            text = text.replace('protocol = "dynamixel2"', 'protocol = "dynamixel1"')
-        elif servo:
-            text += "[[serial.servo]]\n" + servo
+    for what, baud, protocol, second, line, says in BAD:
+        text = SCENARIO.format(model=SWINGING, tty=TTY, baud=baud, extra=second)
+        text = text.replace('"dynamixel2"', '"%s"' % protocol, 1)
         with scenario_file(text) as world:
             r = tcs("-q", "-w", world, "--", "true", timeout=30)
         lines = r.stderr.strip().splitlines()

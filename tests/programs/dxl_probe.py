@@ -12,7 +12,7 @@ late by that much), replies as hex.
   drain PATH BAUD              tcdrain and FIONREAD around a READ
   faults PATH BAUD             a bad CRC, an unknown id, the tty at another baud
   move PATH BAUD GOAL STATE    torque on, Goal Position GOAL; Present Position
-                               read until near it; the joint's angle from STATE
+                               read until within 40 counts; the angle from STATE
 """
 
 import errno
@@ -192,7 +192,7 @@ def move(path, baud, goal, state):
     t0 = time.monotonic_ns()
     transact(bus.write_packet(1, bus.GOAL_POSITION, goal.to_bytes(4, "little", signed=True)), bus.status_len(0))
     pos, farthest = start, 0
-    while abs(pos - goal) > 20 and time.monotonic_ns() - t0 < 3 * 10**9:
+    while abs(pos - goal) > 40 and time.monotonic_ns() - t0 < 3 * 10**9:  # (3.5 degrees)
         time.sleep(0.01)
         pos = present()
         farthest = max(farthest, abs(pos - start))
