@@ -42,10 +42,9 @@ Result<std::unique_ptr<SerialWire>> SerialWire::create(const SerialSpec &spec, c
 			(void)servo.write(kDxlBaudRate, &code, 1, DxlAddressing::id);
 			code++;
 		}
-		if (servo.baud() != spec.baud)
+		if (servo.baud() != spec.baud) // (the scenario's parser refuses it first)
 			return Error{ where(spec.line) + "baud " + std::to_string(spec.baud) +
-				      " is not a rate of a Dynamixel X servo (9600, 57600, 115200, 1000000, 2000000, "
-				      "3000000, 4000000 or 4500000)" };
+				      " is not a rate of a Dynamixel X servo" };
 		Joint j;
 		if (world) {
 			long p = world->find(s.joint.name + ".position"), v = world->find(s.joint.name + ".velocity"),
@@ -167,7 +166,7 @@ void SerialWire::apply(SimWorld &world)
 
 int64_t SerialWire::drained_at(const WirePort &) const
 {
-	return to_servos_.pending() > 0 ? to_servos_.arrival(to_servos_.pending() - 1) : 0;
+	return to_servos_.idle_at();
 }
 
 } // namespace tcs

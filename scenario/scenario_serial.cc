@@ -2,6 +2,8 @@
 // scenario_serial.h).
 #include "scenario_serial.h"
 
+#include <algorithm>
+#include <iterator>
 #include <utility>
 
 #include "scenario_drivers.h"
@@ -17,6 +19,9 @@ constexpr int64_t kLowRates[] = { 50, 75, 110, 134, 150, 200 };
 constexpr int64_t kMinAnyBaud = 300, kMaxBaud = 4000000;
 // Protocol 2.0: 253 is reserved, 254 the broadcast id.
 constexpr int64_t kMaxServoId = 252;
+
+// What an X-series servo's Baud Rate (8) can be set to, within kMaxBaud.
+constexpr int64_t kServoRates[] = { 9600, 57600, 115200, 1000000, 2000000, 3000000, 4000000 };
 
 bool is_baud(int64_t b)
 {
@@ -115,6 +120,11 @@ Status parse_serial(ScenarioReader &r, const toml::table &t)
 	for (const toml::table *v : *servos)
 		if (Status st = parse_servo(r, *v, r.sc.serials.back()); !st)
 			return st;
+	// Servos on the line: its rate must be one they take.
+	if (!r.sc.serials.back().servos.empty() &&
+	    std::find(std::begin(kServoRates), std::end(kServoRates), *b) == std::end(kServoRates))
+		return r.err(baud->line, "baud " + std::to_string(*b) + " is not a rate of a Dynamixel X servo (9600, "
+									"57600, 115200, 1000000, 2000000, 3000000 or 4000000)");
 	return Ok{};
 }
 

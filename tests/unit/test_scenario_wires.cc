@@ -67,6 +67,11 @@ void test_serial_refused(void **)
 {
 	expect_error(kHead + "[[serial]]\nbaud = 57600\n", 3, "[[serial]] needs 'path'");
 	expect_error(kHead + "[[serial]]\npath = \"/dev/ttyUSB0\"\n", 3, "[[serial]] needs 'baud'");
+	// A line with servos on it runs at a rate they take (without, any).
+	expect_error(kHead + "[[serial]]\npath = \"/dev/ttyUSB0\"\nbaud = 38400\n" + kServo, 5,
+		     "baud 38400 is not a rate of a Dynamixel X servo (9600, 57600, 115200, 1000000, 2000000, 3000000 or "
+		     "4000000)");
+	assert_int_equal(parse_ok(kHead + "[[serial]]\npath = \"/dev/ttyUSB0\"\nbaud = 38400\n").serials[0].baud, 38400);
 	expect_error(kSerial + "parity = \"none\"\n", 6, "unknown key 'parity' in [[serial]] (known: path, baud, servo)");
 	for (int64_t baud : { 0, 49, 100, 250, 299, 4000001, -9600 })
 		expect_error(kHead + "[[serial]]\npath = \"/dev/ttyS0\"\nbaud = " + std::to_string(baud) + "\n", 5,
