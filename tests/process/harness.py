@@ -177,6 +177,18 @@ def tcs(*args, timeout=60, env=None):
     return run([TCS_RUN] + list(args), timeout=timeout, env=env)
 
 
+def run_balancer(mode, scenario, argv, args=(), options=(), timeout=120):
+    """A balancing example (argv, then args) under tcs-run in mode on
+    scenario: it must end and report its verdict (balanced=...); its
+    key=value pairs and the result. Prints its verdict line."""
+    r = tcs("-q", "-m", mode, *options, "-w", scenario, "--", *argv, *args, timeout=timeout)
+    v = r.values()
+    check(r.returncode == 0 and "balanced" in v, "%s: %s %s runs and reports" %
+          (mode, os.path.basename(argv[-1]), " ".join(args)), r)
+    print("  %-8s %-36s %s" % (mode, " ".join(tuple(options) + tuple(args)), r.stdout.splitlines()[0]))
+    return v, r
+
+
 def trace_rows(path, topic):
     """One topic of a trace (tcs-trace export --format csv) as dicts of its
     columns."""

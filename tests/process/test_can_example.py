@@ -7,7 +7,7 @@ robot, while lockstep reports success for the same program and work."""
 
 import os
 
-from harness import check, main, tcs
+from harness import check, main, run_balancer
 
 EXAMPLES = os.environ.get("TCS_EXAMPLES", "examples")
 SCENARIO = os.path.join(os.environ.get("TCS_EXAMPLES_SRC", "examples"), "can_motor", "pendulum.toml")
@@ -15,11 +15,7 @@ CONTROLLER = os.path.join(EXAMPLES, "balance_can")
 
 
 def run(mode, *args, options=()):
-    r = tcs("-q", "-m", mode, *options, "-w", SCENARIO, "--", CONTROLLER, *args, timeout=120)
-    v = r.values()
-    check(r.returncode == 0 and "balanced" in v, "%s: balance_can %s runs and reports" % (mode, " ".join(args)), r)
-    print("  %-8s %-36s %s" % (mode, " ".join(options + args), r.stdout.splitlines()[0]))
-    return v, r
+    return run_balancer(mode, SCENARIO, [CONTROLLER], args, options)
 
 
 def test_it_balances_in_both_modes():

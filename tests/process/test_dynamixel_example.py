@@ -7,7 +7,7 @@ reports success for the same program and the same work."""
 
 import os
 
-from harness import PYTHON, check, main, tcs
+from harness import PYTHON, check, main, run_balancer
 
 EXAMPLE = os.path.join(os.environ.get("TCS_EXAMPLES_SRC", "examples"), "dynamixel")
 SCENARIO = os.path.join(EXAMPLE, "pendulum.toml")
@@ -20,11 +20,7 @@ BUS_NS = (14 + 19 + 14 + 11) * 10 * 1000 + 2 * 500000
 
 
 def run(mode, *args, options=()):
-    r = tcs("-q", "-m", mode, *options, "-w", SCENARIO, "--", PYTHON, CONTROLLER, *args, timeout=240)
-    v = r.values()
-    check(r.returncode == 0 and "balanced" in v, "%s: balance.py %s runs and reports" % (mode, " ".join(args)), r)
-    print("  %-8s %-28s %s" % (mode, " ".join(options + args), r.stdout.splitlines()[0]))
-    return v, r
+    return run_balancer(mode, SCENARIO, [PYTHON, CONTROLLER], args, options, timeout=240)
 
 
 def test_it_balances_in_both_modes():
