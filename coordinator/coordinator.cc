@@ -157,6 +157,8 @@ Status Coordinator::init()
 		TraceWriting how{ .by_caller = run.poller.enabled(), .avoid_cpu = run.rt.cpu };
 		if (auto s = run.trace.open(run.cfg.trace_path, how, !run.cfg.record_path.empty()); !s)
 			return s;
+		if (how.by_caller)
+			run.poller.set_idle_work([&run] { return run.trace.pump(); });
 		// The joint states each step records: scalar positions and velocities.
 		std::vector<std::string> names;
 		for (size_t i = 0; run.world && i < run.world->signal_count(); i++) {

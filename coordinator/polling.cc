@@ -51,13 +51,19 @@ Status MailboxPoller::turn(EventLoop &loop, const Lanes &lanes, const std::vecto
 		}
 		if (take_all(ctls))
 			polled_at_ = now;
-		if (now - polled_at_ < kPollFor) {
+		// Polling on while it has work of its own between looks: a sleep
+		// would cost the next request a doorbell and a wake-up.
+		if (now - polled_at_ < kPollFor || idle_work_) {
 			auto n = loop.dispatch(0);
 			if (!n)
 				return n.error();
-			if (*n > 0)
+			if (*n > 0) {
 				polled_at_ = now;
-			return Ok{};
+				return Ok{};
+			}
+			bool worked = idle_work_ && idle_work_();
+			if (worked || now - polled_at_ < kPollFor)
+				return Ok{};
 		}
 	}
 	if (polling_) {
@@ -67,7 +73,10 @@ Status MailboxPoller::turn(EventLoop &loop, const Lanes &lanes, const std::vecto
 		if (take_all(ctls))
 			return Ok{};
 	}
-	auto n = loop.dispatch(-1);
+	// Its core is its own while no controller runs on it: work before
+	// sleeping, looking for news after each piece.
+	const bool own_core = enabled_ && lanes.home().running.empty();
+	auto n = loop.dispatch(own_core && idle_work_ && idle_work_() ? 0 : -1);
 	if (!n)
 		return n.error();
 	return Ok{};

@@ -27,6 +27,12 @@ public:
 		take_ = std::move(take);
 	}
 	bool enabled() const { return enabled_; }
+	// Work for the coordinator's idle moments on its own core (writing the
+	// trace's messages into its file): one piece of it, false when there
+	// is none. Done between looks while polling, and before sleeping while
+	// no controller runs on that core.
+	using Work = std::function<bool()>;
+	void set_idle_work(Work work) { idle_work_ = std::move(work); }
 	// One turn of the run's loop: the mailboxes polled and the loop's
 	// ready fds served without sleeping, while worth it; else a sleep in
 	// epoll.
@@ -37,6 +43,7 @@ private:
 	void set_polling(const std::vector<std::unique_ptr<Controller>> &ctls, bool on);
 	bool take_all(const std::vector<std::unique_ptr<Controller>> &ctls);
 	Take take_;
+	Work idle_work_;
 	bool enabled_ = false;
 	bool polling_ = false;
 	int64_t polled_at_ = 0; // wall ns of the last request or event while polling

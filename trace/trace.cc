@@ -148,7 +148,10 @@ Status Trace::close()
 {
 	if (!open_)
 		return Ok{};
-	if (!by_caller_) {
+	if (by_caller_) {
+		while (pump()) {
+		}
+	} else {
 		{
 			std::lock_guard<std::mutex> lk(mu_);
 			stop_ = true;
@@ -164,22 +167,30 @@ Status Trace::close()
 // What the thread is woken for: this much staged (some 100 cycles of a
 // 1 kHz run); else it looks every 20 ms.
 constexpr size_t kStagedEnough = 64 * 1024;
+// By the caller: what a pump() writes at most (some 3 cycles of a 1 kHz
+// run: a few microseconds), and past how much waiting the caller writes as
+// it stages (a run that never leaves it idle, a world stepped back to back,
+// keeps the trace's memory bounded all the same).
+constexpr size_t kPumpBytes = 2048;
+constexpr size_t kMostStaged = 1 << 20;
+
+constexpr size_t kStagedHead = 2 + 8 + 4;
 
 void Trace::put(uint16_t channel, int64_t v, size_t size)
 {
 	const uint64_t t = v < 0 ? 0 : (uint64_t)v;
-	if (by_caller_) {
-		if (!status_)
-			return;
-		if (auto s = writer_->write(channel, t, t, buf_.data(), size); !s)
-			status_ = s;
-		return;
-	}
-	char head[2 + 8 + 4];
+	char head[kStagedHead];
 	const uint32_t n = (uint32_t)size;
 	std::memcpy(head, &channel, 2);
 	std::memcpy(head + 2, &t, 8);
 	std::memcpy(head + 10, &n, 4);
+	if (by_caller_) {
+		staged_.insert(staged_.end(), head, head + sizeof head);
+		staged_.insert(staged_.end(), buf_.data(), buf_.data() + size);
+		if (staged_.size() - staged_at_ > kMostStaged)
+			pump();
+		return;
+	}
 	bool enough;
 	{
 		std::lock_guard<std::mutex> lk(mu_);
@@ -189,6 +200,20 @@ void Trace::put(uint16_t channel, int64_t v, size_t size)
 	}
 	if (enough)
 		cv_.notify_one();
+}
+
+bool Trace::pump()
+{
+	if (staged_at_ == staged_.size())
+		return false;
+	const size_t until = staged_at_ + kPumpBytes;
+	while (staged_at_ < staged_.size() && staged_at_ < until)
+		write_staged(staged_, &staged_at_);
+	if (staged_at_ == staged_.size()) {
+		staged_.clear(); // (its room kept)
+		staged_at_ = 0;
+	}
+	return true;
 }
 
 void Trace::writer_loop(int avoid_cpu)
@@ -217,26 +242,26 @@ void Trace::writer_loop(int avoid_cpu)
 			if (stop_ && batch.empty())
 				return;
 		}
-		if (status_)
-			write_staged(batch);
+		for (size_t at = 0; at < batch.size();)
+			write_staged(batch, &at);
 		batch.clear();
 	}
 }
 
-void Trace::write_staged(const std::vector<char> &staged)
+void Trace::write_staged(const std::vector<char> &staged, size_t *at)
 {
-	for (size_t at = 0; at + 14 <= staged.size() && status_;) {
-		uint16_t channel;
-		uint64_t t;
-		uint32_t n;
-		std::memcpy(&channel, &staged[at], 2);
-		std::memcpy(&t, &staged[at + 2], 8);
-		std::memcpy(&n, &staged[at + 10], 4);
-		at += 14;
-		if (auto s = writer_->write(channel, t, t, &staged[at], n); !s)
-			status_ = s;
-		at += n;
-	}
+	uint16_t channel;
+	uint64_t t;
+	uint32_t n;
+	std::memcpy(&channel, &staged[*at], 2);
+	std::memcpy(&t, &staged[*at + 2], 8);
+	std::memcpy(&n, &staged[*at + 10], 4);
+	const char *data = &staged[*at + kStagedHead];
+	*at += kStagedHead + n;
+	if (!status_)
+		return; // (after the first error, nothing more)
+	if (auto s = writer_->write(channel, t, t, data, n); !s)
+		status_ = s;
 }
 
 void Trace::controller(int controller, const std::string &name, int pid, double cpu_scale, int mode,

@@ -29,14 +29,15 @@
 namespace tcs {
 
 // How a trace is written. Each message is encoded (CDR: a few stores) where
-// it happens, on the caller's thread, and then either written into the file
-// by the caller too (by_caller: chunks uncompressed, some hundred
-// instructions a message and a write(2) a megabyte), or handed to a thread
-// of the trace's own, kept off the coordinator's core (avoid_cpu; -1:
-// anywhere), which compresses the chunks with zstd. The coordinator writes
-// itself where it polls on a core of its own: a thread could run there only
-// while it sleeps (two cores: the controller's and the coordinator's, each
-// spinning while the other works, docs/PERFORMANCE.md).
+// it happens, on the caller's thread, and staged; then either written into
+// the file by the caller too, in its idle moments (by_caller: pump(); chunks
+// uncompressed, some hundred instructions a message and a write(2) a
+// megabyte), or taken by a thread of the trace's own, kept off the
+// coordinator's core (avoid_cpu; -1: anywhere), which compresses the chunks
+// with zstd. The coordinator writes itself where it polls on a core of its
+// own: a thread could run there only while it sleeps (two cores: the
+// controller's and the coordinator's, each spinning while the other works,
+// docs/PERFORMANCE.md).
 struct TraceWriting {
 	bool by_caller = false;
 	int avoid_cpu = -1;
@@ -48,6 +49,10 @@ public:
 	Status open(const std::string &path, TraceWriting how = TraceWriting{}, bool record = false);
 	bool is_open() const { return open_; }
 	Status close();
+	// By the caller: writes what is staged into the file, a few messages
+	// at a time (false: nothing was waiting). Some hundred instructions a
+	// message; now and then a chunk's write(2).
+	bool pump();
 
 	// Once per controller, before its first slice. name must outlive the
 	// trace (the controller's does).
@@ -76,11 +81,11 @@ public:
 	void journal(int controller, std::span<const tcs_journal_entry> entries);
 
 private:
-	// The message in buf_ (its first size bytes), logged at v: written,
-	// or staged for the thread.
+	// The message in buf_ (its first size bytes), logged at v: staged.
 	void put(uint16_t channel, int64_t v, size_t size);
+	// Writes the staged message at *at into the file, *at moved past it.
+	void write_staged(const std::vector<char> &staged, size_t *at);
 	void writer_loop(int avoid_cpu);
-	void write_staged(const std::vector<char> &staged); // in the writer thread
 
 	// The caller's, or the writer thread's once it runs.
 	std::optional<McapWriter> writer_;
@@ -94,9 +99,11 @@ private:
 	std::string buf_; // the message being encoded (only ever grown)
 
 	bool by_caller_ = false;
-	// With a thread: the messages it has not yet taken, one after another,
-	// each its channel (u16), log time (u64) and size (u32), then its
-	// bytes.
+	// The messages not yet written, one after another, each its channel
+	// (u16), log time (u64) and size (u32), then its bytes; by the caller,
+	// written from staged_at_ on; with a thread, what it has not yet taken
+	// (under mu_).
+	size_t staged_at_ = 0;
 	std::mutex mu_;
 	std::condition_variable cv_;
 	std::vector<char> staged_;
