@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 
 namespace tcs {
@@ -15,6 +16,13 @@ namespace tcs {
 namespace {
 
 constexpr uint64_t kMaxNotes = 20;
+
+std::string hex_id(uint32_t id)
+{
+	char buf[16];
+	snprintf(buf, sizeof buf, "0x%X", id);
+	return buf;
+}
 
 CanType can_type_of(const std::string &name)
 {
@@ -233,7 +241,7 @@ void CanWire::send_sensors(Iface &f, int64_t t, const SimWorld *world)
 		if (f.bus.submit(s.source, frame, s.next_due))
 			f.loopback[s.source].push_back(false);
 		else
-			note(f.name + ": sensor frame 0x" + std::to_string(s.id) + " dropped: its queue is full");
+			note(f.name + ": sensor frame " + hex_id(s.id) + " dropped: its queue is full");
 		s.next_due += s.period_ns;
 	}
 }
@@ -242,6 +250,7 @@ void CanWire::send_sensors(Iface &f, int64_t t, const SimWorld *world)
 // take it.
 void CanWire::delivered(Iface &f, const CanDelivery &d, const SimWorld *world)
 {
+	std::string notes; // what the devices made of it
 	bool loopback = false;
 	if (auto q = f.loopback.find(d.source); q != f.loopback.end() && !q->second.empty()) {
 		loopback = q->second.front();
@@ -264,8 +273,10 @@ void CanWire::delivered(Iface &f, const CanDelivery &d, const SimWorld *world)
 		}
 		std::string why;
 		auto reply = m.motor.receive(d.frame, p, v, m.torque, &why);
-		if (!why.empty())
-			note(f.name + ": motor " + std::to_string(m.motor.id()) + ": " + why);
+		if (!why.empty()) {
+			note(f.name + ": " + why); // ("motor N: ...")
+			notes += (notes.empty() ? "" : "; ") + why;
+		}
 		if (reply && f.bus.submit(m.source, *reply, d.end_ns))
 			f.loopback[m.source].push_back(false);
 	}
@@ -273,11 +284,40 @@ void CanWire::delivered(Iface &f, const CanDelivery &d, const SimWorld *world)
 		if (d.frame.id != c.id || d.frame.extended != c.extended || d.frame.rtr)
 			continue;
 		std::string why;
-		if (can_unpack(c.layout, d.frame, c.held, &why))
+		if (can_unpack(c.layout, d.frame, c.held, &why)) {
 			c.received = true;
-		else
-			note(f.name + ": command frame " + std::to_string(c.id) + ": " + why);
+		} else {
+			note(f.name + ": command frame " + hex_id(c.id) + ": " + why);
+			notes += (notes.empty() ? "" : "; ") + ("command frame " + hex_id(c.id) + ": " + why);
+		}
 	}
+	if (trace_) {
+		const CanFrame &fr = d.frame;
+		const uint32_t can_id = fr.id | (fr.extended ? CAN_EFF_FLAG : 0) | (fr.rtr ? CAN_RTR_FLAG : 0);
+		const uint8_t flags = uint8_t((fr.brs ? CANFD_BRS : 0) | (fr.esi ? CANFD_ESI : 0));
+		trace_->can_frame(topic_ + size_t(&f - ifaces_.data()), d.start_ns, d.end_ns, can_id, fr.fd, flags,
+				  { fr.data, fr.len }, sender(f, d.source), notes);
+	}
+}
+
+std::string CanWire::sender(const Iface &f, uint32_t source) const
+{
+	for (const Motor &m : f.motors)
+		if (m.source == source)
+			return "motor " + std::to_string(m.motor.id());
+	for (const SensorFrame &s : f.sensors)
+		if (s.source == source)
+			return "frame " + hex_id(s.id);
+	for (const auto &wp : ports_)
+		if (auto p = wp.lock(); p && p->can_source == source)
+			return p->owner;
+	return "a closed socket";
+}
+
+void CanWire::trace_topics(std::vector<TraceWireTopic> &out) const
+{
+	for (const Iface &f : ifaces_)
+		out.push_back({ TraceWireKind::can, f.name });
 }
 
 void CanWire::advance(int64_t t, const SimWorld *world)

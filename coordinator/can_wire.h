@@ -36,6 +36,7 @@ public:
 	void advance(int64_t t, const SimWorld *world) override;
 	void step(int64_t s, const SimWorld &world) override;
 	void apply(SimWorld &world) override;
+	void trace_topics(std::vector<TraceWireTopic> &out) const override;
 
 private:
 	// A world signal's value: the signal, and which of its values.
@@ -89,6 +90,8 @@ private:
 	int64_t next_on(const Iface &f) const;
 	void send_sensors(Iface &f, int64_t t, const SimWorld *world);
 	void delivered(Iface &f, const CanDelivery &d, const SimWorld *world);
+	// Who sent what source queued, for the trace.
+	std::string sender(const Iface &f, uint32_t source) const;
 
 	Warn warn_;
 	std::vector<Iface> ifaces_;

@@ -152,11 +152,28 @@ Status Coordinator::init()
 	run.cfg.wires.noise_key = run.sensor_key ? run.sensor_key : 1;
 	if (auto s = run.wires.bind(run.cfg.wires, run.world.get(), warn); !s)
 		return s;
+	// With an epoch the monotonic clocks start at a fixed value too, so
+	// that a run repeats their values, not only their differences.
+	run.clocks.mono_ns = run.cfg.epoch_ns ? kFixedMonotonicOrigin : clock_ns(CLOCK_MONOTONIC);
+	run.clocks.real_ns = run.cfg.epoch_ns ? *run.cfg.epoch_ns : clock_ns(CLOCK_REALTIME);
+	// TAI - UTC is a whole number of seconds; two reads differ by a few ns.
+	int64_t tai_offset = clock_ns(CLOCK_TAI) - clock_ns(CLOCK_REALTIME);
+	tai_offset = (tai_offset + TCS_NS_PER_S / 2) / TCS_NS_PER_S * TCS_NS_PER_S;
+	run.clocks.tai_ns = run.clocks.real_ns + tai_offset;
+	if (run.cfg.replay) {
+		run.clocks.mono_ns = run.cfg.replay->mono_origin_ns;
+		run.clocks.real_ns = run.cfg.replay->real_origin_ns;
+		run.clocks.tai_ns = run.cfg.replay->tai_origin_ns;
+		run.clocks.spin = kNominalSpinCosts; // (not taken: the record says what spins cost)
+	}
 	if (!run.cfg.trace_path.empty()) {
 		// The coordinator's core is its own where it polls: it writes there.
 		TraceWriting how{ .by_caller = run.poller.enabled(), .avoid_cpu = run.rt.cpu };
-		if (auto s = run.trace.open(run.cfg.trace_path, how, !run.cfg.record_path.empty()); !s)
+		if (auto s = run.trace.open(run.cfg.trace_path, how, !run.cfg.record_path.empty(),
+					    run.wires.trace_topics(), run.clocks.real_ns);
+		    !s)
 			return s;
+		run.wires.trace_to(run.trace);
 		if (how.by_caller)
 			run.poller.set_idle_work([&run] { return run.trace.pump(); });
 		// The joint states each step records: scalar positions and velocities.
@@ -174,20 +191,6 @@ Status Coordinator::init()
 		run.trace.set_joint_names(std::move(names));
 	}
 
-	// With an epoch the monotonic clocks start at a fixed value too, so
-	// that a run repeats their values, not only their differences.
-	run.clocks.mono_ns = run.cfg.epoch_ns ? kFixedMonotonicOrigin : clock_ns(CLOCK_MONOTONIC);
-	run.clocks.real_ns = run.cfg.epoch_ns ? *run.cfg.epoch_ns : clock_ns(CLOCK_REALTIME);
-	// TAI - UTC is a whole number of seconds; two reads differ by a few ns.
-	int64_t tai_offset = clock_ns(CLOCK_TAI) - clock_ns(CLOCK_REALTIME);
-	tai_offset = (tai_offset + TCS_NS_PER_S / 2) / TCS_NS_PER_S * TCS_NS_PER_S;
-	run.clocks.tai_ns = run.clocks.real_ns + tai_offset;
-	if (run.cfg.replay) {
-		run.clocks.mono_ns = run.cfg.replay->mono_origin_ns;
-		run.clocks.real_ns = run.cfg.replay->real_origin_ns;
-		run.clocks.tai_ns = run.cfg.replay->tai_origin_ns;
-		run.clocks.spin = kNominalSpinCosts; // (not taken: the record says what spins cost)
-	}
 	if (!run.cfg.record_path.empty()) {
 		Record r;
 		r.cpu_scale = run.cfg.record_scale;

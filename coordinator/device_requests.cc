@@ -91,8 +91,10 @@ void on_dev_open(Run &run, Controller &c, const ::tcs_msg &m)
 	auto d = std::make_unique<OpenDevice>();
 	d->dev = &dev;
 	d->sock.reset(sv[0]);
-	if (bus)
+	if (bus) {
 		d->wire = run.wires.open(dev.cfg.wire);
+		d->wire->owner = c.name;
+	}
 	int fl = fcntl(sv[0], F_GETFL);
 	fcntl(sv[0], F_SETFL, fl | O_NONBLOCK);
 	if (dev.cfg.kind == TCS_DEVICE_SENSOR && !dev.cfg.latest && dev.cfg.period_ns > 0) {

@@ -81,10 +81,17 @@ void I2cWire::step(int64_t s, const SimWorld &world)
 	}
 }
 
-void I2cWire::answer(WirePort &port, int64_t v, const I2cResult &r, const std::string &data)
+void I2cWire::answer(WirePort &port, int64_t v, const I2cResult &r, const std::vector<I2cMessage> &msgs,
+		     const std::string &data)
 {
 	const int64_t start = std::max(v, free_at_);
 	free_at_ = start + r.wire_ns;
+	if (trace_) {
+		std::vector<TraceI2cMessage> traced;
+		for (const I2cMessage &m : msgs)
+			traced.push_back({ m.addr, m.flags, m.data });
+		trace_->i2c_transfer(topic_, start, free_at_, r.error, traced, port.owner, r.note);
+	}
 	// (No chip answering is how a bus is scanned: not worth a word.)
 	if (!r.note.empty() && r.error != -ENXIO && ++notes_ <= kMaxNotes)
 		warn_("/dev/i2c-" + std::to_string(spec_.bus) + ": " + r.note);
@@ -133,7 +140,7 @@ int64_t I2cWire::transfer(WirePort &port, std::string_view payload, int64_t v)
 				data.append(reinterpret_cast<const char *>(&len), sizeof len);
 				data.append(m.data.begin(), m.data.end());
 			}
-	answer(port, v, r, data);
+	answer(port, v, r, msgs, data);
 	return 0;
 }
 
@@ -148,8 +155,13 @@ int64_t I2cWire::smbus(WirePort &port, std::string_view payload, int64_t v)
 	memcpy(&data, s.data, sizeof data);
 	const bool ten = s.addr & 0x8000;
 	SmbusResult r = i2c_smbus(bus_, uint16_t(s.addr & 0x3ff), ten, s.read_write, s.command, s.size, &data);
-	answer(port, v, r.xfer, std::string(reinterpret_cast<const char *>(&data), sizeof data));
+	answer(port, v, r.xfer, r.messages, std::string(reinterpret_cast<const char *>(&data), sizeof data));
 	return 0;
+}
+
+void I2cWire::trace_topics(std::vector<TraceWireTopic> &out) const
+{
+	out.push_back({ TraceWireKind::i2c, "dev/i2c-" + std::to_string(spec_.bus) });
 }
 
 int64_t I2cWire::take(WirePort &port, uint32_t type, std::string_view payload, int64_t v, const SimWorld *world)

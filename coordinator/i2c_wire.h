@@ -28,14 +28,16 @@ public:
 	int64_t next_event() const override { return TCS_NEVER; }
 	void advance(int64_t t, const SimWorld *world) override {}
 	void step(int64_t s, const SimWorld &world) override;
+	void trace_topics(std::vector<TraceWireTopic> &out) const override;
 
 private:
 	I2cWire(const I2cSpec &spec, Warn warn);
 	int64_t transfer(WirePort &port, std::string_view payload, int64_t v);
 	int64_t smbus(WirePort &port, std::string_view payload, int64_t v);
-	// The answer, due when the transfer that began at v (or when the bus
-	// was free) has ended.
-	void answer(WirePort &port, int64_t v, const I2cResult &r, const std::string &data);
+	// The answer, due when the transfer of msgs that began at v (or when
+	// the bus was free) has ended.
+	void answer(WirePort &port, int64_t v, const I2cResult &r, const std::vector<I2cMessage> &msgs,
+		    const std::string &data);
 
 	struct Imu {
 		Mpu6050 *chip = nullptr;

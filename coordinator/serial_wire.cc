@@ -3,6 +3,7 @@
 
 #include <sys/socket.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -93,7 +94,11 @@ int64_t SerialWire::take(WirePort &port, uint32_t type, std::string_view payload
 		return -EINVAL;
 	if (payload.empty())
 		return 0;
-	to_servos_.send(payload.size(), v);
+	const int64_t start = std::max(v, to_servos_.idle_at());
+	const int64_t end = to_servos_.send(payload.size(), v);
+	if (trace_)
+		trace_->serial_bytes(topic_, start, end,
+				     { reinterpret_cast<const uint8_t *>(payload.data()), payload.size() }, port.owner, "");
 	in_flight_.insert(in_flight_.end(), payload.begin(), payload.end());
 	return 0;
 }
@@ -110,7 +115,10 @@ void SerialWire::answer(std::vector<DxlReply> replies, int64_t end)
 	int64_t t = end;
 	for (const DxlReply &r : replies) {
 		const size_t first = to_controller_.pending();
+		const int64_t start = std::max(t + r.delay_ns, to_controller_.idle_at());
 		t = to_controller_.send(r.bytes.size(), t + r.delay_ns);
+		if (trace_)
+			trace_->serial_bytes(topic_, start, t, r.bytes, "servo " + std::to_string(r.id), "");
 		for (size_t i = 0; i < r.bytes.size(); i++) {
 			const int64_t due = to_controller_.arrival(first + i);
 			for (auto &wp : ports_)
@@ -139,10 +147,14 @@ void SerialWire::advance(int64_t t, const SimWorld *world)
 			else
 				replies = chain_.handle(std::get<Dxl2Fault>(item), ctl_baud_, &notes);
 			answer(std::move(replies), at);
+			for (const std::string &n : notes) {
+				note(n);
+				if (trace_) // (at the byte that ended the packet)
+					trace_->serial_bytes(topic_, at, at, {}, "servos", n);
+			}
+			notes.clear();
 		}
 	}
-	for (const std::string &n : notes)
-		note(n);
 }
 
 void SerialWire::step(int64_t s, const SimWorld &world)
@@ -162,6 +174,11 @@ void SerialWire::apply(SimWorld &world)
 {
 	for (const Joint &j : joints_)
 		world.write(j.effort, &j.torque);
+}
+
+void SerialWire::trace_topics(std::vector<TraceWireTopic> &out) const
+{
+	out.push_back({ TraceWireKind::serial, wire_topic_name(spec_.path) });
 }
 
 int64_t SerialWire::drained_at(const WirePort &) const

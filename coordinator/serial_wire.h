@@ -32,6 +32,7 @@ public:
 	void step(int64_t s, const SimWorld &world) override;
 	void apply(SimWorld &world) override;
 	int64_t drained_at(const WirePort &port) const override;
+	void trace_topics(std::vector<TraceWireTopic> &out) const override;
 
 private:
 	SerialWire(const SerialSpec &spec, Warn warn);

@@ -10,8 +10,10 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "sim_world.h"
+#include "trace.h"
 #include "tcs/clock_page.h"
 #include "tcs/protocol.h"
 #include "tcs/wire_protocol.h"
@@ -42,6 +44,27 @@ public:
 	virtual void apply(SimWorld &world) {}
 	// When what port wrote has all left on the wire (tcdrain).
 	virtual int64_t drained_at(const WirePort &port) const { return 0; }
+
+	// Its trace topics (a CAN bus: one an interface), in the order its
+	// messages name them.
+	virtual void trace_topics(std::vector<TraceWireTopic> &out) const = 0;
+	// What goes over it from now on is written to trace, its topics
+	// numbered from first.
+	void trace_to(Trace *trace, size_t first)
+	{
+		trace_ = trace;
+		topic_ = first;
+	}
+
+protected:
+	Trace *trace_ = nullptr; // none: not traced
+	size_t topic_ = 0;
 };
+
+// A trace topic's name for a device path: "/dev/ttyUSB0" -> "dev/ttyUSB0".
+inline std::string wire_topic_name(const std::string &path)
+{
+	return path.size() > 1 && path[0] == '/' ? path.substr(1) : path;
+}
 
 } // namespace tcs

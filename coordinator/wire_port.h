@@ -24,6 +24,7 @@ struct WirePort {
 	std::deque<std::pair<int64_t, std::string>> arrivals; // (due, bytes or one packet)
 	std::string input;        // a stream's packets from the controller, not yet whole
 	bool gone = false;        // its fd was closed
+	std::string owner;        // the controller's program, as the trace names who sent
 
 	// A CAN socket (can_wire.cc): as the kernel's CAN_RAW keeps them.
 	int32_t ifindex = -1;     // bound to (0: every interface), -1: not bound

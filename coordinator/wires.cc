@@ -115,6 +115,23 @@ int64_t Wires::next_event() const
 	return next;
 }
 
+std::vector<TraceWireTopic> Wires::trace_topics() const
+{
+	std::vector<TraceWireTopic> out;
+	for (const auto &b : buses_)
+		b->trace_topics(out);
+	return out;
+}
+
+void Wires::trace_to(Trace &trace)
+{
+	std::vector<TraceWireTopic> topics;
+	for (auto &b : buses_) {
+		b->trace_to(&trace, topics.size());
+		b->trace_topics(topics);
+	}
+}
+
 void Wires::before_step(int64_t s, int64_t step_ns, SimWorld &world)
 {
 	if (buses_.empty())

@@ -41,6 +41,10 @@ public:
 	int64_t next_event() const;
 	// Before the world steps from s: the devices' efforts into it.
 	void before_step(int64_t s, int64_t step_ns, SimWorld &world);
+	// Every wire's trace topics, in order; then what goes over each is
+	// written to trace (opened with them).
+	std::vector<TraceWireTopic> trace_topics() const;
+	void trace_to(Trace &trace);
 
 private:
 	void step_once(int64_t s, const SimWorld *world);

@@ -21,6 +21,7 @@
 #include "devices.h"
 #include "raw_syscall.h"
 #include "tcs/wire_protocol.h"
+#include "vclock.h"
 #include "wire_io.h"
 
 /* The part of struct sockaddr_can that CAN_RAW reads and writes
@@ -262,7 +263,7 @@ static void tcs_can_cmsg(struct msghdr *msg, size_t *used, int level, int type, 
 /* The arrival time t (virtual) on the controller's CLOCK_REALTIME. */
 static int64_t tcs_can_realtime(int64_t t)
 {
-	return tcs_rt.page->real_origin_ns + t;
+	return tcs_sleep_clock_origin(CLOCK_REALTIME) + t;
 }
 
 /* The cmsgs a read of a frame that arrived at t carries. */

@@ -99,7 +99,8 @@ int64 arg
 
 } // namespace
 
-Status Trace::open(const std::string &path, TraceWriting how, bool record)
+Status Trace::open(const std::string &path, TraceWriting how, bool record, const std::vector<TraceWireTopic> &wires,
+		   int64_t realtime_origin_ns)
 {
 	// Written by the coordinator, between its requests: uncompressed, as
 	// compressing cost a 1 kHz run 15 to 25 % more wall time; a thread of
@@ -135,6 +136,8 @@ Status Trace::open(const std::string &path, TraceWriting how, bool record)
 			return channel.error();
 		*t.id = *channel;
 	}
+	if (auto s = open_wires(wires, realtime_origin_ns); !s)
+		return s;
 	buf_.resize(4096);
 	set_joint_names(std::move(joint_names_));
 	open_ = true;

@@ -8,8 +8,9 @@
 // ended), /tcs/device (each command written to an actuator), /tcs/step (each
 // simulation step: wall time, wall cost, joint states) and /clock (the
 // simulation clock, as ROS 2 publishes it); a record adds /tcs/record/run and
-// /tcs/record/journal (trace/record.h). Wall times count from the start of
-// the run.
+// /tcs/record/journal (trace/record.h); each of the robot's wires has its own,
+// /tcs/wire/<name> (trace_wires.cc). Wall times count from the start of the
+// run.
 #pragma once
 
 #include <condition_variable>
@@ -43,10 +44,28 @@ struct TraceWriting {
 	int avoid_cpu = -1;
 };
 
+// One of the robot's wires (docs/DESIGN.md §9), a topic of its own:
+// /tcs/wire/<name>, name "can0", "dev/ttyUSB0", "dev/i2c-1".
+enum class TraceWireKind { can, serial, i2c };
+struct TraceWireTopic {
+	TraceWireKind kind;
+	std::string name;
+};
+
+// A message of an I2C transfer, as struct i2c_msg (a read's data: what was
+// read).
+struct TraceI2cMessage {
+	uint16_t addr = 0, flags = 0;
+	std::span<const uint8_t> data;
+};
+
 class Trace {
 public:
-	// Opens path. A record (--record) has the record's topics too.
-	Status open(const std::string &path, TraceWriting how = TraceWriting{}, bool record = false);
+	// Opens path. A record (--record) has the record's topics too; each
+	// wire its own, with the run's CLOCK_REALTIME origin (what a frame's
+	// receive timestamp adds to its virtual time) in its metadata.
+	Status open(const std::string &path, TraceWriting how = TraceWriting{}, bool record = false,
+		    const std::vector<TraceWireTopic> &wires = {}, int64_t realtime_origin_ns = 0);
 	bool is_open() const { return open_; }
 	Status close();
 	// By the caller: writes what is staged into the file, a few messages
@@ -80,7 +99,19 @@ public:
 	void record_run(const std::string &json);
 	void journal(int controller, std::span<const tcs_journal_entry> entries);
 
+	// What went over wire (its index in open()'s list), from v_start (the
+	// first bit) to v_end (the last, when the receivers had it); from: who
+	// sent it; note: what a device made of it, when it refused it.
+	void can_frame(size_t wire, int64_t v_start, int64_t v_end, uint32_t can_id, bool fd, uint8_t fd_flags,
+		       std::span<const uint8_t> data, std::string_view from, std::string_view note);
+	void serial_bytes(size_t wire, int64_t v_start, int64_t v_end, std::span<const uint8_t> data,
+			  std::string_view from, std::string_view note);
+	// result: the transfer's (0 or a negative errno).
+	void i2c_transfer(size_t wire, int64_t v_start, int64_t v_end, int32_t result,
+			  std::span<const TraceI2cMessage> messages, std::string_view from, std::string_view note);
+
 private:
+	Status open_wires(const std::vector<TraceWireTopic> &wires, int64_t realtime_origin_ns);
 	// The message in buf_ (its first size bytes), logged at v: staged.
 	void put(uint16_t channel, int64_t v, size_t size);
 	// Writes the staged message at *at into the file, *at moved past it.
@@ -92,6 +123,7 @@ private:
 	bool open_ = false;
 	uint16_t controller_ = 0, slice_ = 0, wait_ = 0, device_ = 0, step_ = 0, clock_ = 0;
 	uint16_t record_run_ = 0, journal_ = 0; // a record's
+	std::vector<uint16_t> wires_;           // each wire's channel
 	std::vector<std::string> joint_names_;
 	// The names' part of a step message (their count and strings), as
 	// CDR lays it out after the step's three times: the same every step.

@@ -4,11 +4,17 @@ when its last bit has crossed the bus at the declared bit rate, stuff bits
 included (counted here from the frame's bits, with this file's own CRC-15:
 nothing is imported from tcs); frames queued behind one on the wire follow
 it back to back; an MIT motor answers its commands and moves its joint;
-CAN_RAW filters and loopback flags are the kernel's."""
+CAN_RAW filters and loopback flags are the kernel's; CAN FD frames, receive
+timestamps and the interface ioctls answer as on a real interface; frames
+of signals carry the world out and efforts in; the trace holds every frame
+with its times and who sent it, and exports the bus as candump's log."""
 
+import os
 import shutil
+import struct
+import tempfile
 
-from harness import check, main, scenario_file, skip, tcs
+from harness import TCS_TRACE, check, main, run, scenario_file, skip, tcs, trace_rows
 
 BUS = """\
 [sim]
@@ -230,6 +236,161 @@ def test_loopback_and_own_frames_as_the_kernel_delivers_them():
     check(lines["sender"][:-1] == ["124"], "the sender hears own's frame, not its own nor quiet's", r)
     check(lines["own"][:-1] == ["123", "124+own"], "own hears the sender's and its own, flagged", r)
     check(lines["other"][:-1] == ["123", "124"], "another socket hears both, not quiet's", r)
+
+
+def test_the_trace_holds_each_frame_and_exports_the_bus_as_candump_logs_it():
+    """candump -L under tcs-run and tcs-trace's candump export of the same
+    run's trace print the same lines; each traced frame lasts its bits, and
+    names its sender and what the motor made of it."""
+    need_can_utils()
+    with scenario_file(MOTOR) as world, tempfile.TemporaryDirectory() as tmp:
+        trace = os.path.join(tmp, "can.mcap")
+        r = tcs("-q", "-m", "lockstep", "--epoch", str(EPOCH), "-w", world, "-t", trace, "--", "sh", "-c",
+                "candump -L -n 4 can0 & sleep 0.01; cansend can0 001#FFFFFFFFFFFFFFFC; cansend can0 001#0102; "
+                "cangen can0 -e -n 1 -I 12345678 -L 0 -R; wait", timeout=60)
+        check(r.returncode == 0, "the programs end", r)
+        e = run([TCS_TRACE, "export", trace, "--format", "candump"])
+        one = run([TCS_TRACE, "export", trace, "--format", "candump", "--topic", "/tcs/wire/can0"])
+        none = run([TCS_TRACE, "export", trace, "--format", "candump", "--topic", "/tcs/wire/can9"])
+        rows = trace_rows(trace, "/tcs/wire/can0")
+    check(e.returncode == 0 and e.stdout == r.stdout and len(r.stdout.splitlines()) == 4,
+          "the export is what candump -L printed, line for line:\n%s\n%s" % (r.stdout, e.stdout), e)
+    check(one.stdout == e.stdout, "--topic of the one bus: the same", one)
+    check(none.returncode == 2 and "can9" in none.stderr and "/tcs/wire/can0" in none.stderr,
+          "a topic the trace lacks: exit 2 naming it and the buses it has", none)
+    check([(x["from"], int(x["can_id"]), x["note"]) for x in rows] ==
+          [("cansend", 1, ""), ("motor 1", 0, ""), ("cansend", 1, "motor 1: a frame of 2 bytes, not 8: ignored"),
+           ("cangen", 0x12345678 | 0xC0000000, "")],
+          "senders, ids (SocketCAN's flags) and the motor's refusal: %s" % rows)
+    for x in rows[:3]:
+        data = bytes(int(x["data[%d]" % i]) for i in range(int(x["len"])))
+        bits = frame_bits(int(x["can_id"]), data)
+        check(int(x["v_end_ns"]) - int(x["v_start_ns"]) == bits * 1000, "%s lasts its %d bits" % (x, bits))
+    print("  candump -L and tcs-trace export --format candump: the same %d lines" % len(rows))
+
+
+FD_BUS = """\
+[sim]
+step = "1ms"
+model = "pendulum"
+
+[[can]]
+interface = "can1"
+bitrate = "1Mbit/s"
+data_bitrate = "4Mbit/s"
+"""
+
+FD = """\
+import fcntl, socket, struct
+s = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
+def ifreq(code, fmt, *a):
+    size = struct.calcsize(fmt)
+    return struct.unpack(fmt, fcntl.ioctl(s, code, struct.pack(fmt, *a) + bytes(40 - size))[:size])
+index = ifreq(0x8933, "16si", b"can1", 0)[1]                              # SIOCGIFINDEX
+print("name", ifreq(0x8910, "16si", b"", index)[0].rstrip(b"\\0").decode())  # SIOCGIFNAME
+print("mtu", ifreq(0x8921, "16si", b"can1", 0)[1])                           # SIOCGIFMTU
+print("flags", ifreq(0x8913, "16sh", b"can1", 0)[1])                         # SIOCGIFFLAGS
+def sock():
+    k = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
+    k.setsockopt(socket.SOL_CAN_RAW, socket.CAN_RAW_FD_FRAMES, 1)
+    k.setsockopt(socket.SOL_SOCKET, 35, 1)                                   # SO_TIMESTAMPNS
+    k.bind(("can1",))
+    return k
+reader, writer = sock(), sock()
+writer.send(struct.pack("=IBBBB64s", 0x123, 12, 1, 0, 0, bytes(range(12))))  # CANFD_BRS
+writer.send(struct.pack("=IB3x8s", 0x124, 2, b"hi"))
+for _ in range(2):
+    data, cmsgs, _, _ = reader.recvmsg(72, 64)
+    can_id, length, flags = struct.unpack("=IBB", data[:6])
+    stamp = [struct.unpack("=qq", d) for level, kind, d in cmsgs if kind == 35]  # SCM_TIMESTAMPNS
+    ns = struct.unpack("=qq", fcntl.ioctl(reader, 0x8907, bytes(16)))             # SIOCGSTAMPNS
+    us = struct.unpack("=qq", fcntl.ioctl(reader, 0x8906, bytes(16)))             # SIOCGSTAMP
+    print("frame", len(data), can_id, length, flags, data[8:8 + length].hex(), stamp[0][0] * 10**9 + stamp[0][1],
+          ns[0] * 10**9 + ns[1], us[0] * 10**6 + us[1])
+"""
+
+
+def test_fd_frames_timestamps_and_the_interface_ioctls():
+    with scenario_file(FD_BUS) as world, scenario_file(FD) as prog, tempfile.TemporaryDirectory() as tmp:
+        trace = os.path.join(tmp, "fd.mcap")
+        r = tcs("-q", "-m", "lockstep", "--epoch", str(EPOCH), "-w", world, "-t", trace, "--", "python3", prog,
+                timeout=60)
+        check(r.returncode == 0, "the program ends", r)
+        rows = trace_rows(trace, "/tcs/wire/can1")
+    v = {f[0]: f[1:] for f in (line.split() for line in r.stdout.splitlines()) if f[0] != "frame"}
+    frames = [f[1:] for f in (line.split() for line in r.stdout.splitlines()) if f[0] == "frame"]
+    check(v["name"] == ["can1"] and v["mtu"] == ["72"], "SIOCGIFNAME of SIOCGIFINDEX's index; an FD interface's MTU", r)
+    check(int(v["flags"][0]) & 0x41 == 0x41, "IFF_UP and IFF_RUNNING", r)
+    check(len(frames) == 2 and frames[0][:5] == ["72", str(0x123), "12", "5", bytes(range(12)).hex()],
+          "the FD frame: 72 bytes, its 12 of data, CANFD_BRS with CANFD_FDF as the kernel marks it", r)
+    check(frames[1][:5] == ["16", str(0x124), "2", "0", "6869"], "a classic frame on an FD socket: 16 bytes", r)
+    for f, t in zip(frames, rows):
+        stamp, ns, us = int(f[5]), int(f[6]), int(f[7])
+        check(stamp == ns == EPOCH * 10**9 + int(t["v_end_ns"]) and us == ns // 1000,
+              "SCM_TIMESTAMPNS and SIOCGSTAMPNS are the frame's end on the wire on the epoch, SIOCGSTAMP in µs", r)
+    fd_ns = int(rows[0]["v_end_ns"]) - int(rows[0]["v_start_ns"])
+    check(rows[0]["fd"] == "true" and rows[0]["fd_flags"] == "1" and fd_ns < 96000,
+          "its 12 bytes at the data bit rate: %d ns, less than their 96 bits at 1 Mbit/s alone" % fd_ns, rows)
+    print("  FD frame of 12 bytes with BRS: %.2f µs on the wire; stamps equal the trace's ends" % (fd_ns / 1e3))
+
+
+SIGNALS = BUS + """
+[[can.frame]]
+id = 0x100
+rate = "100Hz"
+byte_order = "little"
+fields = [{ signal = "pendulum.hinge.position", type = "float32" },
+          { signal = "pendulum.hinge.velocity", type = "int16", scale = 0.001 }]
+
+[[can.frame]]
+id = 0x200
+command = true
+byte_order = "little"
+fields = [{ signal = "pendulum.hinge.effort", type = "int16", scale = 0.001 }]
+"""
+
+SIGNALS_PROG = """\
+import socket, struct, sys
+s = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
+s.bind(("can0",))
+if len(sys.argv) > 1:
+    s.send(struct.pack("=IB3x8s", 0x200, 2, struct.pack("<h", int(float(sys.argv[1]) * 1000))))
+for _ in range(30):
+    data = s.recv(16)
+    can_id, length = struct.unpack("=IB", data[:5])
+    if can_id == 0x100:
+        position, velocity = struct.unpack("<fh", data[8:14])
+        print(position, velocity * 0.001)
+"""
+
+
+def test_frames_of_signals_carry_the_world_out_and_efforts_in():
+    with scenario_file(SIGNALS) as world, scenario_file(SIGNALS_PROG) as prog, \
+            tempfile.TemporaryDirectory() as tmp:
+        trace = os.path.join(tmp, "signals.mcap")
+        still = tcs("-q", "-m", "lockstep", "-w", world, "--", "python3", prog, timeout=60)
+        pushed = tcs("-q", "-m", "lockstep", "-w", world, "-t", trace, "--", "python3", prog, "2.0", timeout=60)
+        check(still.returncode == 0 and pushed.returncode == 0, "the programs end", pushed)
+        frames = trace_rows(trace, "/tcs/wire/can0")
+        steps = trace_rows(trace, "/tcs/step")
+    at_rest = [tuple(map(float, line.split())) for line in still.stdout.splitlines()]
+    moved = [tuple(map(float, line.split())) for line in pushed.stdout.splitlines()]
+    check(len(at_rest) == 30 and all(p == 0 and w == 0 for p, w in at_rest), "hanging still: 0 and 0", still)
+    check(len(moved) == 30 and all(b[1] > a[1] > 0 for a, b in zip(moved[1:], moved[2:9])),
+          "2 N·m from the command frame: the velocity grows, frame after frame", pushed)
+    sensor = [x for x in frames if int(x["can_id"]) == 0x100]
+    check(all(x["from"] == "frame 0x100" for x in sensor), "sent by the world's frame", frames[:3])
+    starts = [int(x["v_start_ns"]) for x in sensor]
+    check(starts[:5] == [0, 10000000, 20000000, 30000000, 40000000], "at 100 Hz from 0: %s" % starts[:5])
+    # Each carries the joint as the world had it when it was sent: the
+    # step that ended at its start.
+    position = {int(x["v_ns"]): float(x["joint.pendulum.hinge.position"]) for x in steps}
+    position[0] = 0.0
+    for x, (p, _) in zip(sensor, moved):
+        want = struct.unpack("<f", struct.pack("<f", position[int(x["v_start_ns"])]))[0]
+        check(p == want, "position %r in the frame at %s ns, %r in the world" % (p, x["v_start_ns"], want))
+    print("  0x100 at 100 Hz: position and velocity of the world; 0x200 with 2 N·m: velocity %.3f rad/s after 80 ms"
+          % moved[8][1])
 
 
 def test_a_bad_can_table_exits_2_at_its_line():

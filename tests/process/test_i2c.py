@@ -7,8 +7,9 @@ reads what the link feels."""
 
 import os
 import shutil
+import tempfile
 
-from harness import check, main, scenario_file, skip, tcs
+from harness import check, main, scenario_file, skip, tcs, trace_rows
 
 EXAMPLES = os.environ.get("TCS_EXAMPLES", "examples")
 
@@ -65,6 +66,30 @@ def test_i2cget_and_i2cset_read_and_write_registers():
         check(out.strip() == "0x07", "SMPLRT_DIV written and read back: %r" % out)
         r = tcs("-q", "-m", "lockstep", "-w", w, "--", "i2cget", "-y", "1", "0x69", "0x75", timeout=60)
         check(r.returncode != 0, "no chip at 0x69: i2cget fails", r)
+
+
+def test_the_trace_holds_each_transfer_with_its_bits_time():
+    """/tcs/wire/dev/i2c-1: each transfer, START to STOP, its messages as
+    i2c-dev's (a read's data what was read), its result and who made it."""
+    need_i2c_tools()
+    with world() as w, tempfile.TemporaryDirectory() as tmp:
+        trace = os.path.join(tmp, "i2c.mcap")
+        r = tcs("-q", "-m", "lockstep", "-w", w, "-t", trace, "--", "sh", "-c",
+                "i2cget -y 1 0x68 0x75; i2cget -y 1 0x50 0x00", timeout=60)
+        check(r.returncode != 0 and "0x68" in r.stdout, "WHO_AM_I read, then nothing at 0x50", r)
+        rows = trace_rows(trace, "/tcs/wire/dev/i2c-1")
+    check(len(rows) == 2 and all(x["from"] == "i2cget" for x in rows), "two transfers by i2cget", rows)
+    who, none = rows
+    # SMBus read byte data: START, 0x68 W, 0x75, repeated START, 0x68 R,
+    # 0x68 NACKed, STOP: 1 + 9 + 9 + 1 + 9 + 9 + 1 bits at 400 kHz; an
+    # address nobody ACKs: START, address, STOP.
+    check(who["result"] == "0" and (who["messages[0].addr"], who["messages[0].flags"], who["messages[0].data[0]"]) ==
+          ("104", "0", "117") and (who["messages[1].flags"], who["messages[1].data[0]"]) == ("1", "104"),
+          "write 0x75 to 0x68, read 0x68 back", who)
+    check(int(who["v_end_ns"]) - int(who["v_start_ns"]) == 39 * 2500, "39 bits at 400 kHz", who)
+    check(none["result"] == "-6" and "no chip at 0x50" in none["note"] and
+          int(none["v_end_ns"]) - int(none["v_start_ns"]) == 11 * 2500, "ENXIO after 11 bits, and why", none)
+    print("  i2cget: 39 bits, 97.5 µs; no chip at 0x50: ENXIO after 11 bits, in the trace")
 
 
 def test_i2ctransfer_reads_the_link_at_rest():

@@ -10,8 +10,9 @@ dxl_bus.py: packets of their own over os and termios, no SDK)."""
 import math
 import os
 import re
+import tempfile
 
-from harness import AHEAD, PYTHON, check, main, scenario_file, tcs
+from harness import AHEAD, PYTHON, check, main, scenario_file, tcs, trace_rows
 
 PROBE = os.path.join(os.environ.get("TCS_PROGRAMS_SRC", "."), "dxl_probe.py")
 TTY = "/dev/ttyUSB0"
@@ -92,6 +93,30 @@ def test_a_read_round_trip_is_its_bytes_and_the_return_delay():
               "%s: Present Position is the hinge's angle (%s)" % (mode, v["position"]), r)
         print("  %-8s 57600 baud: PING %.6f ms (exactly %.6f), READ %.6f ms (%.6f)" %
               (mode, got_ping / MS, ping / MS, got_read / MS, read / MS))
+
+
+def test_the_trace_holds_the_line_s_bytes_with_their_times():
+    """/tcs/wire/dev/ttyUSB0: each write's bytes and each reply, from the
+    first start bit to the last stop bit, and who sent them; what the
+    servo refused, noted."""
+    baud = 57600
+    with tempfile.TemporaryDirectory() as tmp:
+        trace = os.path.join(tmp, "serial.mcap")
+        probe("lockstep", baud, "faults", options=("-t", trace))
+        rows = trace_rows(trace, "/tcs/wire/dev/ttyUSB0")
+    sent = [x for x in rows if x["from"] != "servos"]
+    first, reply = sent[0], sent[1]
+    count = lambda x: len([k for k in x if k.startswith("data[") and x[k] != ""])
+    check(first["from"] == PYTHON and reply["from"] == "servo 1", "the probe's packet, then servo 1's", rows[:2])
+    n, m = count(first), count(reply)
+    check(int(first["v_end_ns"]) - int(first["v_start_ns"]) == arrival(n - 1, baud) and
+          int(reply["v_start_ns"]) - int(first["v_end_ns"]) == DELAY and
+          int(reply["v_end_ns"]) - int(reply["v_start_ns"]) == arrival(m - 1, baud),
+          "%d bytes at 57600 baud, the Return Delay Time, %d bytes back" % (n, m), rows[:2])
+    notes = [x["note"] for x in rows if x["from"] == "servos"]
+    check(any("CRC does not match" in n for n in notes), "the bad CRC noted: %s" % notes)
+    print("  %d bytes out in %.6f ms, 500 µs, %d back in %.6f ms; %d notes" %
+          (n, arrival(n - 1, baud) / MS, m, arrival(m - 1, baud) / MS, len(notes)))
 
 
 def test_at_1_mbit_and_with_the_return_delay_written():

@@ -19,7 +19,7 @@ namespace {
 
 const char kUsage[] =
 	"Usage: tcs-trace summary [--json] FILE\n"
-	"       tcs-trace export FILE --format csv|json|chrome [--topic TOPIC] [-o OUT]\n"
+	"       tcs-trace export FILE --format csv|json|chrome|candump [--topic TOPIC] [-o OUT]\n"
 	"       tcs-trace plot FILE -o OUT.png|OUT.svg [--kind timing|disparity|error|joints]\n"
 	"Inspect a trace written by tcs-run --trace (an MCAP file).\n"
 	"\n"
@@ -32,8 +32,10 @@ const char kUsage[] =
 	"                         default /tcs/slice)\n"
 	"           json          every message with its topic and log time\n"
 	"           chrome        Trace Event JSON for Perfetto / chrome://tracing\n"
+	"           candump       the CAN frames as candump's log (candump -L, canplayer)\n"
 	"      --topic TOPIC      only this topic (/tcs/slice, /tcs/wait, /tcs/device,\n"
-	"                         /tcs/step, /tcs/controller, /clock)\n"
+	"                         /tcs/step, /tcs/controller, /clock, and a wire's\n"
+	"                         /tcs/wire/can0, /tcs/wire/dev/ttyUSB0, /tcs/wire/dev/i2c-1)\n"
 	"  plot      draw with gnuplot into OUT (.png or .svg)\n"
 	"  -k, --kind timing      controller time against simulation time (default)\n"
 	"           disparity     controller time minus simulation time\n"
@@ -183,14 +185,16 @@ int main(int argc, char **argv)
 			f = ExportFormat::Json;
 		else if (format == "chrome")
 			f = ExportFormat::Chrome;
+		else if (format == "candump")
+			f = ExportFormat::Candump;
 		else if (!have_format)
-			return usage_error("export needs --format csv, json or chrome");
+			return usage_error("export needs --format csv, json, chrome or candump");
 		else
-			return usage_error("unknown format '" + format + "' (csv, json or chrome)");
+			return usage_error("unknown format '" + format + "' (csv, json, chrome or candump)");
 		if (f == ExportFormat::Csv && topic.empty())
 			topic = "/tcs/slice";
 		if (f == ExportFormat::Chrome && !topic.empty())
-			return usage_error("--topic is for csv and json (chrome shows every topic)");
+			return usage_error("--topic is for csv, json and candump (chrome shows every topic)");
 		// Read before the output is created: a bad trace leaves nothing behind.
 		if (access(path.c_str(), R_OK) != 0)
 			return fail(path + ": " + strerror(errno));

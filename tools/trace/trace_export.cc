@@ -300,6 +300,8 @@ Status export_trace(const std::string &path, ExportFormat format, const std::str
 		return export_json(path, topic, out);
 	case ExportFormat::Chrome:
 		return export_chrome(path, out);
+	case ExportFormat::Candump:
+		return export_candump(path, topic, out);
 	}
 	return Error{ "unknown format" };
 }
