@@ -295,8 +295,15 @@ void CanWire::delivered(Iface &f, const CanDelivery &d, const SimWorld *world)
 		const CanFrame &fr = d.frame;
 		const uint32_t can_id = fr.id | (fr.extended ? CAN_EFF_FLAG : 0) | (fr.rtr ? CAN_RTR_FLAG : 0);
 		const uint8_t flags = uint8_t((fr.brs ? CANFD_BRS : 0) | (fr.esi ? CANFD_ESI : 0));
-		trace_->can_frame(topic_ + size_t(&f - ifaces_.data()), d.start_ns, d.end_ns, can_id, fr.fd, flags,
-				  { fr.data, fr.len }, sender(f, d.source), notes);
+		const std::string from = sender(f, d.source);
+		trace_->can_frame(topic_ + size_t(&f - ifaces_.data()), { .v_start = d.start_ns,
+									  .v_end = d.end_ns,
+									  .can_id = can_id,
+									  .fd = fr.fd,
+									  .fd_flags = flags,
+									  .data = { fr.data, fr.len },
+									  .from = from,
+									  .note = notes });
 	}
 }
 

@@ -90,7 +90,12 @@ void I2cWire::answer(WirePort &port, int64_t v, const I2cResult &r, const std::v
 		std::vector<TraceI2cMessage> traced;
 		for (const I2cMessage &m : msgs)
 			traced.push_back({ m.addr, m.flags, m.data });
-		trace_->i2c_transfer(topic_, start, free_at_, r.error, traced, port.owner, r.note);
+		trace_->i2c_transfer(topic_, { .v_start = start,
+					       .v_end = free_at_,
+					       .result = r.error,
+					       .messages = traced,
+					       .from = port.owner,
+					       .note = r.note });
 	}
 	// (No chip answering is how a bus is scanned: not worth a word.)
 	if (!r.note.empty() && r.error != -ENXIO && ++notes_ <= kMaxNotes)

@@ -97,8 +97,10 @@ int64_t SerialWire::take(WirePort &port, uint32_t type, std::string_view payload
 	const int64_t start = std::max(v, to_servos_.idle_at());
 	const int64_t end = to_servos_.send(payload.size(), v);
 	if (trace_)
-		trace_->serial_bytes(topic_, start, end,
-				     { reinterpret_cast<const uint8_t *>(payload.data()), payload.size() }, port.owner, "");
+		trace_->serial_bytes(topic_, { .v_start = start,
+					       .v_end = end,
+					       .data = { reinterpret_cast<const uint8_t *>(payload.data()), payload.size() },
+					       .from = port.owner });
 	in_flight_.insert(in_flight_.end(), payload.begin(), payload.end());
 	return 0;
 }
@@ -118,7 +120,8 @@ void SerialWire::answer(std::vector<DxlReply> replies, int64_t end)
 		const int64_t start = std::max(t + r.delay_ns, to_controller_.idle_at());
 		t = to_controller_.send(r.bytes.size(), t + r.delay_ns);
 		if (trace_)
-			trace_->serial_bytes(topic_, start, t, r.bytes, "servo " + std::to_string(r.id), "");
+			trace_->serial_bytes(topic_, { .v_start = start, .v_end = t, .data = r.bytes,
+						       .from = "servo " + std::to_string(r.id) });
 		for (size_t i = 0; i < r.bytes.size(); i++) {
 			const int64_t due = to_controller_.arrival(first + i);
 			for (auto &wp : ports_)
@@ -150,7 +153,8 @@ void SerialWire::advance(int64_t t, const SimWorld *world)
 			for (const std::string &n : notes) {
 				note(n);
 				if (trace_) // (at the byte that ended the packet)
-					trace_->serial_bytes(topic_, at, at, {}, "servos", n);
+					trace_->serial_bytes(topic_,
+							     { .v_start = at, .v_end = at, .from = "servos", .note = n });
 			}
 			notes.clear();
 		}

@@ -267,6 +267,32 @@ void Trace::write_staged(const std::vector<char> &staged, size_t *at)
 		status_ = s;
 }
 
+Status Trace::open_wires(const std::vector<TraceWireTopic> &wires, int64_t realtime_origin_ns)
+{
+	wires_.clear();
+	uint16_t schemas[3] = {};
+	for (const TraceWireTopic &wire : wires) {
+		const WireSchema w = wire_schema(wire.kind);
+		uint16_t &schema = schemas[int(wire.kind)];
+		if (!schema) {
+			auto id = writer_->add_schema(w.name, "ros2msg", w.definition);
+			if (!id)
+				return id.error();
+			schema = *id;
+		}
+		// Its kind and name for readers (the candump export), and what a
+		// receiving socket's CLOCK_REALTIME stamps add to virtual times.
+		McapWriter::Metadata meta = { { "wire", w.kind },
+					      { "name", wire.name },
+					      { "realtime_origin_ns", std::to_string(realtime_origin_ns) } };
+		auto channel = writer_->add_channel("/tcs/wire/" + wire.name, "cdr", schema, meta);
+		if (!channel)
+			return channel.error();
+		wires_.push_back(*channel);
+	}
+	return Ok{};
+}
+
 void Trace::controller(int controller, const std::string &name, int pid, double cpu_scale, int mode,
 			int64_t step_ns)
 {
@@ -387,6 +413,24 @@ void Trace::journal(int controller, std::span<const tcs_journal_entry> entries)
 			at = j.value;
 	}
 	put(journal_, at, w.size()); // (logged at its last virtual time)
+}
+
+void Trace::can_frame(size_t wire, const TraceCanFrame &f)
+{
+	if (wire < wires_.size())
+		put(wires_[wire], f.v_end, encode_can_frame(buf_, f));
+}
+
+void Trace::serial_bytes(size_t wire, const TraceSerialBytes &b)
+{
+	if (wire < wires_.size())
+		put(wires_[wire], b.v_end, encode_serial_bytes(buf_, b));
+}
+
+void Trace::i2c_transfer(size_t wire, const TraceI2cTransfer &x)
+{
+	if (wire < wires_.size())
+		put(wires_[wire], x.v_end, encode_i2c_transfer(buf_, x));
 }
 
 } // namespace tcs

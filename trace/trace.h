@@ -9,7 +9,7 @@
 // simulation step: wall time, wall cost, joint states) and /clock (the
 // simulation clock, as ROS 2 publishes it); a record adds /tcs/record/run and
 // /tcs/record/journal (trace/record.h); each of the robot's wires has its own,
-// /tcs/wire/<name> (trace_wires.cc). Wall times count from the start of the
+// /tcs/wire/<name> (trace_wires.h). Wall times count from the start of the
 // run.
 #pragma once
 
@@ -26,6 +26,7 @@
 #include "error.h"
 #include "mcap_writer.h"
 #include "tcs/journal.h"
+#include "trace_wires.h"
 
 namespace tcs {
 
@@ -42,21 +43,6 @@ namespace tcs {
 struct TraceWriting {
 	bool by_caller = false;
 	int avoid_cpu = -1;
-};
-
-// One of the robot's wires (docs/DESIGN.md §9), a topic of its own:
-// /tcs/wire/<name>, name "can0", "dev/ttyUSB0", "dev/i2c-1".
-enum class TraceWireKind { can, serial, i2c };
-struct TraceWireTopic {
-	TraceWireKind kind;
-	std::string name;
-};
-
-// A message of an I2C transfer, as struct i2c_msg (a read's data: what was
-// read).
-struct TraceI2cMessage {
-	uint16_t addr = 0, flags = 0;
-	std::span<const uint8_t> data;
 };
 
 class Trace {
@@ -99,16 +85,10 @@ public:
 	void record_run(const std::string &json);
 	void journal(int controller, std::span<const tcs_journal_entry> entries);
 
-	// What went over wire (its index in open()'s list), from v_start (the
-	// first bit) to v_end (the last, when the receivers had it); from: who
-	// sent it; note: what a device made of it, when it refused it.
-	void can_frame(size_t wire, int64_t v_start, int64_t v_end, uint32_t can_id, bool fd, uint8_t fd_flags,
-		       std::span<const uint8_t> data, std::string_view from, std::string_view note);
-	void serial_bytes(size_t wire, int64_t v_start, int64_t v_end, std::span<const uint8_t> data,
-			  std::string_view from, std::string_view note);
-	// result: the transfer's (0 or a negative errno).
-	void i2c_transfer(size_t wire, int64_t v_start, int64_t v_end, int32_t result,
-			  std::span<const TraceI2cMessage> messages, std::string_view from, std::string_view note);
+	// What went over wire (its index in open()'s list).
+	void can_frame(size_t wire, const TraceCanFrame &f);
+	void serial_bytes(size_t wire, const TraceSerialBytes &b);
+	void i2c_transfer(size_t wire, const TraceI2cTransfer &x);
 
 private:
 	Status open_wires(const std::vector<TraceWireTopic> &wires, int64_t realtime_origin_ns);

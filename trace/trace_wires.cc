@@ -1,13 +1,13 @@
-// The trace's wire topics (docs/DESIGN.md §6, §9): a topic for each CAN
-// interface, serial line and I2C bus, each message one frame, run of bytes
-// or transfer with its virtual times on the wire, in CDR with ROS 2 message
-// definitions (so Foxglove and PlotJuggler decode them, and tcs-trace
-// exports a CAN bus as candump's log).
-#include "trace.h"
-
-#include "cdr_writer.h"
+// The trace's wire topics (docs/DESIGN.md §6, §9): their schemas, and each
+// message encoded: a topic for each CAN interface, serial line and I2C bus,
+// each message one frame, run of bytes or transfer with its virtual times
+// on the wire, in CDR with ROS 2 message definitions (so Foxglove and
+// PlotJuggler decode them, and tcs-trace exports a CAN bus as candump's log).
+#include "trace_wires.h"
 
 #include <cstring>
+
+#include "cdr_writer.h"
 
 namespace tcs {
 
@@ -56,83 +56,61 @@ void put_bytes(CdrWriter &w, std::span<const uint8_t> data)
 
 } // namespace
 
-Status Trace::open_wires(const std::vector<TraceWireTopic> &wires, int64_t realtime_origin_ns)
+WireSchema wire_schema(TraceWireKind kind)
 {
-	wires_.clear();
-	uint16_t schemas[3] = {};
-	for (const TraceWireTopic &wire : wires) {
-		const int k = int(wire.kind);
-		if (!schemas[k]) {
-			static const char *const names[] = { "tcs_msgs/msg/CanFrame", "tcs_msgs/msg/SerialBytes",
-							     "tcs_msgs/msg/I2cTransfer" };
-			static const char *const texts[] = { kCanFrameSchema, kSerialSchema, kI2cSchema };
-			auto schema = writer_->add_schema(names[k], "ros2msg", texts[k]);
-			if (!schema)
-				return schema.error();
-			schemas[k] = *schema;
-		}
-		static const char *const kinds[] = { "can", "serial", "i2c" };
-		McapWriter::Metadata meta = { { "wire", kinds[k] },
-					      { "name", wire.name },
-					      { "realtime_origin_ns", std::to_string(realtime_origin_ns) } };
-		auto channel = writer_->add_channel("/tcs/wire/" + wire.name, "cdr", schemas[k], meta);
-		if (!channel)
-			return channel.error();
-		wires_.push_back(*channel);
+	switch (kind) {
+	case TraceWireKind::can:
+		return { "tcs_msgs/msg/CanFrame", kCanFrameSchema, "can" };
+	case TraceWireKind::serial:
+		return { "tcs_msgs/msg/SerialBytes", kSerialSchema, "serial" };
+	case TraceWireKind::i2c:
+		break;
 	}
-	return Ok{};
+	return { "tcs_msgs/msg/I2cTransfer", kI2cSchema, "i2c" };
 }
 
-void Trace::can_frame(size_t wire, int64_t v_start, int64_t v_end, uint32_t can_id, bool fd, uint8_t fd_flags,
-		      std::span<const uint8_t> data, std::string_view from, std::string_view note)
+size_t encode_can_frame(std::string &buf, const TraceCanFrame &f)
 {
-	if (wire >= wires_.size())
-		return;
-	CdrWriter w(buf_);
-	const int64_t f[] = { v_start, v_end };
-	std::memcpy(w.place(sizeof f, 8), f, sizeof f);
-	w.put<uint32_t>(can_id);
-	w.put<uint8_t>(uint8_t(data.size()));
-	w.put_bool(fd);
-	w.put<uint8_t>(fd_flags);
-	put_bytes(w, (can_id & 0x40000000u) && !fd ? std::span<const uint8_t>() : data);
-	w.put_string(from);
-	w.put_string(note);
-	put(wires_[wire], v_end, w.size());
+	CdrWriter w(buf);
+	const int64_t t[] = { f.v_start, f.v_end };
+	std::memcpy(w.place(sizeof t, 8), t, sizeof t);
+	w.put<uint32_t>(f.can_id);
+	w.put<uint8_t>(uint8_t(f.data.size()));
+	w.put_bool(f.fd);
+	w.put<uint8_t>(f.fd_flags);
+	// (A remote frame's length is what it asks for: it carries no data.)
+	put_bytes(w, (f.can_id & 0x40000000u) && !f.fd ? std::span<const uint8_t>() : f.data);
+	w.put_string(f.from);
+	w.put_string(f.note);
+	return w.size();
 }
 
-void Trace::serial_bytes(size_t wire, int64_t v_start, int64_t v_end, std::span<const uint8_t> data,
-			 std::string_view from, std::string_view note)
+size_t encode_serial_bytes(std::string &buf, const TraceSerialBytes &b)
 {
-	if (wire >= wires_.size())
-		return;
-	CdrWriter w(buf_);
-	const int64_t f[] = { v_start, v_end };
-	std::memcpy(w.place(sizeof f, 8), f, sizeof f);
-	put_bytes(w, data);
-	w.put_string(from);
-	w.put_string(note);
-	put(wires_[wire], v_end, w.size());
+	CdrWriter w(buf);
+	const int64_t t[] = { b.v_start, b.v_end };
+	std::memcpy(w.place(sizeof t, 8), t, sizeof t);
+	put_bytes(w, b.data);
+	w.put_string(b.from);
+	w.put_string(b.note);
+	return w.size();
 }
 
-void Trace::i2c_transfer(size_t wire, int64_t v_start, int64_t v_end, int32_t result,
-			 std::span<const TraceI2cMessage> messages, std::string_view from, std::string_view note)
+size_t encode_i2c_transfer(std::string &buf, const TraceI2cTransfer &x)
 {
-	if (wire >= wires_.size())
-		return;
-	CdrWriter w(buf_);
-	const int64_t f[] = { v_start, v_end };
-	std::memcpy(w.place(sizeof f, 8), f, sizeof f);
-	w.put<int32_t>(result);
-	w.put_count(messages.size());
-	for (const TraceI2cMessage &m : messages) {
+	CdrWriter w(buf);
+	const int64_t t[] = { x.v_start, x.v_end };
+	std::memcpy(w.place(sizeof t, 8), t, sizeof t);
+	w.put<int32_t>(x.result);
+	w.put_count(x.messages.size());
+	for (const TraceI2cMessage &m : x.messages) {
 		w.put<uint16_t>(m.addr);
 		w.put<uint16_t>(m.flags);
 		put_bytes(w, m.data);
 	}
-	w.put_string(from);
-	w.put_string(note);
-	put(wires_[wire], v_end, w.size());
+	w.put_string(x.from);
+	w.put_string(x.note);
+	return w.size();
 }
 
 } // namespace tcs

@@ -204,7 +204,10 @@ std::string tcs_trace(bool record)
 {
 	return tcs_fuzz::written_file([&](const std::string &path) {
 		tcs::Trace t;
-		if (!t.open(path, tcs::TraceWriting{ .by_caller = true }, record).ok())
+		const std::vector<tcs::TraceWireTopic> wires = { { tcs::TraceWireKind::can, "can0" },
+								 { tcs::TraceWireKind::serial, "dev/ttyUSB0" },
+								 { tcs::TraceWireKind::i2c, "dev/i2c-1" } };
+		if (!t.open(path, tcs::TraceWriting{ .by_caller = true }, record, wires, 1700000000000000000).ok())
 			return;
 		static const std::string name = "pd \"ctl\"", torque = "/dev/tcs/p/torque";
 		t.controller(1, name, 42, 1.5, 0, 1000000);
@@ -216,6 +219,15 @@ std::string tcs_trace(bool record)
 			t.command(1, torque, v + 800, std::vector<double>{ 0.5 * i, -1e300 }, i == 2);
 			t.step(v + 1000000, v / 40, 7000, std::vector<double>{ 3.1 - 0.01 * i, 0.2 });
 		}
+		static const uint8_t bytes[] = { 0xff, 0xff, 0xfd, 0x00, 0x01, 0x03, 0x00, 0x01, 0x19, 0x4e };
+		t.can_frame(0, { 10, 91, 0x123, false, 0, std::span(bytes, 4), "cansend", "" });
+		t.can_frame(0, { 91, 160, 0x80000042 | 0x40000000, false, 0, std::span(bytes, 3), "motor 1", "a remote frame" });
+		t.can_frame(0, { 160, 200, 0x7ff, true, 1, std::span(bytes, 10), name, "" });
+		t.serial_bytes(1, { 0, 1736, bytes, name, "" });
+		t.serial_bytes(1, { 1736, 1736, {}, "servos", "its CRC does not match" });
+		const tcs::TraceI2cMessage msgs[] = { { 0x68, 0, std::span(bytes, 1) }, { 0x68, 1, std::span(bytes + 1, 6) } };
+		t.i2c_transfer(2, { 0, 97500, 0, msgs, name, "" });
+		t.i2c_transfer(2, { 97500, 125000, -6, std::span(msgs, 1), name, "no chip at 0x68" });
 		t.journal(1, std::vector<tcs_journal_entry>{ { 100, 0, 1, 0, 0 }, { 900, 0, 4, 7, 0 }, { 1000900, 12, 5, 3, 0 } });
 		(void)t.close();
 	});

@@ -8,6 +8,7 @@ import csv
 import ctypes
 import io
 import itertools
+import json
 import os
 import re
 import signal
@@ -195,6 +196,19 @@ def trace_rows(path, topic):
     e = run([TCS_TRACE, "export", path, "--format", "csv", "--topic", topic])
     check(e.returncode == 0, "tcs-trace export %s" % topic, e)
     return list(csv.DictReader(io.StringIO(e.stdout)))
+
+
+MCAP_CHECK = os.environ.get("TCS_MCAP_CHECK", "tests/mcap/check.mjs")
+
+
+def read_trace(path, complete=True):
+    """A trace as the ecosystem's reference readers read it (tests/mcap/
+    check.mjs: @mcap/core, every message decoded as Foxglove decodes it):
+    its {messages, channels, schemas, topics: {topic: count}, truncated}.
+    complete: the file must have its footer."""
+    r = run(["node", MCAP_CHECK] + (["--complete"] if complete else []) + [path], timeout=120)
+    check(r.returncode == 0, "the official MCAP reader reads %s" % path, r)
+    return json.loads(r.stdout.strip().splitlines()[-1])
 
 
 def check(cond, what, result=None):

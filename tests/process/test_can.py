@@ -14,7 +14,7 @@ import shutil
 import struct
 import tempfile
 
-from harness import TCS_TRACE, check, main, run, scenario_file, skip, tcs, trace_rows
+from harness import TCS_TRACE, check, main, read_trace, run, scenario_file, skip, tcs, trace_rows
 
 BUS = """\
 [sim]
@@ -253,6 +253,8 @@ def test_the_trace_holds_each_frame_and_exports_the_bus_as_candump_logs_it():
         one = run([TCS_TRACE, "export", trace, "--format", "candump", "--topic", "/tcs/wire/can0"])
         none = run([TCS_TRACE, "export", trace, "--format", "candump", "--topic", "/tcs/wire/can9"])
         rows = trace_rows(trace, "/tcs/wire/can0")
+        official = read_trace(trace)
+    check(official["topics"].get("/tcs/wire/can0") == 4, "Foxglove's readers decode the bus's 4 frames", official)
     check(e.returncode == 0 and e.stdout == r.stdout and len(r.stdout.splitlines()) == 4,
           "the export is what candump -L printed, line for line:\n%s\n%s" % (r.stdout, e.stdout), e)
     check(one.stdout == e.stdout, "--topic of the one bus: the same", one)
@@ -317,6 +319,7 @@ def test_fd_frames_timestamps_and_the_interface_ioctls():
                 timeout=60)
         check(r.returncode == 0, "the program ends", r)
         rows = trace_rows(trace, "/tcs/wire/can1")
+        check(read_trace(trace)["topics"].get("/tcs/wire/can1") == 2, "Foxglove's readers decode the FD frame too")
     v = {f[0]: f[1:] for f in (line.split() for line in r.stdout.splitlines()) if f[0] != "frame"}
     frames = [f[1:] for f in (line.split() for line in r.stdout.splitlines()) if f[0] == "frame"]
     check(v["name"] == ["can1"] and v["mtu"] == ["72"], "SIOCGIFNAME of SIOCGIFINDEX's index; an FD interface's MTU", r)

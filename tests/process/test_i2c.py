@@ -9,7 +9,7 @@ import os
 import shutil
 import tempfile
 
-from harness import check, main, scenario_file, skip, tcs, trace_rows
+from harness import check, main, read_trace, scenario_file, skip, tcs, trace_rows
 
 EXAMPLES = os.environ.get("TCS_EXAMPLES", "examples")
 
@@ -78,6 +78,7 @@ def test_the_trace_holds_each_transfer_with_its_bits_time():
                 "i2cget -y 1 0x68 0x75; i2cget -y 1 0x50 0x00", timeout=60)
         check(r.returncode != 0 and "0x68" in r.stdout, "WHO_AM_I read, then nothing at 0x50", r)
         rows = trace_rows(trace, "/tcs/wire/dev/i2c-1")
+        check(read_trace(trace)["topics"].get("/tcs/wire/dev/i2c-1") == len(rows), "Foxglove's readers decode them")
     check(len(rows) == 2 and all(x["from"] == "i2cget" for x in rows), "two transfers by i2cget", rows)
     who, none = rows
     # SMBus read byte data: START, 0x68 W, 0x75, repeated START, 0x68 R,

@@ -12,7 +12,7 @@ import os
 import re
 import tempfile
 
-from harness import AHEAD, PYTHON, check, main, scenario_file, tcs, trace_rows
+from harness import AHEAD, PYTHON, check, main, read_trace, scenario_file, tcs, trace_rows
 
 PROBE = os.path.join(os.environ.get("TCS_PROGRAMS_SRC", "."), "dxl_probe.py")
 TTY = "/dev/ttyUSB0"
@@ -104,6 +104,7 @@ def test_the_trace_holds_the_line_s_bytes_with_their_times():
         trace = os.path.join(tmp, "serial.mcap")
         probe("lockstep", baud, "faults", options=("-t", trace))
         rows = trace_rows(trace, "/tcs/wire/dev/ttyUSB0")
+        check(read_trace(trace)["topics"].get("/tcs/wire/dev/ttyUSB0") == len(rows), "Foxglove's readers decode them")
     sent = [x for x in rows if x["from"] != "servos"]
     first, reply = sent[0], sent[1]
     count = lambda x: len([k for k in x if k.startswith("data[") and x[k] != ""])

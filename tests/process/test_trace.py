@@ -7,20 +7,12 @@ import json
 import os
 import signal
 import struct
-import subprocess
 import time
 
-from harness import TCS_RUN, TCS_TRACE, assert_nothing_left, check, main, run, session_processes, start, tcs
+from harness import (TCS_RUN, TCS_TRACE, assert_nothing_left, check, main, read_trace, run, session_processes,
+                     start, tcs)
 
 PD = os.path.join(os.environ.get("TCS_EXAMPLES", "."), "pendulum_pd")
-CHECK = os.environ.get("TCS_MCAP_CHECK", "tests/mcap/check.mjs")
-
-
-def read_trace(path, complete=True):
-    args = ["node", CHECK] + (["--complete"] if complete else []) + [path]
-    r = subprocess.run(args, capture_output=True, text=True, timeout=120)
-    check(r.returncode == 0, "the official MCAP reader reads %s: %s%s" % (path, r.stdout, r.stderr))
-    return json.loads(r.stdout.strip().splitlines()[-1])
 
 
 def test_trace_of_a_pendulum_run():

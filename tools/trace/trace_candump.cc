@@ -4,7 +4,7 @@
 // "(SECONDS.MICROSECONDS) IFACE ID#DATA", stamped as a receiving socket's
 // SO_TIMESTAMP is under tcs-run (the run's CLOCK_REALTIME origin plus the
 // frame's end on the wire).
-#include "trace_export.h"
+#include "trace_candump.h"
 
 #include <algorithm>
 #include <cinttypes>

@@ -10,6 +10,7 @@
 
 #include "json.h"
 #include "message_decode.h"
+#include "trace_candump.h"
 #include "trace_data.h"
 
 namespace tcs {

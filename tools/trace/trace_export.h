@@ -16,8 +16,5 @@ enum class ExportFormat { Csv, Json, Chrome, Candump };
 
 // topic: only that topic's messages ("" for all; CSV needs one). Writes to out.
 Status export_trace(const std::string &path, ExportFormat format, const std::string &topic, FILE *out);
-// The CAN frames of topic (a /tcs/wire/ topic of a CAN interface; "" for
-// every one), one candump log line each, in time order.
-Status export_candump(const std::string &path, const std::string &topic, FILE *out);
 
 } // namespace tcs
