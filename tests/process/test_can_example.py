@@ -6,8 +6,9 @@ loop cannot afford, the pendulum falls in cpu mode, as it would on the
 robot, while lockstep reports success for the same program and work."""
 
 import os
+import tempfile
 
-from harness import check, main, run_balancer
+from harness import check, main, run_balancer, tcs
 
 EXAMPLES = os.environ.get("TCS_EXAMPLES", "examples")
 SCENARIO = os.path.join(os.environ.get("TCS_EXAMPLES_SRC", "examples"), "can_motor", "pendulum.toml")
@@ -58,6 +59,22 @@ def test_an_overloaded_loop_falls_in_cpu_mode_but_lockstep_says_fine():
     v, r = run("lockstep", *OVERLOAD, options=TARGET)
     check(v["balanced"] == "1" and (v["cycles"], v["misses"]) == ("1500", "0"),
           "lockstep: 1500 cycles at 500 Hz, no miss, balanced: success reported", r)
+
+
+def test_the_overloaded_run_on_the_bus_replays_as_recorded():
+    """A record of the falling cpu-mode run, replayed: its charges and clock
+    reads taken from the record, the bus and the motor answer as they did,
+    and the program prints the same figures and verdict."""
+    with tempfile.TemporaryDirectory() as tmp:
+        record = os.path.join(tmp, "fall.mcap")
+        v, r = run("cpu", *OVERLOAD, options=TARGET + ("--record", record))
+        check(v["balanced"] == "0", "recorded: it falls", r)
+        again = tcs("-m", "cpu", *TARGET, "--replay", record, "-w", SCENARIO, "--", CONTROLLER, *OVERLOAD,
+                    timeout=120)
+    check(again.returncode == 0 and again.stdout == r.stdout,
+          "the replay prints what the recorded run printed:\n%s\n%s" % (r.stdout, again.stdout), again)
+    check("depart" not in again.stderr, "and never departs from the record", again)
+    print("  replayed: %s" % again.stdout.splitlines()[-1])
 
 
 def test_the_drive_own_pd_holds_whatever_the_loop():
