@@ -254,6 +254,7 @@ def test_the_trace_holds_each_frame_and_exports_the_bus_as_candump_logs_it():
         none = run([TCS_TRACE, "export", trace, "--format", "candump", "--topic", "/tcs/wire/can9"])
         rows = trace_rows(trace, "/tcs/wire/can0")
         official = read_trace(trace)
+        summary = run([TCS_TRACE, "summary", trace])
     check(official["topics"].get("/tcs/wire/can0") == 4, "Foxglove's readers decode the bus's 4 frames", official)
     check(e.returncode == 0 and e.stdout == r.stdout and len(r.stdout.splitlines()) == 4,
           "the export is what candump -L printed, line for line:\n%s\n%s" % (r.stdout, e.stdout), e)
@@ -268,6 +269,9 @@ def test_the_trace_holds_each_frame_and_exports_the_bus_as_candump_logs_it():
         data = bytes(int(x["data[%d]" % i]) for i in range(int(x["len"])))
         bits = frame_bits(int(x["can_id"]), data)
         check(int(x["v_end_ns"]) - int(x["v_start_ns"]) == bits * 1000, "%s lasts its %d bits" % (x, bits))
+    busy = sum(int(x["v_end_ns"]) - int(x["v_start_ns"]) for x in rows)
+    check("  can0: 4 frames, 16 bytes; busy " in summary.stdout and "; 1 refused by a device" in summary.stdout,
+          "tcs-trace summary counts the bus's frames, their data and the refusal (%d ns busy)" % busy, summary)
     print("  candump -L and tcs-trace export --format candump: the same %d lines" % len(rows))
 
 

@@ -5,11 +5,13 @@ i2c-dev's read and write, and by the IMU reader of examples/imu. Transfers
 take their bits' time at the bus clock (exact in lockstep), and the chip
 reads what the link feels."""
 
+import json
 import os
 import shutil
 import tempfile
 
-from harness import check, main, read_trace, scenario_file, skip, tcs, trace_rows
+from harness import TCS_TRACE, check, main, read_trace, scenario_file, skip, tcs, trace_rows
+from harness import run as run_tool
 
 EXAMPLES = os.environ.get("TCS_EXAMPLES", "examples")
 
@@ -78,6 +80,7 @@ def test_the_trace_holds_each_transfer_with_its_bits_time():
                 "i2cget -y 1 0x68 0x75; i2cget -y 1 0x50 0x00", timeout=60)
         check(r.returncode != 0 and "0x68" in r.stdout, "WHO_AM_I read, then nothing at 0x50", r)
         rows = trace_rows(trace, "/tcs/wire/dev/i2c-1")
+        summary = json.loads(run_tool([TCS_TRACE, "summary", "--json", trace]).stdout)
         check(read_trace(trace)["topics"].get("/tcs/wire/dev/i2c-1") == len(rows), "Foxglove's readers decode them")
     check(len(rows) == 2 and all(x["from"] == "i2cget" for x in rows), "two transfers by i2cget", rows)
     who, none = rows
@@ -90,6 +93,9 @@ def test_the_trace_holds_each_transfer_with_its_bits_time():
     check(int(who["v_end_ns"]) - int(who["v_start_ns"]) == 39 * 2500, "39 bits at 400 kHz", who)
     check(none["result"] == "-6" and "no chip at 0x50" in none["note"] and
           int(none["v_end_ns"]) - int(none["v_start_ns"]) == 11 * 2500, "ENXIO after 11 bits, and why", none)
+    wire = summary["wires"][0]
+    check((wire["name"], wire["messages"], wire["bytes"], wire["busy_ns"], wire["refused"]) ==
+          ("dev/i2c-1", 2, 4, 50 * 2500, 1), "summary --json: 2 transfers, 4 bytes, 50 bits, 1 failed: %s" % wire)
     print("  i2cget: 39 bits, 97.5 µs; no chip at 0x50: ENXIO after 11 bits, in the trace")
 
 

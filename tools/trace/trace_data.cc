@@ -184,6 +184,36 @@ Status parse_message(TraceData &t, std::string_view topic, const JsonValue &msg)
 	return Ok{};
 }
 
+// A message of a wire's topic: counted into its TraceWire.
+Status count_wire(TraceWire &w, const JsonValue &msg)
+{
+	Fields f(msg);
+	const int64_t start = f.integer("v_start_ns"), end = f.integer("v_end_ns");
+	const std::string from = f.string("from"), note = f.string("note");
+	uint64_t bytes = 0;
+	bool failed = false;
+	if (w.kind == "i2c") {
+		failed = f.integer("result") < 0;
+		for (const JsonValue &m : f.member("messages", JsonValue::Type::Array, "an array").array)
+			if (const JsonValue *d = m.get("data"); d && d->type == JsonValue::Type::Array)
+				bytes += d->array.size();
+	} else {
+		bytes = f.member("data", JsonValue::Type::Array, "an array").array.size();
+	}
+	if (!f.problem().empty())
+		return Error{ f.problem() };
+	if (end < start)
+		return Error{ "it ends before it starts" };
+	if (!note.empty() || failed)
+		w.refused++;
+	if (w.kind == "serial" && bytes == 0)
+		return Ok{}; // (a note alone)
+	w.messages++;
+	w.bytes += bytes;
+	(w.kind == "serial" && from.rfind("servo ", 0) == 0 ? w.busy_back_ns : w.busy_ns) += end - start;
+	return Ok{};
+}
+
 } // namespace
 
 const TraceController *TraceData::controller(int id) const
@@ -236,6 +266,21 @@ Result<TraceData> load_trace(const std::string &path)
 				return Error{ where() + v.error().message };
 			if (v->type != JsonValue::Type::Object)
 				return Error{ where() + "not a JSON object" };
+			if (auto kind = m.channel->metadata.find("wire"); kind != m.channel->metadata.end()) {
+				auto w = std::find_if(t.wires.begin(), t.wires.end(),
+						      [&](const TraceWire &x) { return x.topic == topic; });
+				if (w == t.wires.end()) {
+					auto name = m.channel->metadata.find("name");
+					t.wires.push_back(TraceWire{ .topic = topic,
+								     .kind = kind->second,
+								     .name = name != m.channel->metadata.end() ? name->second
+													: topic });
+					w = t.wires.end() - 1;
+				}
+				if (auto st = count_wire(*w, *v); !st)
+					return Error{ where() + st.error().message };
+				return Ok{};
+			}
 			if (auto st = parse_message(t, topic, *v); !st)
 				return Error{ where() + st.error().message };
 			return Ok{};

@@ -57,6 +57,16 @@ struct TraceStep {
 	std::vector<double> joints; // in the order of TraceData::joint_names
 };
 
+// What went over one of the robot's wires (a /tcs/wire/ topic), counted.
+struct TraceWire {
+	std::string topic, kind, name; // kind: "can", "serial" or "i2c"
+	uint64_t messages = 0;         // frames, runs of bytes or transfers (notes alone not counted)
+	uint64_t bytes = 0;            // their data
+	int64_t busy_ns = 0;           // their time on the wire (serial: the controller's way)
+	int64_t busy_back_ns = 0;      // serial: the devices' way
+	uint64_t refused = 0;          // what a device refused (a note), or a transfer that failed
+};
+
 struct TraceData {
 	std::string path;
 	bool truncated = false; // the run did not close it (killed)
@@ -67,6 +77,7 @@ struct TraceData {
 	std::vector<TraceCommand> commands;
 	std::vector<TraceStep> steps;
 	std::vector<std::string> joint_names;
+	std::vector<TraceWire> wires; // in the order their first message came
 
 	const TraceController *controller(int id) const;
 	// The run's extent: the latest virtual and wall time any record shows.

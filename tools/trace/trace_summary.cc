@@ -149,6 +149,7 @@ RunSummary summarize(const TraceData &t)
 		cpu += (double)s.cpu_ns;
 		real_charged += (double)s.charged_ns / (c.cpu_scale > 0 ? c.cpu_scale : 1);
 	}
+	r.wires = t.wires;
 	r.timing_error = charged > 0 ? err / charged : 0;
 	r.uncharged = cpu > 0 ? std::max(0.0, cpu - real_charged) / cpu : 0;
 	return r;
@@ -203,6 +204,23 @@ std::string summary_text(const RunSummary &r)
 			o += c.misses ? "  verdict: MISSED " + std::to_string(c.misses) + " of " + std::to_string(c.cycles) +
 						" deadlines\n"
 				      : "  verdict: kept every deadline\n";
+	}
+	if (!r.wires.empty())
+		o += "wires:\n";
+	for (const TraceWire &w : r.wires) {
+		auto busy = [&](int64_t ns) {
+			return r.virtual_ns > 0 ? format_number("%.2f %%", 100.0 * (double)ns / (double)r.virtual_ns)
+						: std::string("-");
+		};
+		const bool serial = w.kind == "serial", i2c = w.kind == "i2c";
+		o += "  " + w.name + ": " + std::to_string(w.messages) +
+		     (serial ? " runs of bytes" : i2c ? " transfers" : " frames") + ", " + std::to_string(w.bytes) +
+		     " bytes; busy " + busy(w.busy_ns) + (serial ? " of the run to the devices, " + busy(w.busy_back_ns) +
+							   " back"
+							 : " of the run");
+		if (w.refused)
+			o += "; " + std::to_string(w.refused) + (i2c ? " failed" : " refused by a device");
+		o += "\n";
 	}
 	return o;
 }
@@ -262,6 +280,27 @@ std::string summary_json(const RunSummary &r)
 		json_field(o, "start_ns", (double)c.start_ns);
 		o += ',';
 		json_field(o, "malformed_commands", (double)c.malformed_commands);
+		o += '}';
+	}
+	o += "],\"wires\":[";
+	for (size_t k = 0; k < r.wires.size(); k++) {
+		const TraceWire &w = r.wires[k];
+		o += k ? ",{\"topic\":" : "{\"topic\":";
+		json_append_string(o, w.topic);
+		o += ",\"kind\":";
+		json_append_string(o, w.kind);
+		o += ",\"name\":";
+		json_append_string(o, w.name);
+		o += ',';
+		json_field(o, "messages", (double)w.messages);
+		o += ',';
+		json_field(o, "bytes", (double)w.bytes);
+		o += ',';
+		json_field(o, "busy_ns", (double)w.busy_ns);
+		o += ',';
+		json_field(o, "busy_back_ns", (double)w.busy_back_ns);
+		o += ',';
+		json_field(o, "refused", (double)w.refused);
 		o += '}';
 	}
 	o += "]}\n";

@@ -45,6 +45,7 @@ struct RunSummary {
 	uint64_t steps = 0;
 	Spread step_cost;
 	std::vector<ControllerSummary> controllers;
+	std::vector<TraceWire> wires;
 	// Σ|virtual time that passed while computing − CPU charged| / Σ charged,
 	// over all controllers: 0 when computation costs exactly its CPU, 1
 	// when it is free (lockstep).
