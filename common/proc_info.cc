@@ -158,6 +158,44 @@ bool proc_all_threads_stopped(pid_t pid)
 	return stopped;
 }
 
+namespace {
+
+// Whether sig is in the hexadecimal signal mask after "key:\t" in status.
+bool in_mask(const std::string &status, const char *key, int sig)
+{
+	size_t at = status.find(std::string("\n") + key + ":");
+	if (at == std::string::npos)
+		return false;
+	const unsigned long long mask = strtoull(status.c_str() + at + strlen(key) + 2, nullptr, 16);
+	return sig >= 1 && sig <= 64 && ((mask >> (sig - 1)) & 1);
+}
+
+} // namespace
+
+bool proc_signal_kills(pid_t pid, int sig)
+{
+	const std::string status = proc_text("/proc/" + std::to_string(pid) + "/status");
+	if (status.empty() || in_mask(status, "SigCgt", sig) || in_mask(status, "SigIgn", sig))
+		return false;
+	bool unblocked = false;
+	for_each_task(pid, [&](int dir, const char *tid) {
+		char path[NAME_MAX + 8];
+		snprintf(path, sizeof path, "%s/status", tid);
+		int fd = openat(dir, path, O_RDONLY | O_CLOEXEC);
+		if (fd < 0)
+			return true;
+		std::string text(4096, '\0');
+		ssize_t n = read(fd, text.data(), text.size());
+		close(fd);
+		if (n <= 0)
+			return true;
+		text.resize((size_t)n);
+		unblocked = text.find("\nState:\tZ") == std::string::npos && !in_mask(text, "SigBlk", sig);
+		return !unblocked;
+	});
+	return unblocked;
+}
+
 std::vector<pid_t> proc_children(pid_t pid)
 {
 	std::vector<pid_t> out;

@@ -42,6 +42,11 @@ bool proc_maps_library(pid_t pid, const char *name);
 // until its environment can be read.
 enum class WillLoad { Yes, No, Unknown };
 WillLoad proc_will_load(pid_t pid, const char *name);
+// Whether signal sig sent to pid now would end it by its default action
+// (as SIGTERM ends a program that set nothing for it): pid neither catches
+// nor ignores it, and some live thread does not block it. False if it is
+// gone or cannot be read.
+bool proc_signal_kills(pid_t pid, int sig);
 // The children of pid (of all its threads), from /proc.
 std::vector<pid_t> proc_children(pid_t pid);
 

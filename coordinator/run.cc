@@ -169,10 +169,13 @@ void begin_end(Run &run, EndReason reason, int signo)
 		run.lanes.leave(c);
 	});
 	// Let every controller act on SIGTERM: running, with its waits answered
-	// at once, then SIGKILL after the grace period.
+	// at once, then SIGKILL after the grace period. One that SIGTERM simply
+	// ends is not woken: it would run on, until the signal landed, past a
+	// wait the run did not end (a read "timed out", a loop's extra cycle).
 	for (auto &c : run.ctls) {
 		if (c->state == CtlState::Exited)
 			continue;
+		const bool dies = proc_signal_kills(c->pid, SIGTERM);
 		kill(c->pid, SIGTERM);
 		if (c->state == CtlState::Blocked) {
 			// It waited through to the end: that is where it stands now,
@@ -184,11 +187,13 @@ void begin_end(Run &run, EndReason reason, int signo)
 			c->publish_slice(c->cpu_at_end >= 0 ? c->cpu_at_end : c->cpu_now());
 			c->cpu_at_end = -1;
 		}
-		if (c->sync)
-			complete_sync(run, *c); // the world has stopped: a read gets its last state
-		if (c->wake_pending)
-			send_wake(run, *c);
-		end_all_side_waits(run, *c);
+		if (!dies) {
+			if (c->sync)
+				complete_sync(run, *c); // the world has stopped: a read gets its last state
+			if (c->wake_pending)
+				send_wake(run, *c);
+			end_all_side_waits(run, *c);
+		}
 		if (c->stopped) {
 			kill(c->pid, SIGCONT);
 			c->stopped = false;

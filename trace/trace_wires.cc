@@ -48,6 +48,13 @@ uint16 flags
 uint8[] data
 )";
 
+// A wire message's first fields: its times on the wire.
+void put_times(CdrWriter &w, int64_t v_start, int64_t v_end)
+{
+	const int64_t t[] = { v_start, v_end };
+	std::memcpy(w.place(sizeof t, 8), t, sizeof t);
+}
+
 void put_bytes(CdrWriter &w, std::span<const uint8_t> data)
 {
 	w.put_count(data.size());
@@ -72,8 +79,7 @@ WireSchema wire_schema(TraceWireKind kind)
 size_t encode_can_frame(std::string &buf, const TraceCanFrame &f)
 {
 	CdrWriter w(buf);
-	const int64_t t[] = { f.v_start, f.v_end };
-	std::memcpy(w.place(sizeof t, 8), t, sizeof t);
+	put_times(w, f.v_start, f.v_end);
 	w.put<uint32_t>(f.can_id);
 	w.put<uint8_t>(uint8_t(f.data.size()));
 	w.put_bool(f.fd);
@@ -88,8 +94,7 @@ size_t encode_can_frame(std::string &buf, const TraceCanFrame &f)
 size_t encode_serial_bytes(std::string &buf, const TraceSerialBytes &b)
 {
 	CdrWriter w(buf);
-	const int64_t t[] = { b.v_start, b.v_end };
-	std::memcpy(w.place(sizeof t, 8), t, sizeof t);
+	put_times(w, b.v_start, b.v_end);
 	put_bytes(w, b.data);
 	w.put_string(b.from);
 	w.put_string(b.note);
@@ -99,8 +104,7 @@ size_t encode_serial_bytes(std::string &buf, const TraceSerialBytes &b)
 size_t encode_i2c_transfer(std::string &buf, const TraceI2cTransfer &x)
 {
 	CdrWriter w(buf);
-	const int64_t t[] = { x.v_start, x.v_end };
-	std::memcpy(w.place(sizeof t, 8), t, sizeof t);
+	put_times(w, x.v_start, x.v_end);
 	w.put<int32_t>(x.result);
 	w.put_count(x.messages.size());
 	for (const TraceI2cMessage &m : x.messages) {

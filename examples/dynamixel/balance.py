@@ -251,6 +251,9 @@ def main():
         bus_ms = servo.bus_ns / 1e6 / max(cycles, 1)
         servo.write(TORQUE_ENABLE, 0, 1)
     except BusError as e:
+        if stop:  # (stopped mid-transaction: under tcs-run -d the bus ends with the run)
+            print("balance.py: stopped after %d cycles" % cycles, file=sys.stderr)
+            return 0
         print("balance.py: %s" % e, file=sys.stderr)
         return 1
     rate = cycles / elapsed if elapsed > 0 else 0.0

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 
 #include "cli_time.h"
 #include "json.h"
@@ -107,6 +108,15 @@ void json_field(std::string &o, const char *key, double v)
 	else
 		snprintf(buf, sizeof buf, "\"%s\":null", key);
 	o += buf;
+}
+
+// ",key":value for each, as json_field writes them.
+void json_fields(std::string &o, std::initializer_list<std::pair<const char *, double>> fields)
+{
+	for (const auto &[key, v] : fields) {
+		o += ',';
+		json_field(o, key, v);
+	}
 }
 
 } // namespace
@@ -270,16 +280,11 @@ std::string summary_json(const RunSummary &r)
 		json_field(o, "preemptions", (double)c.preemptions);
 		o += ',';
 		json_spread(o, "overshoot", c.overshoot);
-		o += ',';
-		json_field(o, "charged_cpu_ns", (double)c.charged_ns);
-		o += ',';
-		json_field(o, "used_cpu_ns", (double)c.cpu_ns);
-		o += ',';
-		json_field(o, "span_ns", (double)c.span_ns);
-		o += ',';
-		json_field(o, "start_ns", (double)c.start_ns);
-		o += ',';
-		json_field(o, "malformed_commands", (double)c.malformed_commands);
+		json_fields(o, { { "charged_cpu_ns", (double)c.charged_ns },
+				 { "used_cpu_ns", (double)c.cpu_ns },
+				 { "span_ns", (double)c.span_ns },
+				 { "start_ns", (double)c.start_ns },
+				 { "malformed_commands", (double)c.malformed_commands } });
 		o += '}';
 	}
 	o += "],\"wires\":[";
@@ -291,16 +296,11 @@ std::string summary_json(const RunSummary &r)
 		json_append_string(o, w.kind);
 		o += ",\"name\":";
 		json_append_string(o, w.name);
-		o += ',';
-		json_field(o, "messages", (double)w.messages);
-		o += ',';
-		json_field(o, "bytes", (double)w.bytes);
-		o += ',';
-		json_field(o, "busy_ns", (double)w.busy_ns);
-		o += ',';
-		json_field(o, "busy_back_ns", (double)w.busy_back_ns);
-		o += ',';
-		json_field(o, "refused", (double)w.refused);
+		json_fields(o, { { "messages", (double)w.messages },
+				 { "bytes", (double)w.bytes },
+				 { "busy_ns", (double)w.busy_ns },
+				 { "busy_back_ns", (double)w.busy_back_ns },
+				 { "refused", (double)w.refused } });
 		o += '}';
 	}
 	o += "]}\n";
