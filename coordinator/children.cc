@@ -89,8 +89,7 @@ void on_child(Run &run, Controller &parent, const ::tcs_msg &m, UniqueFd channel
 	c.wake_arg = 0;
 	run.ctls.push_back(std::move(*made));
 	Controller *raw = run.ctls.back().get();
-	if (run.trace.is_open())
-		run.trace.controller(raw->id, raw->name, raw->pid, raw->scale, run.cfg.mode, run.cfg.step_ns);
+	trace_controller(run, *raw);
 	if (auto s = run.loop.add(raw->channel.get(), [&run, raw](uint32_t) { on_channel(run, *raw, nullptr); }); !s) {
 		run.fatal = s;
 		return;

@@ -141,8 +141,12 @@ void on_message(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		}
 		c.attached = true;
 		c.hello_nonce = m.v;
-		if (c.parent_id != 0)
-			c.name = proc_name(c.pid, c.name); // a child after its exec
+		if (c.parent_id != 0) { // a child after its exec
+			std::string was = c.name;
+			c.name = proc_name(c.pid, c.name);
+			if (c.name != was)
+				trace_controller(run, c);
+		}
 		c.main_state = ChannelState{}; // a new image owes nothing yet
 		return;
 	case TCS_MSG_BLOCK:

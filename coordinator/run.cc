@@ -55,9 +55,7 @@ Status add_controller(Run &run, const ControllerSpec &spec)
 	if (!c)
 		return c.error();
 	Controller *raw = c->get();
-	if (run.trace.is_open())
-		run.trace.controller(raw->id, raw->name, raw->pid, raw->scale,
-				     run.cfg.replay ? TCS_MODE_CPU : run.cfg.mode, run.cfg.step_ns);
+	trace_controller(run, *raw);
 	run.ctls.push_back(std::move(*c));
 	if (auto s = run.loop.add(raw->channel.get(), [&run, raw](uint32_t) { on_channel(run, *raw, nullptr); }); !s)
 		return s;
@@ -96,6 +94,13 @@ int64_t alive(const Run &run)
 int64_t alive_controllers(const Run &run)
 {
 	return std::count_if(run.ctls.begin(), run.ctls.end(), [](auto &c) { return c->state != CtlState::Exited; });
+}
+
+void trace_controller(Run &run, const Controller &c)
+{
+	if (run.trace.is_open())
+		run.trace.controller(c.id, c.name, c.pid, c.scale, run.cfg.replay ? TCS_MODE_CPU : run.cfg.mode,
+				     run.cfg.step_ns);
 }
 
 void on_signal(Run &run)

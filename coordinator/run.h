@@ -116,6 +116,9 @@ struct Run {
 // Spawns a controller (held stopped until the run begins, or, attached,
 // from the world's time on) and listens to its channel and its end.
 Status add_controller(Run &run, const ControllerSpec &spec);
+// c described in the trace (if any): once it starts, again when a child
+// execs another program (the trace names it by the program it runs).
+void trace_controller(Run &run, const Controller &c);
 // The run's end begins (a signal, the duration, a peer lost): every
 // controller gets SIGTERM and its waits answered; SIGKILL after kEndGrace.
 void begin_end(Run &run, EndReason reason, int signo = 0);

@@ -59,8 +59,8 @@ public:
 	// message; now and then a chunk's write(2).
 	bool pump();
 
-	// Once per controller, before its first slice. name must outlive the
-	// trace (the controller's does).
+	// Once per controller, before its first slice; again when a child
+	// execs another program (the same id and pid, its new name).
 	void controller(int controller, const std::string &name, int pid, double cpu_scale, int mode,
 			int64_t step_ns);
 	struct Slice {

@@ -272,6 +272,8 @@ def test_the_trace_holds_each_frame_and_exports_the_bus_as_candump_logs_it():
     busy = sum(int(x["v_end_ns"]) - int(x["v_start_ns"]) for x in rows)
     check("  can0: 4 frames, 16 bytes; busy " in summary.stdout and "; 1 refused by a device" in summary.stdout,
           "tcs-trace summary counts the bus's frames, their data and the refusal (%d ns busy)" % busy, summary)
+    check(all(": %s (pid " % name in summary.stdout for name in ("candump", "cansend", "cangen")),
+          "the shell's children named by the programs they exec'd", summary)
     print("  candump -L and tcs-trace export --format candump: the same %d lines" % len(rows))
 
 

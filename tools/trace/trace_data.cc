@@ -95,9 +95,18 @@ Status parse_message(TraceData &t, std::string_view topic, const JsonValue &msg)
 		c.step_ns = f.integer("step_ns");
 		if (f.problem().empty() && (c.mode != "cpu" && c.mode != "lockstep"))
 			extra = "unknown mode \"" + c.mode + "\"";
-		if (f.problem().empty() && extra.empty() && t.controller(c.id))
-			extra = "controller " + std::to_string(c.id) + " described twice";
-		t.controllers.push_back(std::move(c));
+		// Described again with the same pid: a child that exec'd another
+		// program, named by it from then on.
+		auto same = std::find_if(t.controllers.begin(), t.controllers.end(),
+					 [&](const TraceController &x) { return x.id == c.id; });
+		if (f.problem().empty() && extra.empty() && same != t.controllers.end()) {
+			if (same->pid != c.pid)
+				extra = "controller " + std::to_string(c.id) + " described twice";
+			else
+				*same = std::move(c);
+		} else {
+			t.controllers.push_back(std::move(c));
+		}
 	} else if (topic == "/tcs/slice") {
 		TraceSlice s;
 		s.controller = (int)f.integer("controller");
