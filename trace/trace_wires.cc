@@ -55,6 +55,15 @@ void put_times(CdrWriter &w, int64_t v_start, int64_t v_end)
 	std::memcpy(w.place(sizeof t, 8), t, sizeof t);
 }
 
+// Its last fields, who sent it and what a device made of it: the message's
+// size.
+size_t put_who(CdrWriter &w, std::string_view from, std::string_view note)
+{
+	w.put_string(from);
+	w.put_string(note);
+	return w.size();
+}
+
 void put_bytes(CdrWriter &w, std::span<const uint8_t> data)
 {
 	w.put_count(data.size());
@@ -86,9 +95,7 @@ size_t encode_can_frame(std::string &buf, const TraceCanFrame &f)
 	w.put<uint8_t>(f.fd_flags);
 	// (A remote frame's length is what it asks for: it carries no data.)
 	put_bytes(w, (f.can_id & 0x40000000u) && !f.fd ? std::span<const uint8_t>() : f.data);
-	w.put_string(f.from);
-	w.put_string(f.note);
-	return w.size();
+	return put_who(w, f.from, f.note);
 }
 
 size_t encode_serial_bytes(std::string &buf, const TraceSerialBytes &b)
@@ -96,9 +103,7 @@ size_t encode_serial_bytes(std::string &buf, const TraceSerialBytes &b)
 	CdrWriter w(buf);
 	put_times(w, b.v_start, b.v_end);
 	put_bytes(w, b.data);
-	w.put_string(b.from);
-	w.put_string(b.note);
-	return w.size();
+	return put_who(w, b.from, b.note);
 }
 
 size_t encode_i2c_transfer(std::string &buf, const TraceI2cTransfer &x)
@@ -112,9 +117,7 @@ size_t encode_i2c_transfer(std::string &buf, const TraceI2cTransfer &x)
 		w.put<uint16_t>(m.flags);
 		put_bytes(w, m.data);
 	}
-	w.put_string(x.from);
-	w.put_string(x.note);
-	return w.size();
+	return put_who(w, x.from, x.note);
 }
 
 } // namespace tcs
