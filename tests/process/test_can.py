@@ -395,9 +395,18 @@ def test_frames_of_signals_carry_the_world_out_and_efforts_in():
     # step that ended at its start.
     position = {int(x["v_ns"]): float(x["joint.pendulum.hinge.position"]) for x in steps}
     position[0] = 0.0
-    for x, (p, _) in zip(sensor, moved):
+    on_bus = []
+    for x in sensor:
+        data = bytes(int(x["data[%d]" % i]) for i in range(6))
+        p, w = struct.unpack("<fh", data)
         want = struct.unpack("<f", struct.pack("<f", position[int(x["v_start_ns"])]))[0]
         check(p == want, "position %r in the frame at %s ns, %r in the world" % (p, x["v_start_ns"], want))
+        on_bus.append((p, w * 0.001))
+    # The program read them from when its socket was bound (its start-up
+    # takes the virtual time of its clock reads, this machine's).
+    first = next((k for k in range(len(on_bus) - 29) if on_bus[k:k + 30] == moved), None)
+    check(first is not None, "the program read the frames on the bus, in order, from the first after its bind: "
+          "%s against %s" % (moved[:3], on_bus[:4]))
     print("  0x100 at 100 Hz: position and velocity of the world; 0x200 with 2 N·m: velocity %.3f rad/s after 80 ms"
           % moved[8][1])
 
