@@ -166,12 +166,16 @@ def test_filters_pass_what_they_match():
     check(ids == [0x121, 0x12A], "joined: 12x but not 125: %s" % [hex(i) for i in ids], both)
 
 
-OVERTAKE = """\
-import socket, struct, time
+# The programs' shared start: a CAN_RAW socket bound to can0.
+SOCK = """\
+import select, socket, struct, time
 def sock():
     s = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
     s.bind(("can0",))
     return s
+"""
+
+OVERTAKE = SOCK + """\
 reader, first, second = sock(), sock(), sock()
 frame = lambda cid, data: struct.pack("=IB3x8s", cid, len(data), data)
 first.send(frame(0x700, bytes(8)))      # on the wire at once, alone
@@ -201,12 +205,7 @@ def test_a_high_priority_frame_overtakes_a_queued_low_priority_one():
     print("  0x700, then 0x100 overtaking 0x600: ends %s ns after the sends" % ends)
 
 
-OWN = """\
-import select, socket, struct, time
-def sock():
-    s = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
-    s.bind(("can0",))
-    return s
+OWN = SOCK + """\
 sender, own, other = sock(), sock(), sock()
 own.setsockopt(socket.SOL_CAN_RAW, socket.CAN_RAW_RECV_OWN_MSGS, 1)
 quiet = sock()
@@ -358,10 +357,9 @@ byte_order = "little"
 fields = [{ signal = "pendulum.hinge.effort", type = "int16", scale = 0.001 }]
 """
 
-SIGNALS_PROG = """\
-import socket, struct, sys
-s = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
-s.bind(("can0",))
+SIGNALS_PROG = SOCK + """\
+import sys
+s = sock()
 if len(sys.argv) > 1:
     s.send(struct.pack("=IB3x8s", 0x200, 2, struct.pack("<h", int(float(sys.argv[1]) * 1000))))
 for _ in range(30):
