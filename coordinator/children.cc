@@ -15,6 +15,7 @@
 #include <cstring>
 
 #include "asleep.h"
+#include "world_steps.h"
 #include "clock_ns.h"
 #include "device_requests.h"
 #include "exits.h"
@@ -98,8 +99,11 @@ void on_child(Run &run, Controller &parent, const ::tcs_msg &m, UniqueFd channel
 		run.fatal = s;
 	if (parent.awaiting.pid == pid)
 		child_settled(run, parent);
-	// Someone new waits for a core: is one that has it asleep?
+	// Someone new waits for a core: is one that has it asleep? And a
+	// free core is its at once (those running may compute on for ever
+	// without a budget: each was alone when it was resumed).
 	run.lanes.each_running([&run](Controller &r) { arm_watchdog(run, r); });
+	schedule(run);
 }
 
 // The parent, right after its fork: it waits until its child has

@@ -185,22 +185,29 @@ void resume(Run &run, Controller &c, int64_t target, int lane)
 	}
 	c.state = CtlState::Running;
 	c.budgeted = false;
-	if (run.cfg.mode == TCS_MODE_CPU && target != TCS_NEVER) {
-		double need = std::ceil((double)(target - c.v) / c.scale);
-		c.budget = std::max<int64_t>((int64_t)need, 1);
-		c.budgeted = true;
-		c.checked_used = -1;
-		// Wall time runs ahead of the CPU the controller gets (our own
-		// work on its core); arm that much later, as learnt so far, so one
-		// timer usually ends the slice (the TCS paper's ε correction).
-		c.check_interval = std::max(c.budget + c.lag_ns, kMinSlice);
-		run.lanes[(size_t)lane].budget.arm(c.check_interval);
-	}
+	budget_to(run, c, target);
 	budget_to_next_timer(run, c); // and no further than its own next signal
 	if (!c.budgeted)
 		arm_watchdog(run, c); // (a budget's own checks look for sleep)
 	// Lockstep: computation is free, so no budget; it runs until it waits.
 	// Nor is there one when nothing else will ever need the core.
+}
+
+void budget_to(Run &run, Controller &c, int64_t target)
+{
+	Lane *lane = run.lanes.of(c);
+	if (run.cfg.mode != TCS_MODE_CPU || target == TCS_NEVER || c.budgeted || !lane)
+		return;
+	// From the slice's start: what it used since counts against it.
+	double need = std::ceil((double)(target - c.slice().v_base) / c.scale);
+	c.budget = std::max<int64_t>((int64_t)need, 1);
+	c.budgeted = true;
+	c.checked_used = -1;
+	// Wall time runs ahead of the CPU the controller gets (our own work on
+	// its core); arm that much later, as learnt so far, so one timer
+	// usually ends the slice (the TCS paper's ε correction).
+	c.check_interval = std::max(c.slice_wall + c.budget + c.lag_ns - wall_now(), kMinSlice);
+	lane->budget.arm(c.check_interval);
 }
 
 // It ended before it could stop: its slice ends with it, traced as its

@@ -7,6 +7,9 @@
 namespace tcs {
 
 void resume(Run &run, Controller &c, int64_t target, int lane);
+// cpu mode: c runs without a budget (it was alone when resumed) and now
+// others wait for the world: it gets one, to target.
+void budget_to(Run &run, Controller &c, int64_t target);
 void on_budget(Run &run, Lane &lane);
 // SIGSTOP, and wait till it has stopped: false if it died first.
 bool hold_still(Run &run, Controller &c);

@@ -56,11 +56,14 @@ void schedule(Run &run)
 			return;
 		}
 		case Decision::Run:
-			if (!run_best(run, *run.ctls[d.who], d.at, run_until(run.contenders, d.who, target, run.cfg.duration_ns)))
-				return;
-			continue;
+			if (run_best(run, *run.ctls[d.who], d.at, run_until(run.contenders, d.who, target, run.cfg.duration_ns)))
+				continue;
+			[[fallthrough]]; // (no core for it: it waits for one of those running)
 		case Decision::Wait:
-			return; // the world steps once those running have reached it
+			// The world steps once those running have reached it: each
+			// with a budget to there (one resumed alone has none).
+			run.lanes.each_running([&run, target](Controller &r) { budget_to(run, r, target); });
+			return;
 		case Decision::Idle:
 			// Every controller waits for something only the real world
 			// can end (some looked at each step: asleep outside the hooks,

@@ -16,6 +16,7 @@
 #include "devices.h"
 #include "raw_syscall.h"
 #include "report.h"
+#include "roundtrip.h"
 #include "signal_timers.h"
 #include "tcs/msg_io.h"
 #include "thread_channels.h"
@@ -80,7 +81,6 @@ int tcs_become_child(int parent_channel, int64_t fork_v, int v_known)
 	tcs_rt.page = (struct tcs_clock_page *)m;
 	tcs_rt.devices = tcs_device_table_of(tcs_rt.page);
 	tcs_rt.pid = tcs_sys0(SYS_getpid);
-	tcs_in_wait = 0;
 	tcs_thread_channels_after_fork();
 	tcs_cpu_forget(); /* a CPU clock of its own now, from 0 */
 	tcs_timers_forget_all(); /* POSIX: timers are not inherited */
@@ -100,6 +100,7 @@ static void tcs_atfork_child(void)
 		return;
 	/* The journal is its parent's: not a word of it is this process's. */
 	tcs_journal_forget();
+	tcs_calls_after_fork(tcs_fork_v);
 	if (tcs_become_child(tcs_rt.channel_fd, tcs_fork_v, 1) == 0)
 		return;
 	tcs_rt.state = TCS_DETACHED;

@@ -178,11 +178,8 @@ long tcs_device_sync_until(int handle, unsigned kind, int nonblock, int64_t dead
  * fd tells whether it is non-blocking. 0 or -errno. */
 static long tcs_device_sync(int handle, int fd, unsigned kind)
 {
-	if (!tcs_wait_enter()) {
-		static int once;
-		tcs_report_once(&once, "device I/O from a signal handler or a second thread is not kept in virtual time");
-		return 0;
-	}
+	if (!tcs_wait_enter())
+		return 0; /* (no channel for this thread: said once) */
 	long r = tcs_device_sync_held(handle, fd, kind);
 	/* In lockstep, a read that found nothing and may not wait is a
 	 * spin's (one that got a record ends a spin: tcs_got_record). */

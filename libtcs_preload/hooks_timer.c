@@ -17,6 +17,7 @@
 #include "real.h"
 #include "roundtrip.h"
 #include "signal_timers.h"
+#include "spin.h"
 #include "spin_lock.h"
 #include "timer_thread.h"
 #include "vclock.h"
@@ -37,23 +38,35 @@ static struct itimerspec tcs_stimer_value(const struct tcs_stimer *t, int64_t v)
 	return out;
 }
 
-/* Tells the coordinator about slot; 0 or -errno. */
-static long tcs_stimer_sync(int slot, const struct tcs_stimer *t)
+/* Tells the coordinator what slot is set to now; 0 or -errno. A signal
+ * handler may set it again while this is under way, its own telling going
+ * first: so what goes is the table's latest, again until nothing newer
+ * came meanwhile. */
+static long tcs_stimer_sync(int slot)
 {
-	if (!t->signo)
-		return 0; /* SIGEV_NONE: nothing to send */
 	if (!tcs_wait_enter())
 		return -EBUSY;
-	struct tcs_msg m = tcs_msg_make(TCS_MSG_TIMER, 0), w;
-	m.flags = (uint16_t)slot;
-	m.kind = (uint16_t)t->signo;
-	m.deadline = t->first;
-	m.arg = t->interval;
-	m.v = t->tid;
-	m.cpu = tcs_charge_point(TCS_MSG_TIMER);
-	tcs_roundtrip(&m, NULL, 0, NULL, &w, NULL);
+	long r = 0;
+	uint32_t told;
+	do {
+		uint64_t signals = tcs_lock(&tcs_stimer_lock);
+		struct tcs_stimer t = tcs_stimers[slot];
+		tcs_unlock(&tcs_stimer_lock, signals);
+		told = t.set_count;
+		if (!t.signo)
+			break; /* SIGEV_NONE: nothing to send */
+		struct tcs_msg m = tcs_msg_make(TCS_MSG_TIMER, 0), w;
+		m.flags = (uint16_t)slot;
+		m.kind = (uint16_t)t.signo;
+		m.deadline = t.first;
+		m.arg = t.interval;
+		m.v = t.tid;
+		m.cpu = tcs_charge_point(TCS_MSG_TIMER);
+		tcs_roundtrip(&m, NULL, 0, NULL, &w, NULL);
+		r = w.arg < 0 ? w.arg : 0;
+	} while (__atomic_load_n(&tcs_stimers[slot].set_count, __ATOMIC_RELAXED) != told);
 	tcs_wait_leave();
-	return w.arg < 0 ? w.arg : 0;
+	return r;
 }
 
 /* Arms slot with a value and interval in ns (value 0: disarm); *old gets
@@ -62,7 +75,7 @@ static long tcs_stimer_set(int slot, int64_t value, int64_t interval, int abs, s
 {
 	struct tcs_stimer *t = &tcs_stimers[slot];
 	int64_t v = tcs_vnow();
-	tcs_spin_lock(&tcs_stimer_lock);
+	uint64_t signals = tcs_lock(&tcs_stimer_lock);
 	if (old)
 		*old = tcs_stimer_value(t, v);
 	if (value <= 0)
@@ -70,14 +83,14 @@ static long tcs_stimer_set(int slot, int64_t value, int64_t interval, int abs, s
 	else
 		t->first = abs ? value - tcs_sleep_clock_origin(t->clock) : tcs_ns_add(v, value);
 	t->interval = t->first == TCS_NEVER ? 0 : interval;
-	t->set_count++;
-	struct tcs_stimer copy = *t;
-	tcs_spin_unlock(&tcs_stimer_lock);
-	if (copy.notify) {
+	__atomic_add_fetch(&t->set_count, 1, __ATOMIC_RELAXED);
+	int helper = t->notify != NULL;
+	tcs_unlock(&tcs_stimer_lock, signals);
+	if (helper) {
 		tcs_timer_threads_poke();
 		return 0;
 	}
-	return tcs_stimer_sync(slot, &copy);
+	return tcs_stimer_sync(slot);
 }
 
 /* ---- ITIMER_REAL and alarm --------------------------------------------------- */
@@ -115,9 +128,10 @@ TCS_EXPORT int getitimer(__itimer_which_t which, struct itimerval *cur)
 {
 	if (which != ITIMER_REAL || !tcs_active())
 		return tcs_errno_result(tcs_sys2(SYS_getitimer, which, cur));
-	tcs_spin_lock(&tcs_stimer_lock);
-	struct itimerspec v = tcs_stimer_value(&tcs_stimers[0], tcs_vnow());
-	tcs_spin_unlock(&tcs_stimer_lock);
+	int64_t now = tcs_timer_read_vnow();
+	uint64_t signals = tcs_lock(&tcs_stimer_lock);
+	struct itimerspec v = tcs_stimer_value(&tcs_stimers[0], now);
+	tcs_unlock(&tcs_stimer_lock, signals);
 	cur->it_value = tcs_ts_to_tv(v.it_value);
 	cur->it_interval = tcs_ts_to_tv(v.it_interval);
 	return 0;
@@ -158,13 +172,13 @@ TCS_EXPORT int timer_create(clockid_t clock, struct sigevent *sev, timer_t *id)
 	int signo = notify == SIGEV_NONE || notify == SIGEV_THREAD ? 0 : sev ? sev->sigev_signo : SIGALRM;
 	if (signo == 0 ? notify == SIGEV_SIGNAL || notify == SIGEV_THREAD_ID : signo < 1 || signo > 64)
 		return tcs_errno_result(-EINVAL);
-	tcs_spin_lock(&tcs_stimer_lock);
+	uint64_t signals = tcs_lock(&tcs_stimer_lock);
 	int slot = -1;
 	for (int i = 1; i < TCS_MAX_TIMERS && slot < 0; i++)
 		if (!tcs_stimers[i].used)
 			slot = i;
 	if (slot < 0) {
-		tcs_spin_unlock(&tcs_stimer_lock);
+		tcs_unlock(&tcs_stimer_lock, signals);
 		return tcs_errno_result(-EAGAIN);
 	}
 	struct tcs_stimer *t = &tcs_stimers[slot];
@@ -180,7 +194,7 @@ TCS_EXPORT int timer_create(clockid_t clock, struct sigevent *sev, timer_t *id)
 		t->value = sev->sigev_value;
 	}
 	uint32_t gen = t->gen;
-	tcs_spin_unlock(&tcs_stimer_lock);
+	tcs_unlock(&tcs_stimer_lock, signals);
 	if (notify == SIGEV_THREAD) {
 		long r = tcs_timer_thread_start(slot, gen, sev);
 		if (r < 0) {
@@ -212,9 +226,10 @@ TCS_EXPORT int timer_gettime(timer_t id, struct itimerspec *cur)
 		int (*real)(timer_t, struct itimerspec *) = tcs_real()->timer_gettime;
 		return real ? real(id, cur) : tcs_errno_result(-EINVAL);
 	}
-	tcs_spin_lock(&tcs_stimer_lock);
-	*cur = tcs_stimer_value(&tcs_stimers[slot], tcs_vnow());
-	tcs_spin_unlock(&tcs_stimer_lock);
+	int64_t now = tcs_timer_read_vnow();
+	uint64_t signals = tcs_lock(&tcs_stimer_lock);
+	*cur = tcs_stimer_value(&tcs_stimers[slot], now);
+	tcs_unlock(&tcs_stimer_lock, signals);
 	return 0;
 }
 
@@ -238,10 +253,10 @@ TCS_EXPORT int timer_delete(timer_t id)
 		return real ? real(id) : tcs_errno_result(-EINVAL);
 	}
 	long r = tcs_stimer_set(slot, 0, 0, 0, NULL);
-	tcs_spin_lock(&tcs_stimer_lock);
+	uint64_t signals = tcs_lock(&tcs_stimer_lock);
 	int helper = tcs_stimers[slot].notify != NULL;
 	tcs_stimers[slot].used = 0;
-	tcs_spin_unlock(&tcs_stimer_lock);
+	tcs_unlock(&tcs_stimer_lock, signals);
 	if (helper)
 		tcs_timer_threads_poke(); /* its helper ends */
 	return tcs_errno_result(r);

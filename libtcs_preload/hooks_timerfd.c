@@ -15,6 +15,7 @@
 #include "hooks_timerfd.h"
 #include "raw_syscall.h"
 #include "report.h"
+#include "spin.h"
 #include "timerfds.h"
 #include "vclock.h"
 #include "wait.h"
@@ -93,7 +94,7 @@ TCS_EXPORT int timerfd_gettime(int fd, struct itimerspec *cur)
 	struct tcs_vtimer *t = tcs_vtimer_of(fd);
 	if (!t || !tcs_active())
 		return tcs_errno_result(tcs_sys2(SYS_timerfd_gettime, fd, cur));
-	int64_t now = tcs_vnow();
+	int64_t now = tcs_timer_read_vnow();
 	tcs_vtimers_fire(now);
 	*cur = tcs_vtimer_value(t, now);
 	return 0;

@@ -4,13 +4,14 @@
  * coordinator polls on its own. The round trip (roundtrip.c) comes here first
  * and takes the channel when this says no.
  *
- * A signal handler that runs during the spin does not end the wait as one
- * during ppoll would (nothing tells): the spin lasts only until the
- * coordinator answers or parks the request, a few microseconds, and such a
- * handler is as if the signal had come just before the wait began, which
- * a real program meets too. Waits where that would matter take the
- * channel: those with a signal mask of their own, with real fds, or
- * without a deadline (pause, and waits for a handler).
+ * A signal handler that runs during the spin and calls no hook does not end
+ * the wait as one during ppoll would (nothing tells): the spin lasts only
+ * until the coordinator answers or parks the request, a few microseconds,
+ * and such a handler is as if the signal had come just before the wait
+ * began, which a real program meets too. Waits where that would matter
+ * take the channel: those with a signal mask of their own, with real fds,
+ * or without a deadline (pause, and waits for a handler). A handler that
+ * makes a request parks the interrupted one and ends it (roundtrip.c).
  *
  * With other controllers queued behind it on its core (TCS_PAGE_QUEUED,
  * lockstep), it parks at once: its answer comes only once they have run. */
@@ -33,7 +34,7 @@ int tcs_mailbox_post(const struct tcs_msg *m)
 	/* Sequentially consistent, both: the store is seen before `polling` is
 	 * read, as the coordinator's clearing of `polling` is seen before it
 	 * looks at `state` once more (tcs/mailbox.h). */
-	__atomic_store_n(&b->state, TCS_MBOX_REQUEST, __ATOMIC_SEQ_CST);
+	__atomic_store_n(&b->state, TCS_MBOX_REQUEST | TCS_MBOX_BUSY, __ATOMIC_SEQ_CST);
 	return __atomic_load_n(&b->polling, __ATOMIC_SEQ_CST) == 0;
 }
 
@@ -44,13 +45,22 @@ static int64_t tcs_mailbox_clock(void)
 	return tcs_ts_to_ns(&ts);
 }
 
-static int tcs_mailbox_take(const struct tcs_mailbox *b, struct tcs_msg *reply)
+void tcs_mailbox_take(struct tcs_msg *reply)
 {
-	__builtin_memcpy(reply, &b->answer, sizeof *reply);
-	return 1; /* (the answer is there) */
+	__builtin_memcpy(reply, &tcs_rt.page->mailbox.answer, sizeof *reply);
 }
 
-int tcs_mailbox_wait(struct tcs_msg *reply)
+uint32_t tcs_mailbox_park_now(void)
+{
+	return __atomic_fetch_or(&tcs_rt.page->mailbox.state, TCS_MBOX_PARK, __ATOMIC_ACQ_REL);
+}
+
+void tcs_mailbox_unpark(void)
+{
+	__atomic_fetch_and(&tcs_rt.page->mailbox.state, ~TCS_MBOX_PARK, __ATOMIC_ACQ_REL);
+}
+
+int tcs_mailbox_wait(const volatile uint8_t *settled)
 {
 	struct tcs_mailbox *b = &tcs_rt.page->mailbox;
 	int64_t until = 0;
@@ -59,8 +69,8 @@ int tcs_mailbox_wait(struct tcs_msg *reply)
 		goto park;
 	for (unsigned i = 0;; i++) {
 		uint32_t s = __atomic_load_n(&b->state, __ATOMIC_ACQUIRE);
-		if (s & TCS_MBOX_ANSWER)
-			return tcs_mailbox_take(b, reply);
+		if ((s & TCS_MBOX_ANSWER) || *settled)
+			return 1;
 		if (s & TCS_MBOX_PARK)
 			return 0;
 		/* The clock every 64 turns: a vDSO read is some 30 ns. */
@@ -75,7 +85,7 @@ int tcs_mailbox_wait(struct tcs_msg *reply)
 	}
 park:;
 	uint32_t old = __atomic_fetch_or(&b->state, TCS_MBOX_PARK, __ATOMIC_ACQ_REL);
-	return (old & TCS_MBOX_ANSWER) ? tcs_mailbox_take(b, reply) : 0;
+	return (old & TCS_MBOX_ANSWER) || *settled;
 }
 
 void tcs_mailbox_done(void)

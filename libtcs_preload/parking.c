@@ -38,7 +38,7 @@ int tcs_park_begin(const void *addr)
 	if (fd < 0)
 		return fd;
 	int slot = -ENOSPC;
-	tcs_spin_lock(&tcs_parked_lock);
+	uint64_t signals = tcs_lock(&tcs_parked_lock);
 	for (int i = 0; i < TCS_MAX_PARKED; i++) {
 		struct tcs_parked *p = &tcs_parked_slots[i];
 		if (p->used)
@@ -52,7 +52,7 @@ int tcs_park_begin(const void *addr)
 		slot = i;
 		break;
 	}
-	tcs_spin_unlock(&tcs_parked_lock);
+	tcs_unlock(&tcs_parked_lock, signals);
 	if (slot == -ENOSPC) {
 		static int once;
 		tcs_report_once(&once, "more than 256 threads wait at once; the others re-check every step");
@@ -74,11 +74,11 @@ void tcs_park_end(int slot)
 {
 	if (slot < 0)
 		return;
-	tcs_spin_lock(&tcs_parked_lock);
+	uint64_t signals = tcs_lock(&tcs_parked_lock);
 	tcs_parked_slots[slot].used = 0;
 	tcs_parked_slots[slot].addr = NULL;
 	__atomic_sub_fetch(&tcs_parked_count, 1, __ATOMIC_RELAXED);
-	tcs_spin_unlock(&tcs_parked_lock);
+	tcs_unlock(&tcs_parked_lock, signals);
 }
 
 int tcs_unpark_all(const void *addr)
@@ -86,7 +86,7 @@ int tcs_unpark_all(const void *addr)
 	int fds[TCS_MAX_PARKED];
 	uint32_t seqs[TCS_MAX_PARKED];
 	int n = 0;
-	tcs_spin_lock(&tcs_parked_lock);
+	uint64_t signals = tcs_lock(&tcs_parked_lock);
 	for (int i = 0; i < TCS_MAX_PARKED; i++) {
 		struct tcs_parked *p = &tcs_parked_slots[i];
 		if (!p->used || p->addr != addr || p->poked)
@@ -95,7 +95,7 @@ int tcs_unpark_all(const void *addr)
 		fds[n] = p->fd;
 		seqs[n++] = p->seq;
 	}
-	tcs_spin_unlock(&tcs_parked_lock);
+	tcs_unlock(&tcs_parked_lock, signals);
 	/* Where this thread's process is: the coordinator's own reading of a
 	 * running process's CPU lags by up to a kernel tick. */
 	int64_t cpu = n > 0 ? tcs_charge_point(TCS_MSG_EARLY) : 0;

@@ -1,5 +1,6 @@
 /* One request to the coordinator and its answer (roundtrip.c): on this
- * thread's channel, or through the clock page's mailbox. */
+ * thread's channel, or through the clock page's mailbox. Round trips nest:
+ * a signal handler's request ends the one it interrupted first. */
 #ifndef TCS_PRELOAD_ROUNDTRIP_H
 #define TCS_PRELOAD_ROUNDTRIP_H
 
@@ -21,5 +22,10 @@ void tcs_send(int fd, const struct tcs_msg *m) TCS_HIDDEN;
  * closed when fd_out is NULL). */
 unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, const sigset_t *mask,
 		       struct tcs_msg *reply, int *fd_out) TCS_HIDDEN;
+
+/* In a forked child: the round trips the forking flow was inside (a fork
+ * from a signal handler) were its parent's; they end at the fork's
+ * virtual time v, as if a signal had interrupted them. */
+void tcs_calls_after_fork(int64_t v) TCS_HIDDEN;
 
 #endif

@@ -10,20 +10,20 @@ int tcs_stimer_lock;
 
 int tcs_stimer_copy(int slot, uint32_t gen, struct tcs_stimer *out)
 {
-	tcs_spin_lock(&tcs_stimer_lock);
+	uint64_t signals = tcs_lock(&tcs_stimer_lock);
 	int alive = tcs_stimers[slot].used && tcs_stimers[slot].gen == gen;
 	if (alive)
 		*out = tcs_stimers[slot];
-	tcs_spin_unlock(&tcs_stimer_lock);
+	tcs_unlock(&tcs_stimer_lock, signals);
 	return alive ? 0 : -1;
 }
 
 void tcs_stimer_set_overrun(int slot, uint32_t gen, int overrun)
 {
-	tcs_spin_lock(&tcs_stimer_lock);
+	uint64_t signals = tcs_lock(&tcs_stimer_lock);
 	if (tcs_stimers[slot].gen == gen)
 		tcs_stimers[slot].overrun = overrun;
-	tcs_spin_unlock(&tcs_stimer_lock);
+	tcs_unlock(&tcs_stimer_lock, signals);
 }
 
 void tcs_timers_forget_all(void)

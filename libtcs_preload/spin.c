@@ -57,16 +57,15 @@ static int64_t tcs_spin_advance(int64_t cost, int held)
 
 int64_t tcs_spin_clock_read(void)
 {
-	/* A handler's read inside a hook: the hook's time, for nothing. */
-	if (tcs_in_wait)
-		return tcs_vnow();
+	/* (A signal handler's reads inside a hook spin too: its wait, if it
+	 * must, ends the hook's first, roundtrip.c.) */
 	return tcs_spin_advance(tcs_rt.page->spin_clock_ns, 0);
 }
 
 void tcs_spin_empty_read(int held)
 {
 	const struct tcs_clock_page *p = tcs_rt.page;
-	if (p->mode != TCS_MODE_LOCKSTEP || (!held && tcs_in_wait) || (p->flags & TCS_PAGE_REPLAY))
+	if (p->mode != TCS_MODE_LOCKSTEP || (p->flags & TCS_PAGE_REPLAY))
 		return; /* (replaying: what it cost is in the record) */
 	(void)tcs_spin_advance(p->spin_read_ns, held);
 }

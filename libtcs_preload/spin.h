@@ -20,6 +20,17 @@ static inline int64_t tcs_program_vnow(void)
 	return tcs_spin_clock_read();
 }
 
+/* Virtual time now for a timer the program reads (getitimer,
+ * timer_gettime, timerfd_gettime): what is left of a timer is a clock, so
+ * a loop that reads one spins as clock reads do. (Replaying, the record
+ * has no entry for such a read: it costs nothing.) */
+static inline int64_t tcs_timer_read_vnow(void)
+{
+	if (__atomic_load_n(&tcs_rt.page->flags, __ATOMIC_RELAXED) & TCS_PAGE_REPLAY)
+		return tcs_vnow();
+	return tcs_program_vnow();
+}
+
 /* An empty non-blocking read or poll (lockstep: costs as it spins). held:
  * the caller is inside a hook's wait (tcs_wait_enter). */
 void tcs_spin_empty_read(int held) TCS_HIDDEN;

@@ -23,7 +23,7 @@ static pthread_key_t tcs_thread_key;
 
 static void tcs_thread_fd_remember(int fd, int add)
 {
-	tcs_spin_lock(&tcs_thread_fds_lock);
+	uint64_t signals = tcs_lock(&tcs_thread_fds_lock);
 	for (int i = 0; i < TCS_MAX_THREAD_CHANNELS; i++) {
 		if (add ? tcs_thread_fds[i] == 0 : tcs_thread_fds[i] == fd + 1) {
 			tcs_thread_fds[i] = add ? fd + 1 : 0;
@@ -31,7 +31,7 @@ static void tcs_thread_fd_remember(int fd, int add)
 			break;
 		}
 	}
-	tcs_spin_unlock(&tcs_thread_fds_lock);
+	tcs_unlock(&tcs_thread_fds_lock, signals);
 }
 
 int tcs_is_thread_channel(int fd)

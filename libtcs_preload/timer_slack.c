@@ -41,7 +41,7 @@ static int tcs_notes_lock, tcs_notes_pending;
 static void tcs_note(long tid, pthread_t thread, int policy)
 {
 	int rt = tcs_rt_thread_policy(policy) ? 1 : -1;
-	tcs_spin_lock(&tcs_notes_lock);
+	uint64_t signals = tcs_lock(&tcs_notes_lock);
 	int free_slot = -1;
 	for (int i = 0; i < TCS_POLICY_NOTES; i++) {
 		if (tcs_notes[i].rt == 0) {
@@ -59,7 +59,7 @@ static void tcs_note(long tid, pthread_t thread, int policy)
 		tcs_notes[free_slot].rt = rt;
 		__atomic_add_fetch(&tcs_notes_pending, 1, __ATOMIC_RELEASE);
 	}
-	tcs_spin_unlock(&tcs_notes_lock);
+	tcs_unlock(&tcs_notes_lock, signals);
 }
 
 static void tcs_take_notes(void)
@@ -68,7 +68,7 @@ static void tcs_take_notes(void)
 		return;
 	long tid = tcs_sys0(SYS_gettid);
 	pthread_t self = pthread_self();
-	tcs_spin_lock(&tcs_notes_lock);
+	uint64_t signals = tcs_lock(&tcs_notes_lock);
 	for (int i = 0; i < TCS_POLICY_NOTES; i++) {
 		if (tcs_notes[i].rt == 0 ||
 		    !(tcs_notes[i].tid ? tcs_notes[i].tid == tid : pthread_equal(tcs_notes[i].thread, self)))
@@ -77,7 +77,7 @@ static void tcs_take_notes(void)
 		tcs_notes[i].rt = 0;
 		__atomic_sub_fetch(&tcs_notes_pending, 1, __ATOMIC_RELEASE);
 	}
-	tcs_spin_unlock(&tcs_notes_lock);
+	tcs_unlock(&tcs_notes_lock, signals);
 }
 
 void tcs_policy_set_self(int policy)

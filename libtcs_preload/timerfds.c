@@ -39,7 +39,7 @@ int64_t tcs_vtimers_fire(int64_t v)
 	int64_t soonest = TCS_NEVER;
 	if (!tcs_vtimers_armed())
 		return soonest;
-	tcs_spin_lock(&tcs_vtimer_lock);
+	uint64_t signals = tcs_lock(&tcs_vtimer_lock);
 	for (int i = 0; i < TCS_VTIMERS_MAX; i++) {
 		struct tcs_vtimer *t = &tcs_vtimers[i];
 		if (!t->refs || t->next == TCS_NEVER)
@@ -54,7 +54,7 @@ int64_t tcs_vtimers_fire(int64_t v)
 		if (t->next < soonest)
 			soonest = t->next;
 	}
-	tcs_spin_unlock(&tcs_vtimer_lock);
+	tcs_unlock(&tcs_vtimer_lock, signals);
 	return soonest;
 }
 
@@ -63,7 +63,7 @@ void tcs_vtimer_forget(int fd)
 	struct tcs_vtimer *t = tcs_vtimer_of(fd);
 	if (!t)
 		return;
-	tcs_spin_lock(&tcs_vtimer_lock);
+	uint64_t signals = tcs_lock(&tcs_vtimer_lock);
 	tcs_fd_vtimer[fd] = 0;
 	if (--t->refs == 0) {
 		tcs_set_next(t, TCS_NEVER);
@@ -74,7 +74,7 @@ void tcs_vtimer_forget(int fd)
 				break;
 			}
 	}
-	tcs_spin_unlock(&tcs_vtimer_lock);
+	tcs_unlock(&tcs_vtimer_lock, signals);
 }
 
 void tcs_vtimer_copy(int from, int to)
@@ -82,26 +82,26 @@ void tcs_vtimer_copy(int from, int to)
 	struct tcs_vtimer *t = tcs_vtimer_of(from);
 	if (!t || to < 0 || to >= TCS_DEVICE_FD_MAX)
 		return;
-	tcs_spin_lock(&tcs_vtimer_lock);
+	uint64_t signals = tcs_lock(&tcs_vtimer_lock);
 	t->refs++;
 	tcs_fd_vtimer[to] = tcs_fd_vtimer[from];
-	tcs_spin_unlock(&tcs_vtimer_lock);
+	tcs_unlock(&tcs_vtimer_lock, signals);
 }
 
 int tcs_vtimer_add(int fd, clockid_t clock)
 {
-	tcs_spin_lock(&tcs_vtimer_lock);
+	uint64_t signals = tcs_lock(&tcs_vtimer_lock);
 	int slot = -1;
 	for (int i = 0; i < TCS_VTIMERS_MAX && slot < 0; i++)
 		if (!tcs_vtimers[i].refs)
 			slot = i;
 	if (slot < 0) {
-		tcs_spin_unlock(&tcs_vtimer_lock);
+		tcs_unlock(&tcs_vtimer_lock, signals);
 		return -EMFILE;
 	}
 	tcs_vtimers[slot] = (struct tcs_vtimer){ 1, fd, clock, TCS_NEVER, 0 };
 	tcs_fd_vtimer[fd] = (uint8_t)(slot + 1);
-	tcs_spin_unlock(&tcs_vtimer_lock);
+	tcs_unlock(&tcs_vtimer_lock, signals);
 	return 0;
 }
 
@@ -116,18 +116,18 @@ static struct itimerspec tcs_value(const struct tcs_vtimer *t, int64_t now)
 
 struct itimerspec tcs_vtimer_value(const struct tcs_vtimer *t, int64_t now)
 {
-	tcs_spin_lock(&tcs_vtimer_lock);
+	uint64_t signals = tcs_lock(&tcs_vtimer_lock);
 	struct itimerspec v = tcs_value(t, now);
-	tcs_spin_unlock(&tcs_vtimer_lock);
+	tcs_unlock(&tcs_vtimer_lock, signals);
 	return v;
 }
 
 void tcs_vtimer_arm(struct tcs_vtimer *t, int64_t next, int64_t interval, int64_t now, struct itimerspec *old)
 {
-	tcs_spin_lock(&tcs_vtimer_lock);
+	uint64_t signals = tcs_lock(&tcs_vtimer_lock);
 	if (old)
 		*old = tcs_value(t, now);
 	t->interval = next == TCS_NEVER ? 0 : interval;
 	tcs_set_next(t, next);
-	tcs_spin_unlock(&tcs_vtimer_lock);
+	tcs_unlock(&tcs_vtimer_lock, signals);
 }

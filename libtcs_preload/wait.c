@@ -3,9 +3,9 @@
  * (roundtrip.c carries both). Blocking hooks are built on tcs_wait between
  * tcs_wait_enter and tcs_wait_leave.
  *
- * Signals sent to other processes are news for the coordinator; a handler
- * that sends one from inside a wait cannot make a request of its own (the
- * wait's is under way), so its news is told as the wait is left. */
+ * Hooks nest: a signal handler that runs inside one (its wait, or the
+ * timer signals it raises) enters its own, whose request settles the
+ * interrupted one first (roundtrip.c). */
 #include "journal.h"
 #include "raw_syscall.h"
 #include "report.h"
@@ -18,12 +18,6 @@
 
 __thread int tcs_in_wait;
 
-/* Targets told from inside a wait, per thread (a handler runs on the
- * thread whose wait it interrupted). More than fit: tell "everyone". */
-#define TCS_MAX_PENDING_KILLS 8
-static __thread long tcs_pending_kills[TCS_MAX_PENDING_KILLS];
-static __thread volatile int tcs_npending_kills;
-
 static void tcs_send_kill(long target)
 {
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_KILL, 0), w;
@@ -33,48 +27,17 @@ static void tcs_send_kill(long target)
 	tcs_roundtrip(&m, NULL, 0, NULL, &w, NULL);
 }
 
-/* Inside a wait, as it is left (tcs_wait_enter() still held): what
- * handlers that ran in it left to tell. */
-static void tcs_flush_kills(void)
-{
-	while (tcs_npending_kills > 0) {
-		long target = tcs_pending_kills[tcs_npending_kills - 1];
-		tcs_npending_kills--;
-		tcs_send_kill(target);
-	}
-}
-
-static void tcs_tell_kill(long target)
-{
-	if (!tcs_active())
-		return;
-	if (tcs_wait_enter()) {
-		tcs_send_kill(target);
-		tcs_wait_leave();
-		return;
-	}
-	int n = tcs_npending_kills;
-	for (int i = 0; i < n; i++)
-		if (tcs_pending_kills[i] == target)
-			return;
-	if (n == TCS_MAX_PENDING_KILLS) {
-		tcs_pending_kills[0] = -1;
-		tcs_npending_kills = 1;
-		return;
-	}
-	tcs_pending_kills[n] = target;
-	tcs_npending_kills = n + 1;
-}
-
 void tcs_signal_sending(long target, int sig)
 {
-	if (sig != 0 && target != tcs_rt.pid)
-		tcs_tell_kill(target);
+	if (sig == 0 || target == tcs_rt.pid || !tcs_wait_enter())
+		return;
+	tcs_send_kill(target);
+	tcs_wait_leave();
 }
 
 int tcs_wait_enter(void)
 {
-	if (!tcs_active() || tcs_in_wait)
+	if (!tcs_active())
 		return 0;
 	if (tcs_my_channel() < 0) {
 		static int once;
@@ -82,16 +45,13 @@ int tcs_wait_enter(void)
 				       "its waits run in real time");
 		return 0;
 	}
-	tcs_in_wait = 1;
+	tcs_in_wait++;
 	return 1;
 }
 
 void tcs_wait_leave(void)
 {
-	/* Signals a handler sent from inside this wait, told now. */
-	if (__builtin_expect(tcs_npending_kills != 0, 0))
-		tcs_flush_kills();
-	tcs_in_wait = 0;
+	tcs_in_wait--;
 }
 
 /* Timer signals due during a wait: raised here, inside the wait, so that
@@ -144,7 +104,7 @@ static void tcs_catch_up_in_wait(void)
 void tcs_catch_up(void)
 {
 	if (!tcs_wait_enter())
-		return; /* inside a hook (a signal handler's clock read): it asks itself */
+		return;
 	tcs_catch_up_in_wait();
 	tcs_wait_leave();
 }

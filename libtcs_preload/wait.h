@@ -9,13 +9,13 @@
 
 #include "runtime.h"
 
-/* Non-zero while this thread is inside a blocking hook: a nested blocking
- * call (from a signal handler) passes straight through. */
+/* How many blocking hooks this thread is inside: more than one when a
+ * signal handler's hook runs inside another's. */
 extern __thread int tcs_in_wait TCS_HIDDEN __attribute__((tls_model("initial-exec")));
 
 /* Enter/leave a blocking hook. tcs_wait_enter() returns 0 when the caller
- * must pass through to the real call (not a controller, a nested call from
- * a signal handler, or no channel for this thread). */
+ * must pass through to the real call (not a controller, or no channel for
+ * this thread); a signal handler's hook inside another enters as well. */
 int tcs_wait_enter(void) TCS_HIDDEN;
 void tcs_wait_leave(void) TCS_HIDDEN;
 
@@ -54,7 +54,8 @@ void tcs_catch_up(void) TCS_HIDDEN;
  * (TCS_MSG_KILL), so that a controller waiting in virtual time acts on it
  * at the sender's time. Told first: the receiver's wait, ended by the
  * signal, must not reach the coordinator before the news of it does (its
- * handler then ran at the world's time, before the sender's). */
+ * handler then ran at the world's time, before the sender's). From a
+ * handler inside a wait too: the wait is ended first (roundtrip.c). */
 void tcs_signal_sending(long target, int sig) TCS_HIDDEN;
 
 #endif

@@ -12,7 +12,7 @@
  * DEV_SYNC, TIMER, KILL), when the page says TCS_PAGE_MAILBOX.
  *
  * The hand-off, on `state`:
- *   controller   writes `request`, then state = REQUEST; if `polling` is 0
+ *   controller   writes `request`, then state = REQUEST | BUSY; if `polling` is 0
  *                (read after that store) it rings: DOORBELL on its channel.
  *                Then it spins on state: ANSWER, the answer is in `answer`;
  *                PARK, it waits on its channel. Spun long enough, it sets
@@ -21,7 +21,11 @@
  *                cannot answer at once, it parks (sets PARK). To answer it
  *                writes `answer` and sets ANSWER; if PARK was set (by
  *                either side) it also sends the WAKE on the channel.
- *   controller   at the end of its round trip, state = 0.
+ *   controller   at the end of its round trip, state = 0. BUSY, which only
+ *                it sets and clears, tells its own signal handler that the
+ *                request is out (the coordinator's taking clears REQUEST):
+ *                a handler that must make a request of its own parks the
+ *                one it interrupted and takes its answer on the channel.
  * Exactly one of the two ways delivers each answer: whoever sets its bit
  * second sees the other's. `polling` is the coordinator's promise to look
  * without being rung: it clears it, then looks once more, before it sleeps.
@@ -43,6 +47,7 @@ extern "C" {
 #define TCS_MBOX_REQUEST 1u /* a request is posted, not yet taken */
 #define TCS_MBOX_ANSWER 2u  /* the answer is in `answer` */
 #define TCS_MBOX_PARK 4u    /* the answer goes on the channel */
+#define TCS_MBOX_BUSY 8u    /* the controller's: posted, its round trip not over */
 
 /* How long a controller spins for its answer before it parks: about what
  * parking and being woken cost on a slow machine. The coordinator parks a
