@@ -10,6 +10,7 @@
  * public names, as any thread of the program does. */
 #include <pthread.h>
 
+#include "signal_mask.h"
 #include "signal_timers.h"
 #include "timer_thread.h"
 #include "vclock.h"
@@ -86,7 +87,11 @@ int tcs_timer_thread_start(int slot, uint32_t gen, const struct sigevent *sev)
 
 void tcs_timer_threads_poke(void)
 {
+	/* Signals blocked, as in the helpers: a handler that sets a timer
+	 * here again never finds the lock held by the flow it interrupted. */
+	uint64_t open = tcs_signals_block();
 	pthread_mutex_lock(&tcs_helpers_lock);
 	pthread_cond_broadcast(&tcs_helpers_cond);
 	pthread_mutex_unlock(&tcs_helpers_lock);
+	tcs_signals_restore(open);
 }

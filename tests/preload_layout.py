@@ -5,7 +5,10 @@ naming FILE:LINE, where libtcs_preload/ parts from it.
   after (static inline helpers aside);
 - every exported hook (TCS_EXPORT) is in a hooks_*.c file;
 - hooks call down into the runtime, never the reverse: no file but a
-  hooks_*.c one calls a function a hooks_*.c file defines.
+  hooks_*.c one calls a function a hooks_*.c file defines;
+- no lock but spin_lock.h's, which blocks signals while held: nothing
+  else spins on an atomic exchange, and nothing takes a pthread lock (a
+  signal handler's hook would find it held by the flow it interrupted).
 
     preload_layout.py SOURCE_ROOT
 """
@@ -79,6 +82,17 @@ def main(root):
                         for n, line in enumerate(code.split("\n"), 1):
                             if re.search(r"\b%s\s*\(" % re.escape(name), line):
                                 errors.append("%s:%d: calls %s of %s: the runtime calls no hook file" % (path, n, name, where))
+    for f in names:
+        # spin_lock.h is the lock; timer_thread.c's mutex is only ever held
+        # with every signal blocked (its helper threads block them all, and
+        # tcs_timer_threads_poke around it). A program's own mutex, which
+        # the hooks try through tcs_real_fns, is no lock of ours.
+        if f in ("spin_lock.h", "timer_thread.c"):
+            continue
+        for n, line in enumerate(strip_comments(texts[f]).split("\n"), 1):
+            if re.search(r"while\s*\(\s*__atomic_(exchange|test_and_set)|(?<![.\w])pthread_(mutex|spin|rwlock)_(lock|trylock|wrlock|rdlock)\s*\(", line):
+                errors.append("libtcs_preload/%s:%d: a lock other than spin_lock.h's tcs_lock, which blocks signals "
+                              "while held (docs/DESIGN.md, \"Re-entrancy\")" % (f, n))
     for e in errors:
         print(e)
     print("%d files, %d problems" % (len(names), len(errors)))
