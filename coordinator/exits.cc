@@ -21,6 +21,7 @@
 #include "slices.h"
 #include "tcs/msg_io.h"
 #include "tcs/protocol.h"
+#include "threads.h"
 #include "waits.h"
 #include "world_steps.h"
 
@@ -102,6 +103,14 @@ void on_exit(Run &run, Controller &c, int wait_status)
 				w.wake_reason = TCS_WAKE_RECHECK;
 				seen = true;
 			}
+		// A thread of a running parent waits for it: answered now, at the
+		// parent's time now (its other threads may compute on without a
+		// budget: nothing else would come to end the wait).
+		if (seen && p->state == CtlState::Running) {
+			if (run.cfg.mode == TCS_MODE_CPU)
+				p->account(p->cpu_now(), run.cfg.mode);
+			end_side_waits(run, *p);
+		}
 		if (p->state == CtlState::Blocked && p->wait.for_child && !p->sync) {
 			wake(run, *p, std::max(p->v, c.v), TCS_WAKE_RECHECK);
 			seen = true;

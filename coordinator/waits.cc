@@ -137,13 +137,18 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 			if (m.deadline <= c.side.back().requested_at)
 				c.stats.reported_misses++;
 		}
-		if (c.missed_raised_signal(m)) {
+		if (c.missed_raised_signal(m))
+			c.side.back().wake_reason = TCS_WAKE_RECHECK;
+		// Ended as it began (a signal raised unseen, a child already
+		// ended): answered now, while the controller runs; stopped, it is
+		// answered as it resumes. Its other threads may compute on
+		// without a budget: nothing else would come to end it.
+		if (c.side.back().wake_reason && c.state == CtlState::Running) {
 			// (At the time its process has reached, as on_early's.)
-			if (c.state == CtlState::Running && run.cfg.mode == TCS_MODE_CPU)
+			if (run.cfg.mode == TCS_MODE_CPU)
 				c.account(charge_point(run, c, m.cpu), run.cfg.mode);
 			SideWait w = c.side.back();
 			c.side.pop_back();
-			w.wake_reason = TCS_WAKE_RECHECK;
 			answer_side(run, c, w);
 		}
 		return;
