@@ -138,6 +138,8 @@ void on_forked(Run &run, Controller &c, const ::tcs_msg &m)
 		return;
 	}
 	c.awaiting.pid = pid;
+	c.awaiting.seq = m.seq;
+	c.awaiting.fd = c.wait.fd;
 	c.awaiting.since = wall_now();
 	c.awaiting.exec = will == WillLoad::Unknown;
 	if (c.awaiting.exec)
@@ -174,8 +176,13 @@ void child_settled(Run &run, Controller &parent)
 	run.loop.remove(parent.awaiting.pidfd.get());
 	parent.awaiting.pidfd.reset();
 	parent.awaiting.pid = 0;
-	if (parent.state != CtlState::Exited)
-		reply_now(run, parent, 0);
+	if (parent.state == CtlState::Exited)
+		return;
+	// The answer goes to the request that asked (a thread's request since
+	// has taken the controller's record of the last one).
+	parent.wait.seq = parent.awaiting.seq;
+	parent.wait.fd = parent.awaiting.fd;
+	reply_now(run, parent, 0);
 }
 
 // Whether c has a child that runs in real time, outside tcs: a static

@@ -367,6 +367,8 @@ public:
 		UniqueFd pidfd;     // it may die before it registers
 		int64_t since = 0;  // wall time
 		bool exec = false;  // its exec not yet done: looked at
+		uint32_t seq = 0;   // the parent's request to answer then, and
+		int fd = -1;        // its channel (another thread's request may come meanwhile)
 	} awaiting;
 
 private:

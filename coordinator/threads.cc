@@ -225,7 +225,11 @@ bool wake_threads(Run &run, Controller &c, int64_t at)
 		   (c.wait.deadline <= v || c.wait.kicked_at <= v || (c.wait.recheck && c.wait.rechecked_at < run.sim_ns) ||
 		    (c.wait.devices && next_record_due(c) <= v));
 	bool side = std::any_of(c.side.begin(), c.side.end(), [&](const SideWait &w) { return c.side_due(w, v, run.sim_ns); });
-	if (!woke_alone && !timer && !own && !side) {
+	// Its own record due though no request of its own is held (its last
+	// was answered, its threads waited on): it runs, or it would be first
+	// in line at that time for ever.
+	bool stale = !c.wait.active && !c.sync && c.wait.deadline <= v;
+	if (!woke_alone && !timer && !own && !side && !stale) {
 		c.wait.kicked_at = TCS_NEVER; // (the thread it reached was asleep: looked at each step)
 		return false;
 	}

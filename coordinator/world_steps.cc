@@ -91,6 +91,12 @@ bool run_best(Run &run, Controller &best, int64_t at, int64_t until)
 	const int lane = run.lanes.free_for(best);
 	if (lane < 0)
 		return false;
+	// Asleep outside the hooks, with threads whose waits end now (they
+	// were asleep too, in those waits): it runs again, they first; its
+	// turn passing would leave it first in line at the same time for ever.
+	if (best.asleep && std::any_of(best.side.begin(), best.side.end(),
+				       [&](const SideWait &w) { return best.side_due(w, at, run.sim_ns); }))
+		wake_from_asleep(run, best);
 	if (best.asleep && still_asleep(run, best, at)) {
 		// Looked at: still asleep, its turn passes for this step.
 		best.wait.rechecked_at = run.sim_ns;
