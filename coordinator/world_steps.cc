@@ -25,6 +25,8 @@ namespace {
 constexpr int64_t kAdvanceSlice = 20 * TCS_NS_PER_MS;
 // A world step that costs more wall time than this is heavy.
 constexpr int64_t kHeavyStep = 100 * TCS_NS_PER_US;
+// A turn chosen this many times over with nothing changed: a defect.
+constexpr int kSameTurns = 1000;
 // How far behind real time an idle world may fall and catch up.
 constexpr int64_t kIdleCatchUp = 50 * TCS_NS_PER_MS;
 } // namespace
@@ -34,6 +36,13 @@ void schedule(Run &run)
 	if (run.ending || run.held || run.awaiting_grant || !run.fatal || run.hearing)
 		return;
 	const bool barrier = !run.agents.empty() || run.cfg.step_agent;
+	// The same turn chosen again and again with nothing changed is a
+	// defect of ours (a state no decision moves); rather than spin deaf
+	// to the event loop (the controller's end, Ctrl-C), the loop gets its
+	// turn and this decision is taken again a step's wall time later.
+	size_t last_who = SIZE_MAX;
+	int64_t last_at = -1, last_sim = -1;
+	int same = 0;
 	for (;;) {
 		const int64_t target = run.sim_ns + run.cfg.step_ns;
 		run.contenders.resize(run.ctls.size());
@@ -56,6 +65,15 @@ void schedule(Run &run)
 			return;
 		}
 		case Decision::Run:
+			same = d.who == last_who && d.at == last_at && run.sim_ns == last_sim ? same + 1 : 0;
+			last_who = d.who, last_at = d.at, last_sim = run.sim_ns;
+			if (same == kSameTurns) {
+				warn_once(run, "the scheduler chose " + run.ctls[d.who]->name +
+						       " again and again with nothing changed (a defect of tcs: please report it); "
+						       "it looks again every step's wall time");
+				run.continue_timer.arm(run.cfg.step_ns);
+				return;
+			}
 			if (run_best(run, *run.ctls[d.who], d.at, run_until(run.contenders, d.who, target, run.cfg.duration_ns)))
 				continue;
 			[[fallthrough]]; // (no core for it: it waits for one of those running)
