@@ -74,9 +74,13 @@ def test_overloaded_loop_fails_as_on_hardware_but_not_in_lockstep():
           "lockstep %s Hz" % (rates[0][0], rates[0][-1], rates[1][0], rates[1][-1], lockstep["rate_hz"]))
     # It fails as it does natively, far from lockstep's 1 kHz: a loop
     # under tcs costs what it costs natively (the exact rate is checked
-    # below with work measured in CPU time).
+    # below with work measured in CPU time), less the kernel's own cost of
+    # the sleep, which tcs's hook replaces and does not charge (docs/
+    # DESIGN.md §2; a clock_nanosleep whose deadline is past costs 26 us
+    # on one virtual machine, reprogramming its timer, 2 % of this loop).
     costs_as_natively([int(v["loop_cpu_ns"]) / int(v["loops"]) for v in cpu_runs],
-                      [int(v["loop_kernel_cpu_ns"]) / int(v["loops"]) for v in native_runs], "CPU per loop, ns")
+                      [(int(v["loop_kernel_cpu_ns"]) - int(v["waits_kernel_cpu_ns"])) / int(v["loops"])
+                       for v in native_runs], "CPU per loop outside its sleeps, ns")
     # Work of 1.5 periods by the native calibration (whose scatter, 15 % at
     # most, leaves it over a period) makes the first round late, and the
     # lateness only grows: every deadline is missed.
