@@ -10,6 +10,7 @@
 #include "raw_syscall.h"
 #include "report.h"
 #include "roundtrip.h"
+#include "signal_mask.h"
 #include "signal_timers.h"
 #include "spin.h"
 #include "thread_channels.h"
@@ -61,9 +62,16 @@ static int tcs_raise_timer_signals(uint64_t bits, const sigset_t *mask)
 {
 	/* Blocked while raised (a signal sent to oneself is delivered on the
 	 * way out of kill), then let in by the wait's mask in a ppoll that
-	 * does not wait. */
-	uint64_t old;
-	tcs_sys4(SYS_rt_sigprocmask, SIG_BLOCK, &bits, &old, TCS_KERNEL_SIGSET_SIZE);
+	 * does not wait. Every signal is blocked, not just these: a handler
+	 * run in the ppoll returns to the mask the ppoll began with, and
+	 * another signal that became due meanwhile (raised by that handler,
+	 * blocked in it) is delivered there at once, its handler running
+	 * with that mask. With these alone blocked, a SIGALRM handler run
+	 * after a SIGUSR1 one had SIGUSR1 blocked, as natively it never has,
+	 * and waited in vain for the next (the idiom corpus's
+	 * nested/timer usleep select). With all blocked, it runs as the
+	 * mask is given back, with the wait's. */
+	uint64_t old = tcs_signals_block();
 	long pid = tcs_sys0(SYS_getpid);
 	for (int sig = 1; sig <= 64; sig++) {
 		if (!(bits & (1ull << (sig - 1))))
@@ -77,7 +85,7 @@ static int tcs_raise_timer_signals(uint64_t bits, const sigset_t *mask)
 	struct timespec zero = { 0, 0 };
 	long r = tcs_sys5(SYS_ppoll, NULL, 0, &zero, mask ? (const void *)mask : (const void *)&old,
 			  TCS_KERNEL_SIGSET_SIZE);
-	tcs_sys4(SYS_rt_sigprocmask, SIG_SETMASK, &old, NULL, TCS_KERNEL_SIGSET_SIZE);
+	tcs_signals_restore(old);
 	return r == -EINTR ? -EINTR : TCS_WAIT_RECHECK;
 }
 
