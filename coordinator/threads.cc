@@ -221,6 +221,13 @@ bool wake_threads(Run &run, Controller &c, int64_t at)
 	int64_t v = std::max(c.v, at);
 	bool woke_alone = c.others_asleep && runnable_threads(run, c, 0) > 0;
 	bool timer = c.next_timer() <= v;
+	if (timer && c.sync) {
+		// A device read's answer carries no signals: sent now, at their
+		// time (world_steps.cc, run_best).
+		c.v = v;
+		c.raise_due_timers();
+		timer = false;
+	}
 	bool own = c.wait.active && !c.sync &&
 		   (c.wait.deadline <= v || c.wait.kicked_at <= v || (c.wait.recheck && c.wait.rechecked_at < run.sim_ns) ||
 		    (c.wait.devices && next_record_due(c) <= v));
@@ -229,7 +236,9 @@ bool wake_threads(Run &run, Controller &c, int64_t at)
 	// was answered, its threads waited on): it runs, or it would be first
 	// in line at that time for ever.
 	bool stale = !c.wait.active && !c.sync && c.wait.deadline <= v;
-	if (!woke_alone && !timer && !own && !side && !stale) {
+	// A device read waiting for its record, which is due (complete_sync).
+	bool read_due = c.sync && c.wait.deadline <= v;
+	if (!woke_alone && !timer && !own && !side && !stale && !read_due) {
 		c.wait.kicked_at = TCS_NEVER; // (the thread it reached was asleep: looked at each step)
 		return false;
 	}

@@ -130,6 +130,16 @@ bool run_best(Run &run, Controller &best, int64_t at, int64_t until)
 				w.rechecked_at = run.sim_ns;
 			return true;
 		}
+	} else if (best.state == CtlState::Blocked && best.sync && best.next_timer() <= at &&
+		   best.next_timer() < best.wait.deadline) {
+		// A signal timer due in a device read that waits for its record:
+		// the read's answer carries no signals (its result would take
+		// their place), so they are sent now, at their time; a handler
+		// runs in the read's wait, which goes on (as with SA_RESTART).
+		best.v = std::max(best.v, at);
+		best.raise_due_timers();
+		best.wait.rechecked_at = run.sim_ns;
+		return true;
 	} else if (best.state == CtlState::Blocked && best.next_timer() <= at && best.next_timer() < best.wait.deadline) {
 		// A signal timer is due in its wait: send it, and wake it to
 		// re-check (its wait ends with EINTR if a handler ran).
@@ -143,8 +153,20 @@ bool run_best(Run &run, Controller &best, int64_t at, int64_t until)
 		wake(run, best, due ? std::max(best.v, best.wait.deadline) : at,
 		     due || best.wait.devices ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK);
 	}
-	if (best.sync && !complete_sync(run, best))
-		return true; // a read that must wait for its next record
+	if (best.sync && !complete_sync(run, best)) {
+		// A read that must wait for its next record. Other threads'
+		// waits due meanwhile end now, at their time: the reader's
+		// request is the controller's own, theirs would otherwise wait
+		// for it (and the scheduler would choose them again and again).
+		// (What they then compute before they wait again is not charged:
+		// the controller is Blocked on the read until it resumes.)
+		if (std::any_of(best.side.begin(), best.side.end(),
+				[&](const SideWait &w) { return best.side_due(w, best.v, run.sim_ns); })) {
+			best.publish_slice(best.cpu_at_end >= 0 ? best.cpu_at_end : best.cpu_now()); // (their clocks)
+			end_side_waits(run, best);
+		}
+		return true;
+	}
 	resume(run, best, until, lane);
 	return true;
 }
