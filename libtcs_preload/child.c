@@ -18,6 +18,7 @@
 #include "report.h"
 #include "roundtrip.h"
 #include "signal_timers.h"
+#include "spin_lock.h"
 #include "tcs/msg_io.h"
 #include "thread_channels.h"
 #include "vclock.h"
@@ -88,14 +89,24 @@ int tcs_become_child(int parent_channel, int64_t fork_v, int v_known)
 	return 0;
 }
 
+/* The signal mask before the fork's tcs_locks_hold_all. */
+static uint64_t tcs_fork_mask;
+
 static void tcs_atfork_prepare(void)
 {
 	if (tcs_active())
 		tcs_fork_v = tcs_vnow();
+	tcs_fork_mask = tcs_locks_hold_all();
+}
+
+static void tcs_atfork_parent(void)
+{
+	tcs_locks_release_all(tcs_fork_mask);
 }
 
 static void tcs_atfork_child(void)
 {
+	tcs_locks_release_all(tcs_fork_mask);
 	if (tcs_rt.state != TCS_ON)
 		return;
 	/* The journal is its parent's: not a word of it is this process's. */
@@ -111,7 +122,7 @@ static void tcs_atfork_child(void)
 
 void tcs_child_init(void)
 {
-	pthread_atfork(tcs_atfork_prepare, NULL, tcs_atfork_child);
+	pthread_atfork(tcs_atfork_prepare, tcs_atfork_parent, tcs_atfork_child);
 }
 
 /* ---- running detached ---------------------------------------------------- */

@@ -49,9 +49,9 @@ static long tcs_stimer_sync(int slot)
 	long r = 0;
 	uint32_t told;
 	do {
-		uint64_t signals = tcs_lock(&tcs_stimer_lock);
+		uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_STIMERS]);
 		struct tcs_stimer t = tcs_stimers[slot];
-		tcs_unlock(&tcs_stimer_lock, signals);
+		tcs_unlock(&tcs_locks[TCS_LOCK_STIMERS], signals);
 		told = t.set_count;
 		if (!t.signo)
 			break; /* SIGEV_NONE: nothing to send */
@@ -75,7 +75,7 @@ static long tcs_stimer_set(int slot, int64_t value, int64_t interval, int abs, s
 {
 	struct tcs_stimer *t = &tcs_stimers[slot];
 	int64_t v = tcs_vnow();
-	uint64_t signals = tcs_lock(&tcs_stimer_lock);
+	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_STIMERS]);
 	if (old)
 		*old = tcs_stimer_value(t, v);
 	if (value <= 0)
@@ -85,7 +85,7 @@ static long tcs_stimer_set(int slot, int64_t value, int64_t interval, int abs, s
 	t->interval = t->first == TCS_NEVER ? 0 : interval;
 	__atomic_add_fetch(&t->set_count, 1, __ATOMIC_RELAXED);
 	int helper = t->notify != NULL;
-	tcs_unlock(&tcs_stimer_lock, signals);
+	tcs_unlock(&tcs_locks[TCS_LOCK_STIMERS], signals);
 	if (helper) {
 		tcs_timer_threads_poke();
 		return 0;
@@ -129,9 +129,9 @@ TCS_EXPORT int getitimer(__itimer_which_t which, struct itimerval *cur)
 	if (which != ITIMER_REAL || !tcs_active())
 		return tcs_errno_result(tcs_sys2(SYS_getitimer, which, cur));
 	int64_t now = tcs_timer_read_vnow();
-	uint64_t signals = tcs_lock(&tcs_stimer_lock);
+	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_STIMERS]);
 	struct itimerspec v = tcs_stimer_value(&tcs_stimers[0], now);
-	tcs_unlock(&tcs_stimer_lock, signals);
+	tcs_unlock(&tcs_locks[TCS_LOCK_STIMERS], signals);
 	cur->it_value = tcs_ts_to_tv(v.it_value);
 	cur->it_interval = tcs_ts_to_tv(v.it_interval);
 	return 0;
@@ -172,13 +172,13 @@ TCS_EXPORT int timer_create(clockid_t clock, struct sigevent *sev, timer_t *id)
 	int signo = notify == SIGEV_NONE || notify == SIGEV_THREAD ? 0 : sev ? sev->sigev_signo : SIGALRM;
 	if (signo == 0 ? notify == SIGEV_SIGNAL || notify == SIGEV_THREAD_ID : signo < 1 || signo > 64)
 		return tcs_errno_result(-EINVAL);
-	uint64_t signals = tcs_lock(&tcs_stimer_lock);
+	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_STIMERS]);
 	int slot = -1;
 	for (int i = 1; i < TCS_MAX_TIMERS && slot < 0; i++)
 		if (!tcs_stimers[i].used)
 			slot = i;
 	if (slot < 0) {
-		tcs_unlock(&tcs_stimer_lock, signals);
+		tcs_unlock(&tcs_locks[TCS_LOCK_STIMERS], signals);
 		return tcs_errno_result(-EAGAIN);
 	}
 	struct tcs_stimer *t = &tcs_stimers[slot];
@@ -194,7 +194,7 @@ TCS_EXPORT int timer_create(clockid_t clock, struct sigevent *sev, timer_t *id)
 		t->value = sev->sigev_value;
 	}
 	uint32_t gen = t->gen;
-	tcs_unlock(&tcs_stimer_lock, signals);
+	tcs_unlock(&tcs_locks[TCS_LOCK_STIMERS], signals);
 	if (notify == SIGEV_THREAD) {
 		long r = tcs_timer_thread_start(slot, gen, sev);
 		if (r < 0) {
@@ -227,9 +227,9 @@ TCS_EXPORT int timer_gettime(timer_t id, struct itimerspec *cur)
 		return real ? real(id, cur) : tcs_errno_result(-EINVAL);
 	}
 	int64_t now = tcs_timer_read_vnow();
-	uint64_t signals = tcs_lock(&tcs_stimer_lock);
+	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_STIMERS]);
 	*cur = tcs_stimer_value(&tcs_stimers[slot], now);
-	tcs_unlock(&tcs_stimer_lock, signals);
+	tcs_unlock(&tcs_locks[TCS_LOCK_STIMERS], signals);
 	return 0;
 }
 
@@ -253,10 +253,10 @@ TCS_EXPORT int timer_delete(timer_t id)
 		return real ? real(id) : tcs_errno_result(-EINVAL);
 	}
 	long r = tcs_stimer_set(slot, 0, 0, 0, NULL);
-	uint64_t signals = tcs_lock(&tcs_stimer_lock);
+	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_STIMERS]);
 	int helper = tcs_stimers[slot].notify != NULL;
 	tcs_stimers[slot].used = 0;
-	tcs_unlock(&tcs_stimer_lock, signals);
+	tcs_unlock(&tcs_locks[TCS_LOCK_STIMERS], signals);
 	if (helper)
 		tcs_timer_threads_poke(); /* its helper ends */
 	return tcs_errno_result(r);

@@ -29,7 +29,6 @@ struct tcs_parked {
 };
 
 static struct tcs_parked tcs_parked_slots[TCS_MAX_PARKED];
-static int tcs_parked_lock;
 int tcs_parked_count;
 
 int tcs_park_begin(const void *addr)
@@ -38,7 +37,7 @@ int tcs_park_begin(const void *addr)
 	if (fd < 0)
 		return fd;
 	int slot = -ENOSPC;
-	uint64_t signals = tcs_lock(&tcs_parked_lock);
+	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_PARKED]);
 	for (int i = 0; i < TCS_MAX_PARKED; i++) {
 		struct tcs_parked *p = &tcs_parked_slots[i];
 		if (p->used)
@@ -52,7 +51,7 @@ int tcs_park_begin(const void *addr)
 		slot = i;
 		break;
 	}
-	tcs_unlock(&tcs_parked_lock, signals);
+	tcs_unlock(&tcs_locks[TCS_LOCK_PARKED], signals);
 	if (slot == -ENOSPC) {
 		static int once;
 		tcs_report_once(&once, "more than 256 threads wait at once; the others re-check every step");
@@ -74,11 +73,11 @@ void tcs_park_end(int slot)
 {
 	if (slot < 0)
 		return;
-	uint64_t signals = tcs_lock(&tcs_parked_lock);
+	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_PARKED]);
 	tcs_parked_slots[slot].used = 0;
 	tcs_parked_slots[slot].addr = NULL;
 	__atomic_sub_fetch(&tcs_parked_count, 1, __ATOMIC_RELAXED);
-	tcs_unlock(&tcs_parked_lock, signals);
+	tcs_unlock(&tcs_locks[TCS_LOCK_PARKED], signals);
 }
 
 int tcs_unpark_all(const void *addr)
@@ -86,7 +85,7 @@ int tcs_unpark_all(const void *addr)
 	int fds[TCS_MAX_PARKED];
 	uint32_t seqs[TCS_MAX_PARKED];
 	int n = 0;
-	uint64_t signals = tcs_lock(&tcs_parked_lock);
+	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_PARKED]);
 	for (int i = 0; i < TCS_MAX_PARKED; i++) {
 		struct tcs_parked *p = &tcs_parked_slots[i];
 		if (!p->used || p->addr != addr || p->poked)
@@ -95,7 +94,7 @@ int tcs_unpark_all(const void *addr)
 		fds[n] = p->fd;
 		seqs[n++] = p->seq;
 	}
-	tcs_unlock(&tcs_parked_lock, signals);
+	tcs_unlock(&tcs_locks[TCS_LOCK_PARKED], signals);
 	/* Where this thread's process is: the coordinator's own reading of a
 	 * running process's CPU lags by up to a kernel tick. */
 	int64_t cpu = n > 0 ? tcs_charge_point(TCS_MSG_EARLY) : 0;

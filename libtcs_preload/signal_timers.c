@@ -6,24 +6,23 @@
 #include "spin_lock.h"
 
 struct tcs_stimer tcs_stimers[TCS_MAX_TIMERS];
-int tcs_stimer_lock;
 
 int tcs_stimer_copy(int slot, uint32_t gen, struct tcs_stimer *out)
 {
-	uint64_t signals = tcs_lock(&tcs_stimer_lock);
+	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_STIMERS]);
 	int alive = tcs_stimers[slot].used && tcs_stimers[slot].gen == gen;
 	if (alive)
 		*out = tcs_stimers[slot];
-	tcs_unlock(&tcs_stimer_lock, signals);
+	tcs_unlock(&tcs_locks[TCS_LOCK_STIMERS], signals);
 	return alive ? 0 : -1;
 }
 
 void tcs_stimer_set_overrun(int slot, uint32_t gen, int overrun)
 {
-	uint64_t signals = tcs_lock(&tcs_stimer_lock);
+	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_STIMERS]);
 	if (tcs_stimers[slot].gen == gen)
 		tcs_stimers[slot].overrun = overrun;
-	tcs_unlock(&tcs_stimer_lock, signals);
+	tcs_unlock(&tcs_locks[TCS_LOCK_STIMERS], signals);
 }
 
 void tcs_timers_forget_all(void)

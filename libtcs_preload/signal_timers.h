@@ -38,9 +38,8 @@ static inline int64_t tcs_stimer_next(const struct tcs_stimer *t, int64_t v)
 }
 
 /* The table (TCS_MAX_TIMERS, protocol.h; slot 0 is ITIMER_REAL, which
- * alarm shares), under tcs_stimer_lock (a spin lock, spin_lock.h). */
+ * alarm shares), under tcs_locks[TCS_LOCK_STIMERS] (spin_lock.h). */
 extern struct tcs_stimer tcs_stimers[TCS_MAX_TIMERS] TCS_HIDDEN;
-extern int tcs_stimer_lock TCS_HIDDEN;
 
 /* A copy of slot while it is still incarnation gen (0, else -1: deleted),
  * and the overrun of its latest call. */

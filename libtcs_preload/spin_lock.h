@@ -12,6 +12,18 @@
 #include "signal_mask.h"
 #include "tcs/clock_page.h"
 
+/* Every lock of the runtime, in the order a fork takes them all
+ * (tcs_locks_hold_all): no code holds one while it takes another. */
+enum {
+	TCS_LOCK_STIMERS,    /* signal timers (signal_timers.c, hooks_timer.c) */
+	TCS_LOCK_TIMERFDS,   /* virtual timerfds (timerfds.c) */
+	TCS_LOCK_THREAD_FDS, /* threads' channels (thread_channels.c) */
+	TCS_LOCK_SLACK_NOTES, /* timer slack notes (timer_slack.c) */
+	TCS_LOCK_PARKED,     /* parked threads (parking.c) */
+	TCS_LOCK_COUNT
+};
+extern int tcs_locks[TCS_LOCK_COUNT] __attribute__((visibility("hidden")));
+
 /* Takes lock; returns the signal mask to give back to tcs_unlock. */
 static inline uint64_t tcs_lock(int *lock)
 {
@@ -30,5 +42,12 @@ static inline void tcs_unlock(int *lock, uint64_t mask)
 	__atomic_store_n(lock, 0, __ATOMIC_RELEASE);
 	tcs_signals_restore(mask);
 }
+
+/* Around a fork: the forking thread holds every lock, so that no other
+ * thread is halfway through a table the child inherits (a child spun for
+ * ever on the timers' lock, held at the fork by a thread that the child
+ * does not have); both sides then let them go. */
+uint64_t tcs_locks_hold_all(void) __attribute__((visibility("hidden")));
+void tcs_locks_release_all(uint64_t mask) __attribute__((visibility("hidden")));
 
 #endif

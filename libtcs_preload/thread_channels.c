@@ -18,12 +18,11 @@
 static __thread int tcs_channel = -1; /* this thread's channel; -1: none yet */
 static int tcs_thread_fds[TCS_MAX_THREAD_CHANNELS];
 static int tcs_thread_fd_count; /* slots in use, for the fast path */
-static int tcs_thread_fds_lock;
 static pthread_key_t tcs_thread_key;
 
 static void tcs_thread_fd_remember(int fd, int add)
 {
-	uint64_t signals = tcs_lock(&tcs_thread_fds_lock);
+	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_THREAD_FDS]);
 	for (int i = 0; i < TCS_MAX_THREAD_CHANNELS; i++) {
 		if (add ? tcs_thread_fds[i] == 0 : tcs_thread_fds[i] == fd + 1) {
 			tcs_thread_fds[i] = add ? fd + 1 : 0;
@@ -31,7 +30,7 @@ static void tcs_thread_fd_remember(int fd, int add)
 			break;
 		}
 	}
-	tcs_unlock(&tcs_thread_fds_lock, signals);
+	tcs_unlock(&tcs_locks[TCS_LOCK_THREAD_FDS], signals);
 }
 
 int tcs_is_thread_channel(int fd)
@@ -116,7 +115,6 @@ void tcs_thread_channels_after_fork(void)
 	for (int i = 0; i < TCS_MAX_THREAD_CHANNELS; i++)
 		tcs_thread_fds[i] = 0;
 	tcs_thread_fd_count = 0;
-	tcs_thread_fds_lock = 0;
 	tcs_channel = -1;
 	pthread_setspecific(tcs_thread_key, NULL);
 }

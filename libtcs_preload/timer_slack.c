@@ -36,12 +36,12 @@ static struct {
 	pthread_t thread; /* (tid 0) */
 	int rt;           /* 0: free; 1 real-time; -1 not */
 } tcs_notes[TCS_POLICY_NOTES];
-static int tcs_notes_lock, tcs_notes_pending;
+static int tcs_notes_pending;
 
 static void tcs_note(long tid, pthread_t thread, int policy)
 {
 	int rt = tcs_rt_thread_policy(policy) ? 1 : -1;
-	uint64_t signals = tcs_lock(&tcs_notes_lock);
+	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_SLACK_NOTES]);
 	int free_slot = -1;
 	for (int i = 0; i < TCS_POLICY_NOTES; i++) {
 		if (tcs_notes[i].rt == 0) {
@@ -59,7 +59,7 @@ static void tcs_note(long tid, pthread_t thread, int policy)
 		tcs_notes[free_slot].rt = rt;
 		__atomic_add_fetch(&tcs_notes_pending, 1, __ATOMIC_RELEASE);
 	}
-	tcs_unlock(&tcs_notes_lock, signals);
+	tcs_unlock(&tcs_locks[TCS_LOCK_SLACK_NOTES], signals);
 }
 
 static void tcs_take_notes(void)
@@ -68,7 +68,7 @@ static void tcs_take_notes(void)
 		return;
 	long tid = tcs_sys0(SYS_gettid);
 	pthread_t self = pthread_self();
-	uint64_t signals = tcs_lock(&tcs_notes_lock);
+	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_SLACK_NOTES]);
 	for (int i = 0; i < TCS_POLICY_NOTES; i++) {
 		if (tcs_notes[i].rt == 0 ||
 		    !(tcs_notes[i].tid ? tcs_notes[i].tid == tid : pthread_equal(tcs_notes[i].thread, self)))
@@ -77,7 +77,7 @@ static void tcs_take_notes(void)
 		tcs_notes[i].rt = 0;
 		__atomic_sub_fetch(&tcs_notes_pending, 1, __ATOMIC_RELEASE);
 	}
-	tcs_unlock(&tcs_notes_lock, signals);
+	tcs_unlock(&tcs_locks[TCS_LOCK_SLACK_NOTES], signals);
 }
 
 void tcs_policy_set_self(int policy)

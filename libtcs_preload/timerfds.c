@@ -12,7 +12,6 @@
 
 static struct tcs_vtimer tcs_vtimers[TCS_VTIMERS_MAX];
 static uint8_t tcs_fd_vtimer[TCS_DEVICE_FD_MAX]; /* slot + 1, or 0 */
-static int tcs_vtimer_lock;
 static int tcs_vtimers_count; /* armed */
 
 struct tcs_vtimer *tcs_vtimer_of(int fd)
@@ -39,7 +38,7 @@ int64_t tcs_vtimers_fire(int64_t v)
 	int64_t soonest = TCS_NEVER;
 	if (!tcs_vtimers_armed())
 		return soonest;
-	uint64_t signals = tcs_lock(&tcs_vtimer_lock);
+	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_TIMERFDS]);
 	for (int i = 0; i < TCS_VTIMERS_MAX; i++) {
 		struct tcs_vtimer *t = &tcs_vtimers[i];
 		if (!t->refs || t->next == TCS_NEVER)
@@ -54,7 +53,7 @@ int64_t tcs_vtimers_fire(int64_t v)
 		if (t->next < soonest)
 			soonest = t->next;
 	}
-	tcs_unlock(&tcs_vtimer_lock, signals);
+	tcs_unlock(&tcs_locks[TCS_LOCK_TIMERFDS], signals);
 	return soonest;
 }
 
@@ -63,7 +62,7 @@ void tcs_vtimer_forget(int fd)
 	struct tcs_vtimer *t = tcs_vtimer_of(fd);
 	if (!t)
 		return;
-	uint64_t signals = tcs_lock(&tcs_vtimer_lock);
+	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_TIMERFDS]);
 	tcs_fd_vtimer[fd] = 0;
 	if (--t->refs == 0) {
 		tcs_set_next(t, TCS_NEVER);
@@ -74,7 +73,7 @@ void tcs_vtimer_forget(int fd)
 				break;
 			}
 	}
-	tcs_unlock(&tcs_vtimer_lock, signals);
+	tcs_unlock(&tcs_locks[TCS_LOCK_TIMERFDS], signals);
 }
 
 void tcs_vtimer_copy(int from, int to)
@@ -82,26 +81,26 @@ void tcs_vtimer_copy(int from, int to)
 	struct tcs_vtimer *t = tcs_vtimer_of(from);
 	if (!t || to < 0 || to >= TCS_DEVICE_FD_MAX)
 		return;
-	uint64_t signals = tcs_lock(&tcs_vtimer_lock);
+	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_TIMERFDS]);
 	t->refs++;
 	tcs_fd_vtimer[to] = tcs_fd_vtimer[from];
-	tcs_unlock(&tcs_vtimer_lock, signals);
+	tcs_unlock(&tcs_locks[TCS_LOCK_TIMERFDS], signals);
 }
 
 int tcs_vtimer_add(int fd, clockid_t clock)
 {
-	uint64_t signals = tcs_lock(&tcs_vtimer_lock);
+	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_TIMERFDS]);
 	int slot = -1;
 	for (int i = 0; i < TCS_VTIMERS_MAX && slot < 0; i++)
 		if (!tcs_vtimers[i].refs)
 			slot = i;
 	if (slot < 0) {
-		tcs_unlock(&tcs_vtimer_lock, signals);
+		tcs_unlock(&tcs_locks[TCS_LOCK_TIMERFDS], signals);
 		return -EMFILE;
 	}
 	tcs_vtimers[slot] = (struct tcs_vtimer){ 1, fd, clock, TCS_NEVER, 0 };
 	tcs_fd_vtimer[fd] = (uint8_t)(slot + 1);
-	tcs_unlock(&tcs_vtimer_lock, signals);
+	tcs_unlock(&tcs_locks[TCS_LOCK_TIMERFDS], signals);
 	return 0;
 }
 
@@ -116,18 +115,18 @@ static struct itimerspec tcs_value(const struct tcs_vtimer *t, int64_t now)
 
 struct itimerspec tcs_vtimer_value(const struct tcs_vtimer *t, int64_t now)
 {
-	uint64_t signals = tcs_lock(&tcs_vtimer_lock);
+	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_TIMERFDS]);
 	struct itimerspec v = tcs_value(t, now);
-	tcs_unlock(&tcs_vtimer_lock, signals);
+	tcs_unlock(&tcs_locks[TCS_LOCK_TIMERFDS], signals);
 	return v;
 }
 
 void tcs_vtimer_arm(struct tcs_vtimer *t, int64_t next, int64_t interval, int64_t now, struct itimerspec *old)
 {
-	uint64_t signals = tcs_lock(&tcs_vtimer_lock);
+	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_TIMERFDS]);
 	if (old)
 		*old = tcs_value(t, now);
 	t->interval = next == TCS_NEVER ? 0 : interval;
 	tcs_set_next(t, next);
-	tcs_unlock(&tcs_vtimer_lock, signals);
+	tcs_unlock(&tcs_locks[TCS_LOCK_TIMERFDS], signals);
 }
