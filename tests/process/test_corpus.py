@@ -29,9 +29,10 @@ BUDGET = 240
 # it and remove its line (the test prints those that passed).
 KNOWN = [
     (r"^cpu nested/kill \S+ (timer_gettime|getitimer|timerfd_gettime|clock_mono|clock_thread|gettimeofday|clock)$",
-     "cpu mode: a SIGUSR1 another thread sends with pthread_kill (a system call tcs does not see) to a "
-     "SIGALRM handler that only reads clocks and timers (no system call) arrives only once the handler "
-     "returns"),
+     "cpu mode: a controller's threads share its core at SCHED_FIFO, so a thread whose sleep ends while "
+     "another computes runs only once that one waits (natively the kernel interleaves them): the "
+     "killer thread's SIGUSR1 comes after the SIGALRM handler that reads clocks has returned "
+     "(TCS_NO_FIFO=1 passes)"),
     (r"^cpu v?fork \S+ -$",
      "cpu mode: 20 forks (or vforks) from a program whose two other threads are in timer hooks hang "
      "now and then (about 1 run in 30): a thread's nanosleep beside main's pthread_join is never "
