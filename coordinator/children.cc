@@ -24,6 +24,7 @@
 #include "slices.h"
 #include "tcs/msg_io.h"
 #include "tcs/protocol.h"
+#include "threads.h"
 #include "waits.h"
 
 namespace tcs {
@@ -179,10 +180,14 @@ void child_settled(Run &run, Controller &parent)
 	if (parent.state == CtlState::Exited)
 		return;
 	// The answer goes to the request that asked (a thread's request since
-	// has taken the controller's record of the last one).
+	// has taken the controller's record of the last one); another thread's
+	// wait that is the controller's own now keeps its record.
+	const bool aside = set_own_wait_aside(parent, parent.awaiting.fd >= 0 ? parent.awaiting.fd : parent.channel.get());
 	parent.wait.seq = parent.awaiting.seq;
 	parent.wait.fd = parent.awaiting.fd;
 	reply_now(run, parent, 0);
+	if (aside)
+		schedule(run);
 }
 
 // Whether c has a child that runs in real time, outside tcs: a static

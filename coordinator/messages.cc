@@ -26,6 +26,7 @@
 #include "tcs/protocol.h"
 #include "threads.h"
 #include "waits.h"
+#include "world_steps.h"
 
 namespace tcs {
 
@@ -115,7 +116,17 @@ void on_request(Run &run, Controller &c, ThreadChannel *t, const ::tcs_msg &m, U
 		drop(run, c, "it floods its channel (" + std::to_string(st.unanswered) + " messages without waiting for an answer)");
 		return;
 	}
+	// A request answered at once from one thread while another's wait is
+	// the controller's own: that wait becomes a side wait, keeping its
+	// channel and sequence (the request's answer goes by the controller's
+	// record, which it takes; a parent's nanosleep was lost so when its
+	// other thread forked). The asker runs: the controller is no longer
+	// Blocked but Ready, to be resumed.
+	const bool takes_record = m.type != TCS_MSG_BLOCK && m.type != TCS_MSG_EARLY && m.type != TCS_MSG_HELLO;
+	const bool demoted = takes_record && set_own_wait_aside(c, fd);
 	on_message(run, c, m, fd, tid);
+	if (demoted)
+		schedule(run);
 }
 
 void on_message(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)

@@ -201,7 +201,8 @@ int runnable_threads(Run &run, Controller &c, pid_t also)
 
 // The controller's own wait becomes a side wait: it goes on waiting while
 // other threads run.
-void demote_wait(Run &run, Controller &c)
+// The controller's own wait, if any, becomes a side wait; it has none.
+static void own_wait_to_side(Controller &c)
 {
 	if (c.wait.active) {
 		c.side.push_back(c.own_wait());
@@ -211,6 +212,23 @@ void demote_wait(Run &run, Controller &c)
 	c.wait.recheck = false;
 	c.wait.devices = false;
 	c.wait.for_child = false;
+}
+
+bool set_own_wait_aside(Controller &c, int fd)
+{
+	if (!c.wait.active || fd == (c.wait.fd >= 0 ? c.wait.fd : c.channel.get()))
+		return false;
+	own_wait_to_side(c);
+	if (c.state == CtlState::Blocked) {
+		c.state = CtlState::Ready;
+		c.wake_pending = false;
+	}
+	return true;
+}
+
+void demote_wait(Run &, Controller &c)
+{
+	own_wait_to_side(c);
 }
 
 // c is Blocked with several waiting threads (or threads asleep outside the
