@@ -64,9 +64,11 @@ OUTSIDE = re.compile(r"never loaded libtcs_preload")
 # computation is free (tests/README.md, "How timing is checked"): its
 # thread's timer slack (50 us, docs/DESIGN.md §2), and three calls at 25 us
 # each (READ: the clock read before it, the one after, and the one its
-# deadline was computed from). Only the CALL's waits: nothing interrupts
-# them (the idioms program masks the other signals in its handlers), whereas the
-# interrupted flow's last as long as the handlers that interrupt them.
+# deadline was computed from). Only the CALL's waits, the handlers that
+# may interrupt them being the wake signals' (which only count): one
+# restarted after such a signal with a timeout in whole ms, rounded up,
+# is measured from the end its restart asked for (idioms' waited_asked).
+# The interrupted flow's waits last as long as the handlers in them.
 SLACK, READ = 50000, 25000
 LOCKSTEP_OVER = SLACK + 3 * READ
 

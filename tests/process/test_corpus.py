@@ -33,15 +33,6 @@ KNOWN = [
      "another computes runs only once that one waits (natively the kernel interleaves them): the "
      "killer thread's SIGUSR1 comes after the SIGALRM handler that reads clocks has returned "
      "(TCS_NO_FIFO=1 passes)"),
-    (r"^cpu v?fork \S+ -$",
-     "cpu mode: 20 forks (or vforks) from a program whose two other threads are in timer hooks hang "
-     "now and then (about 1 run in 30): a thread's nanosleep beside main's pthread_join is never "
-     "ended, or the child loses the coordinator"),
-    (r"^lockstep thread kill_child -$",
-     "lockstep: kill and waitpid of a child from a second thread while main sleeps hangs"),
-    (r"^lockstep nested/timer \S+ sigsuspend$",
-     "lockstep: a wait in a SIGUSR1 handler nested in a SIGALRM handler's sigsuspend may end 300 us "
-     "after its time"),
 ]
 
 

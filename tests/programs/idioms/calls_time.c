@@ -209,10 +209,15 @@ void c_thrd_sleep(struct ctx *c)
 /* ---- multiplexers: wait on an empty pipe until the timeout ---- */
 
 /* What is left of a wait until end, in whole ms rounded up (poll, epoll). */
-static int left_ms(long long end)
+/* The whole milliseconds left till end, rounded up (never early); the
+ * wait so restarted may end as late as *asked, which this moves on. */
+static int left_ms(long long end, long long *asked)
 {
-	long long left = end - mono_ns();
-	return left <= 0 ? 0 : (int)((left + MS - 1) / MS);
+	long long now = mono_ns(), left = end - now;
+	int ms = left <= 0 ? 0 : (int)((left + MS - 1) / MS);
+	if (now + ms * MS > *asked)
+		*asked = now + ms * MS;
+	return ms;
 }
 
 void c_select(struct ctx *c)
@@ -258,18 +263,18 @@ void c_pselect(struct ctx *c)
 
 void c_poll(struct ctx *c)
 {
-	long long t0 = mono_ns(), end = t0 + POLL_MS * MS;
+	long long t0 = mono_ns(), end = t0 + POLL_MS * MS, asked = end;
 	int ms = POLL_MS, r;
 	for (;;) {
 		struct pollfd p = { .fd = c->f->pipe_r, .events = POLLIN };
 		if ((r = poll(&p, 1, ms)) >= 0 || errno != EINTR)
 			break;
 		interrupted();
-		ms = left_ms(end);
+		ms = left_ms(end, &asked);
 	}
 	if (r != 0)
 		fail(c, r < 0 ? "poll" : "readable", r < 0 ? errno : 0);
-	waited(c, t0, mono_ns(), POLL_MS * MS);
+	waited_asked(c, t0, mono_ns(), POLL_MS * MS, asked - t0);
 }
 
 void c_ppoll(struct ctx *c)
@@ -291,16 +296,16 @@ void c_ppoll(struct ctx *c)
 
 void c_epoll_wait(struct ctx *c)
 {
-	long long t0 = mono_ns(), end = t0 + POLL_MS * MS;
+	long long t0 = mono_ns(), end = t0 + POLL_MS * MS, asked = end;
 	int ms = POLL_MS, r;
 	struct epoll_event ev;
 	while ((r = epoll_wait(c->f->epfd, &ev, 1, ms)) < 0 && errno == EINTR) {
 		interrupted();
-		ms = left_ms(end);
+		ms = left_ms(end, &asked);
 	}
 	if (r != 0)
 		fail(c, r < 0 ? "epoll_wait" : "readable", r < 0 ? errno : 0);
-	waited(c, t0, mono_ns(), POLL_MS * MS);
+	waited_asked(c, t0, mono_ns(), POLL_MS * MS, asked - t0);
 }
 
 /* epoll_pwait (ms), every other time epoll_pwait2 (a timespec). */
@@ -308,7 +313,7 @@ void c_epoll_pwait(struct ctx *c)
 {
 	int two = c->f->round % 2;
 	long long want = two ? SLEEP_NS : POLL_MS * MS;
-	long long t0 = mono_ns(), end = t0 + want;
+	long long t0 = mono_ns(), end = t0 + want, asked = end;
 	int r;
 	struct epoll_event ev;
 	for (;;) {
@@ -317,7 +322,7 @@ void c_epoll_pwait(struct ctx *c)
 			struct timespec ts = ts_of(left > 0 ? left : 0);
 			r = epoll_pwait2(c->f->epfd, &ev, 1, &ts, NULL);
 		} else {
-			r = epoll_pwait(c->f->epfd, &ev, 1, left_ms(end), NULL);
+			r = epoll_pwait(c->f->epfd, &ev, 1, left_ms(end, &asked), NULL);
 		}
 		if (r >= 0 || errno != EINTR)
 			break;
@@ -325,5 +330,5 @@ void c_epoll_pwait(struct ctx *c)
 	}
 	if (r != 0)
 		fail(c, r < 0 ? "epoll_pwait" : "readable", r < 0 ? errno : 0);
-	waited(c, t0, mono_ns(), want);
+	waited_asked(c, t0, mono_ns(), want, asked - t0);
 }

@@ -24,6 +24,7 @@ long long mono_ns(void);
 void fail_with(struct ctx *c, const char *what, int err, int value);
 void fail(struct ctx *c, const char *what, int err);
 void check(struct ctx *c, int ok, const char *what);
+void waited_asked(struct ctx *c, long long t0, long long t1, long long want, long long asked);
 void waited(struct ctx *c, long long t0, long long t1, long long want);
 void interrupted(void);
 int wake_sig(int who);
