@@ -40,7 +40,9 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
+sys.path.insert(0, os.path.join(os.path.dirname(HERE), "process"))
 import cases as corpus  # noqa: E402
+from sessions import session_processes  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(HERE))
 IDIOMS_PY = os.path.join(HERE, "idioms.py")
@@ -94,23 +96,6 @@ class Config:
         self.timeout = timeout
 
 
-def session_processes(sid):
-    """(pid, state) of each process in session sid."""
-    found = []
-    for entry in os.listdir("/proc"):
-        if not entry.isdigit():
-            continue
-        try:
-            with open("/proc/%s/stat" % entry) as f:
-                stat = f.read()
-        except OSError:
-            continue
-        rest = stat[stat.rindex(")") + 2:].split()
-        if int(rest[3]) == sid:
-            found.append((int(entry), rest[0]))
-    return found
-
-
 def end_session(sid):
     """Kills every process of the session: each to normal scheduling and
     free to run on any core first (a process killed on a core where a
@@ -119,7 +104,7 @@ def end_session(sid):
     is caught by the next round)."""
     every_core = set(range(os.cpu_count() or 1))
     for _ in range(250):
-        left = [pid for pid, state in session_processes(sid) if state != "Z"]
+        left = [pid for pid, state, _ in session_processes(sid) if state != "Z"]
         if not left:
             return
         for pid in left:
@@ -301,7 +286,7 @@ def judge(run, native=None):
         problems.append(("warning", warned[0]))
     if run.left_behind:
         problems.append(("leftover", "left %d processes behind (states %s)" %
-                         (len(run.left_behind), "".join(s for _, s in run.left_behind))))
+                         (len(run.left_behind), "".join(s for _, s, _ in run.left_behind))))
     return problems
 
 

@@ -18,6 +18,8 @@ import tempfile
 import time
 import traceback
 
+from sessions import session_processes  # noqa: F401 (tests import it from here)
+
 TCS_RUN = os.environ.get("TCS_RUN", "tcs-run")
 TCS_TRACE = os.environ.get("TCS_TRACE", "tcs-trace")
 PROGRAMS = os.environ.get("TCS_PROGRAMS", ".")
@@ -39,23 +41,6 @@ class Result:
     def __repr__(self):
         return "exit %s after %.2fs\n--- stdout\n%s--- stderr\n%s" % (
             self.returncode, self.wall, self.stdout[-3000:], self.stderr[-3000:])
-
-
-def session_processes(sid):
-    """(pid, state, command) of every process in session sid."""
-    found = []
-    for entry in os.listdir("/proc"):
-        if not entry.isdigit():
-            continue
-        try:
-            with open("/proc/%s/stat" % entry) as f:
-                stat = f.read()
-        except OSError:
-            continue
-        rest = stat[stat.rindex(")") + 2:].split()
-        if int(rest[3]) == sid:
-            found.append((int(entry), rest[0], stat[stat.index("(") + 1:stat.rindex(")")]))
-    return found
 
 
 def demote(sid):
