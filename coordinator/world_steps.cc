@@ -78,11 +78,13 @@ void schedule(Run &run)
 				continue;
 			[[fallthrough]]; // (no core for it: it waits for one of those running)
 		case Decision::Wait:
-			// The world steps once those running have reached it: each
-			// with a budget to there (one resumed alone has none). (A
-			// budget to where another needs the core, run_until, lost
-			// coreutils timeout's SIGALRM about 1 run in 30.)
-			run.lanes.each_running([&run, target](Controller &r) { budget_to(run, r, target); });
+			// The world steps once those running have reached it. One
+			// resumed alone has no budget; if another has come since (a
+			// child registered), it gets one, to where that one needs
+			// the core or the world.
+			for (size_t i = 0; i < run.ctls.size(); i++)
+				if (run.ctls[i]->state == CtlState::Running)
+					budget_to(run, *run.ctls[i], run_until(run.contenders, i, target, run.cfg.duration_ns));
 			return;
 		case Decision::Idle:
 			// Every controller waits for something only the real world
