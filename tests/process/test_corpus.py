@@ -29,10 +29,9 @@ BUDGET = 240
 # it and remove its line (the test prints those that passed).
 KNOWN = [
     (r"^cpu nested/kill \S+ (timer_gettime|getitimer|timerfd_gettime|clock_mono|clock_thread|gettimeofday|clock)$",
-     "cpu mode: a controller's threads share its core at SCHED_FIFO, so a thread whose sleep ends while "
-     "another computes runs only once that one waits (natively the kernel interleaves them): the "
-     "killer thread's SIGUSR1 comes after the SIGALRM handler that reads clocks has returned "
-     "(TCS_NO_FIFO=1 passes)"),
+     "cpu mode: a thread whose sleep ends while another of its controller computes runs only once "
+     "that one waits (natively they interleave): the killer thread's SIGUSR1 comes after the SIGALRM "
+     "handler that reads clocks has returned (TCS_NO_FIFO=1 passes; cause not pinned down)"),
     (r"^lockstep nested/kill \S+ \S+$",
      "lockstep: pthread_kill is not seen by tcs (glibc makes the tgkill system call itself), so its "
      "SIGUSR1 comes at a real time rather than at the sender's virtual time; a wait in its handler, "
