@@ -173,9 +173,15 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 	t->end = w.v;
 	tcs_spin_waited();
 	/* A handler ran (a timer's signal, say): the wait was interrupted,
-	 * whatever the answer that crossed the EARLY says. */
-	if (early == TCS_EARLY_SIGNAL)
+	 * whatever the answer that crossed the EARLY says; but timer signals
+	 * that answer carries are due all the same and raised (coreutils
+	 * timeout's SIGALRM was lost so when a SIGCHLD, for its child stopped
+	 * by the coordinator, ended its sigsuspend at that moment). */
+	if (early == TCS_EARLY_SIGNAL) {
+		if (w.kind == TCS_WAKE_SIGNAL)
+			(void)tcs_raise_timer_signals((uint64_t)w.arg, mask);
 		return -EINTR;
+	}
 	if (w.kind == TCS_WAKE_SIGNAL)
 		return tcs_raise_timer_signals((uint64_t)w.arg, mask);
 	if (w.kind == TCS_WAKE_RECHECK)
