@@ -182,7 +182,7 @@ void child_settled(Run &run, Controller &parent)
 	// The answer goes to the request that asked (a thread's request since
 	// has taken the controller's record of the last one); another thread's
 	// wait that is the controller's own now keeps its record.
-	const bool aside = set_own_wait_aside(parent, parent.awaiting.fd >= 0 ? parent.awaiting.fd : parent.channel.get());
+	const bool aside = set_own_wait_aside(run, parent, parent.awaiting.fd >= 0 ? parent.awaiting.fd : parent.channel.get());
 	parent.wait.seq = parent.awaiting.seq;
 	parent.wait.fd = parent.awaiting.fd;
 	reply_now(run, parent, 0);

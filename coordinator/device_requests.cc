@@ -201,6 +201,15 @@ static bool complete_wire_read(Run &run, Controller &c, const DeviceSync &sync, 
 	return wait_for(c, sync, std::min(next_record_due(c), sync.deadline));
 }
 
+bool raise_timers_in_read(Controller &c, int64_t at)
+{
+	if (!c.sync || c.next_timer() > at)
+		return false;
+	c.v = std::max(c.v, at);
+	c.raise_due_timers();
+	return true;
+}
+
 // The world is at or past the controller's step: do what it asked. False
 // when it must wait for the next record (then it is Blocked until then).
 bool complete_sync(Run &run, Controller &c)

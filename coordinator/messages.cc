@@ -123,7 +123,7 @@ void on_request(Run &run, Controller &c, ThreadChannel *t, const ::tcs_msg &m, U
 	// other thread forked). The asker runs: the controller is no longer
 	// Blocked but Ready, to be resumed.
 	const bool takes_record = m.type != TCS_MSG_BLOCK && m.type != TCS_MSG_EARLY && m.type != TCS_MSG_HELLO;
-	const bool demoted = takes_record && set_own_wait_aside(c, fd);
+	const bool demoted = takes_record && set_own_wait_aside(run, c, fd);
 	on_message(run, c, m, fd, tid);
 	if (demoted)
 		schedule(run);

@@ -16,6 +16,7 @@
 #include <algorithm>
 
 #include "asleep.h"
+#include "device_requests.h"
 #include "exits.h"
 #include "messages.h"
 #include "proc_info.h"
@@ -201,8 +202,7 @@ int runnable_threads(Run &run, Controller &c, pid_t also)
 
 // The controller's own wait becomes a side wait: it goes on waiting while
 // other threads run.
-// The controller's own wait, if any, becomes a side wait; it has none.
-static void own_wait_to_side(Controller &c)
+void demote_wait(Run &, Controller &c)
 {
 	if (c.wait.active) {
 		c.side.push_back(c.own_wait());
@@ -214,21 +214,16 @@ static void own_wait_to_side(Controller &c)
 	c.wait.for_child = false;
 }
 
-bool set_own_wait_aside(Controller &c, int fd)
+bool set_own_wait_aside(Run &run, Controller &c, int fd)
 {
 	if (!c.wait.active || fd == (c.wait.fd >= 0 ? c.wait.fd : c.channel.get()))
 		return false;
-	own_wait_to_side(c);
+	demote_wait(run, c);
 	if (c.state == CtlState::Blocked) {
 		c.state = CtlState::Ready;
 		c.wake_pending = false;
 	}
 	return true;
-}
-
-void demote_wait(Run &, Controller &c)
-{
-	own_wait_to_side(c);
 }
 
 // c is Blocked with several waiting threads (or threads asleep outside the
@@ -239,13 +234,8 @@ bool wake_threads(Run &run, Controller &c, int64_t at)
 	int64_t v = std::max(c.v, at);
 	bool woke_alone = c.others_asleep && runnable_threads(run, c, 0) > 0;
 	bool timer = c.next_timer() <= v;
-	if (timer && c.sync) {
-		// A device read's answer carries no signals: sent now, at their
-		// time (world_steps.cc, run_best).
-		c.v = v;
-		c.raise_due_timers();
+	if (timer && raise_timers_in_read(c, v))
 		timer = false;
-	}
 	bool own = c.wait.active && !c.sync &&
 		   (c.wait.deadline <= v || c.wait.kicked_at <= v || (c.wait.recheck && c.wait.rechecked_at < run.sim_ns) ||
 		    (c.wait.devices && next_record_due(c) <= v));

@@ -16,7 +16,7 @@ void demote_wait(Run &run, Controller &c);
 // wait becomes a side wait, keeping its channel and sequence, and the
 // controller, a thread of which runs, is no longer Blocked but Ready (to
 // be scheduled). True if so.
-bool set_own_wait_aside(Controller &c, int fd);
+bool set_own_wait_aside(Run &run, Controller &c, int fd);
 bool wake_threads(Run &run, Controller &c, int64_t at);
 void end_side_waits(Run &run, Controller &c);
 void answer_side(Run &run, Controller &c, const SideWait &w);

@@ -130,14 +130,8 @@ bool run_best(Run &run, Controller &best, int64_t at, int64_t until)
 				w.rechecked_at = run.sim_ns;
 			return true;
 		}
-	} else if (best.state == CtlState::Blocked && best.sync && best.next_timer() <= at &&
-		   best.next_timer() < best.wait.deadline) {
-		// A signal timer due in a device read that waits for its record:
-		// the read's answer carries no signals (its result would take
-		// their place), so they are sent now, at their time; a handler
-		// runs in the read's wait, which goes on (as with SA_RESTART).
-		best.v = std::max(best.v, at);
-		best.raise_due_timers();
+	} else if (best.state == CtlState::Blocked && best.next_timer() < best.wait.deadline &&
+		   raise_timers_in_read(best, at)) {
 		best.wait.rechecked_at = run.sim_ns;
 		return true;
 	} else if (best.state == CtlState::Blocked && best.next_timer() <= at && best.next_timer() < best.wait.deadline) {

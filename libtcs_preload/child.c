@@ -89,8 +89,8 @@ int tcs_become_child(int parent_channel, int64_t fork_v, int v_known)
 	return 0;
 }
 
-/* The signal mask before the fork's tcs_locks_hold_all. */
-static uint64_t tcs_fork_mask;
+/* The forking thread's signal mask before its tcs_locks_hold_all. */
+static __thread uint64_t tcs_fork_mask;
 
 static void tcs_atfork_prepare(void)
 {
