@@ -160,7 +160,17 @@ int64_t next_record_due(const Controller &c)
 		}
 		if (d->gone || d->dev->cfg.kind != TCS_DEVICE_SENSOR || d->dev->cfg.latest)
 			continue;
-		due = std::min(due, d->queue.empty() ? d->next_due : d->queue.front().first);
+		if (d->queue.empty()) {
+			due = std::min(due, d->next_due);
+			continue;
+		}
+		// One due by its time and still queued waits for the program to
+		// read the record in its fd (deliver): no wait ends for it, or a
+		// poll of other fds from a handler that interrupted that read
+		// would be woken for it again and again at the same time.
+		int64_t at = d->queue.front().first;
+		if (at > c.v || drained(*d))
+			due = std::min(due, at);
 	}
 	return due;
 }

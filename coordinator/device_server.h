@@ -69,7 +69,8 @@ private:
 
 // Records due on c's open sensors by its time, into their fds.
 void deliver(Controller &c);
-// When c's next stream record is due (TCS_NEVER: none).
+// When c's next stream record is due (TCS_NEVER: none); one waiting in
+// the queue for the program to read the record before it is not.
 int64_t next_record_due(const Controller &c);
 // The controller has read all that d's fd held.
 bool drained(const OpenDevice &d);
