@@ -242,6 +242,13 @@ bool proc_has_thread(pid_t pid, pid_t tid)
 	return access(path, F_OK) == 0;
 }
 
+bool proc_task_exists(pid_t tid)
+{
+	char path[32];
+	snprintf(path, sizeof path, "/proc/%d", (int)tid);
+	return access(path, F_OK) == 0;
+}
+
 WillLoad proc_will_load(pid_t pid, const char *name)
 {
 	// The environment is laid out last, the loader mapped by then: read

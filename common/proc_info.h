@@ -32,6 +32,8 @@ std::vector<ThreadState> proc_thread_states(pid_t pid);
 bool proc_all_threads_stopped(pid_t pid);
 // Whether tid is a thread of pid.
 bool proc_has_thread(pid_t pid, pid_t tid);
+// Whether a task (process or thread) tid exists anywhere.
+bool proc_task_exists(pid_t tid);
 // Whether pid has a library whose file name contains name mapped (true too
 // if its maps cannot be read or are empty: no verdict).
 bool proc_maps_library(pid_t pid, const char *name);

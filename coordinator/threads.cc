@@ -43,7 +43,11 @@ void on_thread(Run &run, Controller &c, const ::tcs_msg &m, UniqueFd channel)
 		return;
 	}
 	if (!proc_has_thread(c.pid, tid)) {
-		drop(run, c, "THREAD for " + std::to_string(tid) + ", not one of its threads");
+		// A thread that ended as soon as it had sent this (its first
+		// request done) has nothing left to keep; a tid alive elsewhere is
+		// a lie.
+		if (proc_task_exists(tid))
+			drop(run, c, "THREAD for " + std::to_string(tid) + ", not one of its threads");
 		return;
 	}
 	for (auto &t : c.threads)
