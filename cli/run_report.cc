@@ -109,6 +109,15 @@ std::string summary(const RunReport &r, int mode, const std::string &who)
 	return s;
 }
 
+std::string drops(const RunReport &r, const std::string &who)
+{
+	std::string s;
+	for (const auto &c : r.controllers)
+		if (!c.dropped.empty())
+			s += who + ": error: " + c.name + " (pid " + std::to_string(c.pid) + ") dropped by tcs: " + c.dropped + "\n";
+	return s;
+}
+
 int exit_status(const RunReport &r)
 {
 	for (const auto &c : r.controllers)

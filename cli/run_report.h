@@ -12,6 +12,8 @@ namespace tcs {
 std::string progress_line(int64_t virtual_ns, int64_t wall_ns);
 // Each line begins "who: ".
 std::string summary(const RunReport &r, int mode, const std::string &who = "tcs-run");
+// What --quiet still says: each controller tcs dropped, and why, a line each.
+std::string drops(const RunReport &r, const std::string &who = "tcs-run");
 // The controller's status (128+N for signal N), 0 when the duration ended
 // the run, 128+N when signal N ended tcs-run, 2 if tcs dropped a controller.
 int exit_status(const RunReport &r);

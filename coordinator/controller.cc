@@ -353,6 +353,11 @@ uint64_t Controller::past_deadlines() const
 	return page_ ? __atomic_load_n(&page_->past_deadlines, __ATOMIC_RELAXED) : final_past_deadlines_;
 }
 
+uint64_t Controller::unanswered_waits() const
+{
+	return page_ ? __atomic_load_n(&page_->unanswered, __ATOMIC_RELAXED) : 0;
+}
+
 void Controller::release()
 {
 	final_quick_waits_ = quick_waits();

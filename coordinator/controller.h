@@ -245,6 +245,8 @@ public:
 	uint64_t take_lazy_handles();
 	uint64_t quick_waits() const;
 	uint64_t past_deadlines() const;
+	// Seconds its threads have waited in round trips for an answer (page).
+	uint64_t unanswered_waits() const;
 	// --record, --replay: its journal (null: none), and how many entries
 	// it holds; recording, the next entry to drain (journals.cc).
 	tcs_journal *journal() const { return journal_; }
@@ -361,6 +363,12 @@ public:
 		uint64_t slice = 0;   // the slice it was in
 		int asleep_times = 0; // looks in a row that found it asleep
 	} look;
+	// The stuck watchdog's last look at it (stuck.cc).
+	struct StuckLook {
+		uint64_t unanswered = 0; // the page's count then
+		int64_t counted_at = 0;  // wall time it last grew
+		int64_t since = 0;       // wall time it was first found stuck (0: not)
+	} stuck;
 	// Right after a fork: the child not yet registered (children.cc).
 	struct NewChild {
 		pid_t pid = 0;      // (0: none)

@@ -170,6 +170,12 @@ RealtimeWish realtime_wish_from_env()
 		if (*s && !*end && us > 0 && us <= 100000)
 			w.stop_delay_ns = us * 1000;
 	}
+	if (const char *s = getenv("TCS_FAULT_LOSE_WAKE")) {
+		char *end;
+		unsigned long long n = strtoull(s, &end, 10);
+		if (*s && !*end)
+			w.lose_wake = n;
+	}
 	return w;
 }
 

@@ -51,11 +51,15 @@ struct RealtimeWish {
 	// computes on), as on a busy machine where the coordinator gets its
 	// core late. For tests only.
 	int64_t stop_delay_ns = 0;
+	// The nth answer (n > 0) to the first controller's waits is never
+	// sent, as a defect of tcs would lose one: the stuck watchdog's test
+	// (stuck.cc). For tests only.
+	uint64_t lose_wake = 0;
 };
 
 // The wish the environment makes: TCS_NO_FIFO, TCS_NO_TSC, TCS_NO_MAILBOX
 // (every hand-off through the channel, as on one core), TCS_STOP_DELAY_US
-// (1 to 100000; anything else is no delay).
+// (1 to 100000; anything else is no delay), TCS_FAULT_LOSE_WAKE (n > 0).
 RealtimeWish realtime_wish_from_env();
 
 // Applies the plan to the calling process (the coordinator) before any

@@ -24,6 +24,7 @@
 #include "remote.h"
 #include "serve.h"
 #include "slices.h"
+#include "stuck.h"
 #include "tcs/msg_io.h"
 #include "tcs/protocol.h"
 #include "tcs/random_stream.h"
@@ -130,6 +131,7 @@ void on_progress(Run &run)
 		if (c->kill_after != 0 && now > c->kill_after && c->state != CtlState::Exited)
 			kill(c->pid, SIGKILL);
 	}
+	look_for_stuck(run);
 	if (run.cfg.step_agent && !run.granted && !run.ending)
 		word_of_controllers(run); // the host may not have heard the last
 	if (run.cfg.on_progress && !run.ending)

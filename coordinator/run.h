@@ -98,6 +98,7 @@ struct Run {
 
 	int64_t sim_ns = 0;    // S: the simulation clock
 	int64_t steps = 0;
+	uint64_t first_wakes = 0; // answers to the first controller's waits (TCS_FAULT_LOSE_WAKE)
 	uint64_t sensor_key = 0; // the sensor models' noise stream (SimWorld::sense)
 	bool ending = false;
 	bool held = false;

@@ -60,7 +60,8 @@ void send_wake(Run &run, Controller &c)
 	m.v = c.v;
 	m.arg = c.wake_arg;
 	m.deadline = c.wait.requested_at; // (what a recording controller journals: tcs/journal.h)
-	send_answer(run, c, fd, m, c.wake_fd);
+	if (&c != run.ctls.front().get() || ++run.first_wakes != run.cfg.realtime.lose_wake)
+		send_answer(run, c, fd, m, c.wake_fd);
 	if (c.wake_fd >= 0) {
 		close(c.wake_fd);
 		c.wake_fd = -1;

@@ -93,12 +93,19 @@ static void tcs_await(struct tcs_call *c, struct pollfd *fds, unsigned nfds, con
 		 * not (so a handler is noticed, as a real sleep would be), and
 		 * always restarts transparently after the coordinator's
 		 * SIGSTOP/SIGCONT. Its mask is where handlers run. Once the EARLY
-		 * is out only the channel counts: the WAKE is on its way. */
+		 * is out only the channel counts: the WAKE is on its way. Each
+		 * second of real time without it is counted in the page: a wait
+		 * the coordinator does not know it owes is a defect it reports
+		 * rather than a hang (coordinator/stuck.cc). */
 		if (!look_first) {
+			/* (Writable: the kernel writes back what is left, and
+			 * restarts the wait after a stop only if it can.) */
+			struct timespec check = { 1, 0 };
 			fds[0].fd = c->channel;
 			fds[0].events = POLLIN;
 			fds[0].revents = 0;
-			long r = tcs_sys5(SYS_ppoll, fds, c->early ? 1 : nfds, NULL, mask, TCS_KERNEL_SIGSET_SIZE);
+			long r = tcs_sys5(SYS_ppoll, fds, c->early ? 1 : nfds, &check, mask,
+					  TCS_KERNEL_SIGSET_SIZE);
 			if (c->answered)
 				break; /* a handler that ran settled it */
 			if (r == -EINTR) {
@@ -108,6 +115,11 @@ static void tcs_await(struct tcs_call *c, struct pollfd *fds, unsigned nfds, con
 			}
 			if (r < 0)
 				tcs_lost("ppoll on the channel failed");
+			if (r == 0) {
+				if (tcs_rt.page)
+					__atomic_add_fetch(&tcs_rt.page->unanswered, 1, __ATOMIC_RELAXED);
+				continue;
+			}
 			if (fds[0].revents == 0) {
 				if (!c->early)
 					tcs_send_early(c, TCS_EARLY_FD);

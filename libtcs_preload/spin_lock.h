@@ -24,15 +24,25 @@ enum {
 };
 extern int tcs_locks[TCS_LOCK_COUNT] __attribute__((visibility("hidden")));
 
+/* Waited for seconds, a lock is held by a flow that will never let it go:
+ * a defect of tcs, said on stderr, and the process ends with status 2
+ * rather than spin for ever. *since: 0, then when the wait was first
+ * looked at. */
+void tcs_lock_held_long(const int *lock, int64_t *since) __attribute__((visibility("hidden")));
+
 /* Takes lock; returns the signal mask to give back to tcs_unlock. */
 static inline uint64_t tcs_lock(int *lock)
 {
 	uint64_t mask = tcs_signals_block();
+	int64_t since = 0;
 	for (unsigned i = 1; __atomic_exchange_n(lock, 1, __ATOMIC_ACQUIRE); i++) {
-		if (i % 64 == 0)
+		if (i % 64 == 0) {
 			tcs_sys0(SYS_sched_yield);
-		else
+			if (i % (64u << 12) == 0) /* some milliseconds */
+				tcs_lock_held_long(lock, &since);
+		} else {
 			tcs_cpu_relax();
+		}
 	}
 	return mask;
 }

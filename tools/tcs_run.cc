@@ -332,5 +332,7 @@ int main(int argc, char **argv)
 		return fail(report.error().message);
 	if (!quiet)
 		fputs(summary(*report, cfg.mode).c_str(), stderr);
+	else
+		fputs(drops(*report).c_str(), stderr); // (the summary says them too)
 	return exit_status(*report);
 }

@@ -73,5 +73,38 @@ def test_controller_killed_mid_wait():
         check("killed by SIGKILL" in err, "%s: reported: %s" % (mode, err))
 
 
+def test_a_lost_answer_ends_the_run_saying_so():
+    """A thread waiting for an answer tcs no longer owes it would wait for
+    ever: the watchdog (coordinator/stuck.cc) drops its controller within
+    seconds, saying so, and the run ends with status 2. The answer is lost
+    on purpose (TCS_FAULT_LOSE_WAKE, through the channel: TCS_NO_MAILBOX),
+    as a defect of tcs would lose it; alone, and beside another controller
+    that goes on meanwhile."""
+    env = {"TCS_NO_MAILBOX": "1", "TCS_FAULT_LOSE_WAKE": "5"}
+    for mode in ("cpu", "lockstep"):
+        r = tcs("-q", "-m", mode, "--", prog("periodic"), "1000", "2", "100us", timeout=60, env=env)
+        print("  %-8s alone: exit %d after %.1f s: %s" % (mode, r.returncode, r.wall, r.stderr.strip()[:120]))
+        check(r.returncode == 2, "%s: exit 2" % mode, r)
+        check("dropped by tcs: it is stuck" in r.stderr, "%s: -q still says why" % mode, r)
+        check("misses=" not in r.stdout, "%s: the stuck loop did not end as if nothing happened" % mode, r)
+        # The watchdog's 5 s, the wait's first second of counting, its look
+        # every 250 ms: well under the 60 s this allows.
+        check(r.wall < 30, "%s: ended in bounded time (%.1f s)" % (mode, r.wall), r)
+        # Beside one that computes 8 s of wall time (800 rounds of 10 ms
+        # CPU, either mode), which must end as it would alone.
+        with scenario_file('[sim]\nstep = "1ms"\nmodel = "pendulum"\n'
+                           '[[controller]]\ncommand = "%s 1000 2 100us"\n'
+                           '[[controller]]\ncommand = "%s 50 16 10000us"\n' % (prog("periodic"), prog("periodic"))) as w:
+            r = tcs("-m", mode, "-w", w, timeout=90, env=env)
+        dropped = [l for l in r.stderr.splitlines() if "dropped by tcs: it is stuck" in l]
+        # (The lost answer is the first controller's.)
+        print("  %-8s pair: exit %d after %.1f s, %d dropped" % (mode, r.returncode, r.wall, len(dropped)))
+        check(r.returncode == 2 and len(dropped) == 1, "%s: the stuck one dropped, saying so" % mode, r)
+        # (Its misses only those a pause of this shared machine explains.)
+        v = r.values()
+        check(v.get("loops") == "800" and v.get("misses") == v.get("pause_misses"),
+              "%s: the other ended, on time" % mode, r)
+
+
 if __name__ == "__main__":
     main(globals())

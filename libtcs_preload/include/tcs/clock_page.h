@@ -21,7 +21,7 @@ extern "C" {
 #endif
 
 #define TCS_PAGE_MAGIC 0x70736374u /* "tcsp" */
-#define TCS_PAGE_VERSION 13u
+#define TCS_PAGE_VERSION 14u
 #define TCS_PAGE_SIZE 4096
 
 enum tcs_mode {
@@ -142,6 +142,9 @@ struct tcs_clock_page {
 				  * this slice, short of spin_limit (spin.c) */
 	uint64_t random_drawn;   /* --seed: blocks of its stream drawn so far (kept
 				  * across exec, so the stream goes on) */
+	uint64_t unanswered;     /* each second of real time a thread has waited
+				  * for an answer in a round trip: the coordinator
+				  * looks for one it owes no answer (stuck.cc) */
 
 	/* Both sides, by its own rules (tcs/mailbox.h). */
 	struct tcs_mailbox mailbox __attribute__((aligned(64)));
