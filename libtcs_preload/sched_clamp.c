@@ -27,12 +27,6 @@ struct tcs_sched_attr {
 	uint32_t sched_priority;
 };
 
-int tcs_rt_policy(int policy)
-{
-	policy &= ~SCHED_RESET_ON_FORK;
-	return policy == SCHED_FIFO || policy == SCHED_RR;
-}
-
 /* Where the coordinator has a real-time priority above ours: the highest a
  * controller's thread may have. 0: none. */
 static int tcs_rt_ceiling(void)

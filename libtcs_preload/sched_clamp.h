@@ -10,12 +10,6 @@
 
 #include "runtime.h"
 
-#ifndef SCHED_DEADLINE
-#define SCHED_DEADLINE 6
-#endif
-
-/* Whether policy (SCHED_RESET_ON_FORK aside) is SCHED_FIFO or SCHED_RR. */
-int tcs_rt_policy(int policy) TCS_HIDDEN;
 /* Clamps a real-time request in place: *policy, *prio (said once). */
 void tcs_sched_clamp(int *policy, int *prio) TCS_HIDDEN;
 /* The system calls, what they ask for clamped (an affinity is granted

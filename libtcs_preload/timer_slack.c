@@ -9,7 +9,6 @@
 #include <sys/prctl.h>
 
 #include "raw_syscall.h"
-#include "sched_clamp.h"
 #include "spin_lock.h"
 
 /* Linux's slack for a normal thread (init's, inherited by everything). */

@@ -7,9 +7,23 @@
 #define TCS_PRELOAD_TIMER_SLACK_H
 
 #include <pthread.h>
+#include <sched.h>
 #include <stdint.h>
 
 #include "runtime.h"
+
+#ifndef SCHED_DEADLINE
+#define SCHED_DEADLINE 6
+#endif
+
+/* Whether policy (SCHED_RESET_ON_FORK aside) is SCHED_FIFO or SCHED_RR:
+ * what both the slack (none for such a thread) and the clamping of
+ * priorities (sched_clamp.c, above this file) ask of a policy. */
+static inline int tcs_rt_policy(int policy)
+{
+	policy &= ~SCHED_RESET_ON_FORK;
+	return policy == SCHED_FIFO || policy == SCHED_RR;
+}
 
 /* A sleep's or a timed wait's (nanosleep, futex, sigtimedwait): 0 for a
  * thread the program made real-time, else its PR_SET_TIMERSLACK value (what
