@@ -1,5 +1,5 @@
 /* The runtime's state (tcs_rt: whether this process is a controller, its
- * channel and clock page), which start-up fills (runtime.c), and the
+ * channel and clock page), which start-up fills (start.c), and the
  * conventions every file of this library follows.
  *
  * Rules for everything in this library (it runs inside someone else's
