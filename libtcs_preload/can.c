@@ -18,7 +18,9 @@
 #include <sys/socket.h>
 #include <sys/time.h>
 
-#include "devices.h"
+#include "can_ifaces.h"
+#include "device_requests.h"
+#include "wire_fds.h"
 #include "raw_syscall.h"
 #include "tcs/wire_protocol.h"
 #include "vclock.h"
@@ -28,92 +30,9 @@
  * (RAW_MIN_NAMELEN). */
 #define TCS_CAN_NAMELEN 8u
 
-void tcs_can_opened(struct tcs_wire_fd *w)
-{
-	w->can_loopback = 1;
-	w->can_err_mask = 0;
-	w->can_ifindex = 0;
-	w->can_last_ns = -1;
-}
-
-/* ---- the interfaces -------------------------------------------------------- */
-
-/* The k-th CAN entry of the device table, or NULL. */
-static const struct tcs_device_entry *tcs_can_entry(int32_t k, int *dev)
-{
-	if (!tcs_active() || !tcs_rt.devices || k < 0)
-		return NULL;
-	const struct tcs_device_table *t = tcs_rt.devices;
-	for (uint32_t i = 0; i < t->count && i < TCS_MAX_DEVICES; i++)
-		if (t->dev[i].kind == TCS_DEVICE_CAN && k-- == 0) {
-			if (dev)
-				*dev = (int)i;
-			return &t->dev[i];
-		}
-	return NULL;
-}
-
-int tcs_can_first_device(void)
-{
-	int dev = -1;
-	return tcs_can_entry(0, &dev) ? dev : -1;
-}
-
-int32_t tcs_can_ifindex(const char *name)
-{
-	const struct tcs_device_entry *e;
-	for (int32_t k = 0; name && (e = tcs_can_entry(k, NULL)) != NULL; k++)
-		if (tcs_str_equal(e->path, name))
-			return TCS_CAN_IFINDEX_BASE + k;
-	return 0;
-}
-
-const char *tcs_can_ifname(int32_t ifindex)
-{
-	const struct tcs_device_entry *e = tcs_can_entry(ifindex - TCS_CAN_IFINDEX_BASE, NULL);
-	return e ? e->path : NULL;
-}
-
-uint32_t tcs_can_mtu(int32_t ifindex)
-{
-	const struct tcs_device_entry *e = tcs_can_entry(ifindex - TCS_CAN_IFINDEX_BASE, NULL);
-	return e ? e->width : 0;
-}
-
-long tcs_can_if_ioctl(unsigned long request, void *arg)
-{
-	if (request != SIOCGIFINDEX && request != SIOCGIFNAME && request != SIOCGIFMTU && request != SIOCGIFFLAGS)
-		return 1;
-	if (!tcs_active() || tcs_can_first_device() < 0 || !arg)
-		return 1;
-	struct ifreq *r = (struct ifreq *)arg;
-	if (request == SIOCGIFNAME) {
-		const char *name = tcs_can_ifname(r->ifr_ifindex);
-		if (!name)
-			return 1;
-		memset(r->ifr_name, 0, sizeof r->ifr_name);
-		size_t len = strnlen(name, sizeof r->ifr_name - 1); /* (the scenario's: at most 15) */
-		memcpy(r->ifr_name, name, len);
-		return 0;
-	}
-	char name[IFNAMSIZ];
-	memcpy(name, r->ifr_name, sizeof name);
-	name[IFNAMSIZ - 1] = 0;
-	int32_t ifindex = tcs_can_ifindex(name);
-	if (ifindex == 0)
-		return 1;
-	if (request == SIOCGIFINDEX)
-		r->ifr_ifindex = ifindex;
-	else if (request == SIOCGIFMTU)
-		r->ifr_mtu = (int)tcs_can_mtu(ifindex);
-	else
-		r->ifr_flags = IFF_UP | IFF_RUNNING | IFF_NOARP;
-	return 0;
-}
-
 /* ---- binding and options --------------------------------------------------- */
 
-long tcs_can_bind(int fd, int h, const struct sockaddr *addr, uint32_t len)
+static long tcs_can_bind(int fd, int h, const struct sockaddr *addr, uint32_t len)
 {
 	struct tcs_wire_fd *w = tcs_wire_fd(fd);
 	if (!w)
@@ -132,7 +51,7 @@ long tcs_can_bind(int fd, int h, const struct sockaddr *addr, uint32_t len)
 	return r;
 }
 
-long tcs_can_getsockname(int fd, struct sockaddr *addr, uint32_t *len)
+static long tcs_can_getsockname(int fd, struct sockaddr *addr, uint32_t *len)
 {
 	struct tcs_wire_fd *w = tcs_wire_fd(fd);
 	if (!w)
@@ -169,7 +88,7 @@ static long tcs_can_stamp_option(struct tcs_wire_fd *w, int name, const void *va
 	return 0;
 }
 
-long tcs_can_setsockopt(int fd, int h, int level, int name, const void *value, uint32_t len)
+static long tcs_can_setsockopt(int fd, int h, int level, int name, const void *value, uint32_t len)
 {
 	struct tcs_wire_fd *w = tcs_wire_fd(fd);
 	if (!w)
@@ -213,7 +132,7 @@ static long tcs_can_int_out(int v, void *value, uint32_t *len)
 	return 0;
 }
 
-long tcs_can_getsockopt(int fd, int level, int name, void *value, uint32_t *len)
+static long tcs_can_getsockopt(int fd, int level, int name, void *value, uint32_t *len)
 {
 	struct tcs_wire_fd *w = tcs_wire_fd(fd);
 	if (!w)
@@ -292,7 +211,7 @@ static void tcs_can_cmsgs(const struct tcs_wire_fd *w, struct msghdr *msg, int64
 	msg->msg_controllen = used;
 }
 
-long tcs_can_recvmsg(int fd, int h, struct msghdr *msg, int flags)
+static long tcs_can_recvmsg(int fd, int h, struct msghdr *msg, int flags)
 {
 	struct tcs_wire_fd *w = tcs_wire_fd(fd);
 	if (!w)
@@ -341,7 +260,7 @@ long tcs_can_recvmsg(int fd, int h, struct msghdr *msg, int flags)
 	return (flags & MSG_TRUNC) ? (long)size : (long)done;
 }
 
-long tcs_can_sendmsg(int fd, int h, const struct msghdr *msg, int flags)
+static long tcs_can_sendmsg(int fd, int h, const struct msghdr *msg, int flags)
 {
 	struct tcs_wire_fd *w = tcs_wire_fd(fd);
 	if (!w)
@@ -372,7 +291,7 @@ long tcs_can_sendmsg(int fd, int h, const struct msghdr *msg, int flags)
 	return r < 0 ? r : (long)size;
 }
 
-long tcs_can_ioctl(int fd, int h, unsigned long request, void *arg)
+static long tcs_can_ioctl(int fd, int h, unsigned long request, void *arg)
 {
 	struct tcs_wire_fd *w = tcs_wire_fd(fd);
 	if (!w)
@@ -402,3 +321,106 @@ long tcs_can_ioctl(int fd, int h, unsigned long request, void *arg)
 	long r = tcs_can_if_ioctl(request, arg);
 	return r == 1 ? -ENOTTY : r;
 }
+
+/* ---- the kind's operations (fd_table.h) ------------------------------------------ */
+
+/* A new CAN fd's state: unbound, loopback on. */
+static long tcs_can_opened(int fd, int handle, unsigned dev)
+{
+	int slot = tcs_wire_slot_new();
+	if (slot < 0)
+		return slot;
+	struct tcs_fd e = { &tcs_can_ops, handle, dev, (unsigned)slot, 0 };
+	struct tcs_wire_fd *w = tcs_wire_of(&e);
+	w->can_loopback = 1;
+	w->can_last_ns = -1;
+	tcs_fd_set(fd, &e);
+	return 0;
+}
+
+/* read, readv, recv and recvfrom are recvmsg; write, writev, send and
+ * sendto sendmsg. */
+static long tcs_can_read(int fd, const struct tcs_fd *e, void *buf, size_t n)
+{
+	struct iovec iov = { buf, n };
+	struct msghdr mh = { .msg_iov = &iov, .msg_iovlen = 1 };
+	return tcs_can_recvmsg(fd, e->handle, &mh, 0);
+}
+
+static long tcs_can_readv(int fd, const struct tcs_fd *e, const struct iovec *iov, int n)
+{
+	struct msghdr mh = { .msg_iov = (struct iovec *)iov, .msg_iovlen = n > 0 ? (size_t)n : 0 };
+	return tcs_can_recvmsg(fd, e->handle, &mh, 0);
+}
+
+static long tcs_can_write(int fd, const struct tcs_fd *e, const void *buf, size_t n)
+{
+	struct iovec iov = { (void *)buf, n };
+	struct msghdr mh = { .msg_iov = &iov, .msg_iovlen = 1 };
+	return tcs_can_sendmsg(fd, e->handle, &mh, 0);
+}
+
+static long tcs_can_writev(int fd, const struct tcs_fd *e, const struct iovec *iov, int n)
+{
+	struct msghdr mh = { .msg_iov = (struct iovec *)iov, .msg_iovlen = n > 0 ? (size_t)n : 0 };
+	return tcs_can_sendmsg(fd, e->handle, &mh, 0);
+}
+
+static long tcs_can_recvmsg_op(int fd, const struct tcs_fd *e, struct msghdr *msg, int flags)
+{
+	return tcs_can_recvmsg(fd, e->handle, msg, flags);
+}
+
+static long tcs_can_sendmsg_op(int fd, const struct tcs_fd *e, const struct msghdr *msg, int flags)
+{
+	return tcs_can_sendmsg(fd, e->handle, msg, flags);
+}
+
+static long tcs_can_bind_op(int fd, const struct tcs_fd *e, const struct sockaddr *addr, uint32_t len)
+{
+	return tcs_can_bind(fd, e->handle, addr, len);
+}
+
+static long tcs_can_getsockname_op(int fd, const struct tcs_fd *e, struct sockaddr *addr, uint32_t *len)
+{
+	(void)e;
+	return tcs_can_getsockname(fd, addr, len);
+}
+
+static long tcs_can_setsockopt_op(int fd, const struct tcs_fd *e, int level, int name, const void *value, uint32_t len)
+{
+	return tcs_can_setsockopt(fd, e->handle, level, name, value, len);
+}
+
+static long tcs_can_getsockopt_op(int fd, const struct tcs_fd *e, int level, int name, void *value, uint32_t *len)
+{
+	(void)e;
+	return tcs_can_getsockopt(fd, level, name, value, len);
+}
+
+static long tcs_can_ioctl_op(int fd, const struct tcs_fd *e, unsigned long request, void *arg)
+{
+	return tcs_can_ioctl(fd, e->handle, request, arg);
+}
+
+const struct tcs_fd_ops tcs_can_ops = {
+	.kind = TCS_FD_CAN,
+	.served = 1,
+	.access = 1u << O_RDONLY | 1u << O_WRONLY | 1u << O_RDWR,
+	.fork_access = O_RDWR,
+	.read = tcs_can_read,
+	.readv = tcs_can_readv,
+	.write = tcs_can_write,
+	.writev = tcs_can_writev,
+	.recvmsg = tcs_can_recvmsg_op,
+	.sendmsg = tcs_can_sendmsg_op,
+	.bind = tcs_can_bind_op,
+	.getsockname = tcs_can_getsockname_op,
+	.setsockopt = tcs_can_setsockopt_op,
+	.getsockopt = tcs_can_getsockopt_op,
+	.ioctl = tcs_can_ioctl_op,
+	.opened = tcs_can_opened,
+	.forget = tcs_wire_forget,
+	.copy = tcs_wire_copy,
+	.after_fork = tcs_device_after_fork,
+};

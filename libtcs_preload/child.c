@@ -13,7 +13,7 @@
 
 #include "journal.h"
 #include "child.h"
-#include "devices.h"
+#include "fd_table.h"
 #include "raw_syscall.h"
 #include "report.h"
 #include "roundtrip.h"
@@ -85,7 +85,7 @@ int tcs_become_child(int parent_channel, int64_t fork_v, int v_known)
 	tcs_thread_channels_after_fork();
 	tcs_cpu_forget(); /* a CPU clock of its own now, from 0 */
 	tcs_timers_forget_all(); /* POSIX: timers are not inherited */
-	tcs_devices_after_fork();
+	tcs_fds_after_fork(); /* (its devices opened again as its own) */
 	return 0;
 }
 

@@ -1,10 +1,11 @@
 /* Device hooks: open/openat/fopen (with their 64 and fortified variants)
  * of a scenario's device paths give a real fd the coordinator serves
- * (devices.c); reads and writes of it are the I/O hooks' (hooks_io.c);
- * termios calls on it succeed as on a serial port. /dev/urandom and
- * /dev/random under --seed open as themselves, their fds marked for the
- * I/O hooks to read from the seeded stream (random.c). Everything else
- * passes straight to the kernel, or to libc. */
+ * (device_open.c); reads and writes of it are the I/O hooks' (hooks_io.c);
+ * termios calls and ioctls on an fd tcs serves are its entry's operations
+ * (fd_table.h). /dev/urandom and /dev/random under --seed open as
+ * themselves, their fds in the fd table for the I/O hooks to read from the
+ * seeded stream (random.c). Everything else passes straight to the
+ * kernel, or to libc. */
 /* Both open() and open64() are defined here: the headers must not rename
  * one to the other (meson builds with _FILE_OFFSET_BITS=64). */
 #undef _FILE_OFFSET_BITS
@@ -15,13 +16,12 @@
 #include <sys/ioctl.h>
 #include <termios.h>
 
-#include "devices.h"
+#include "can_ifaces.h"
+#include "device_open.h"
+#include "fd_table.h"
 #include "random.h"
 #include "raw_syscall.h"
 #include "real.h"
-#include "can.h"
-#include "i2c.h"
-#include "serial.h"
 
 /* ---- open ---------------------------------------------------------------- */
 
@@ -172,71 +172,41 @@ TCS_EXPORT FILE *fopen64(const char *path, const char *mode)
 	return tcs_real()->fopen64(path, mode);
 }
 
-/* ---- a serial port's line settings -------------------------------------------- */
+/* ---- line settings and ioctls ------------------------------------------------------ */
 
 /* A scenario's serial line (a wire) keeps its settings and times its bytes
- * (serial.c). A text device answers like a serial port in raw mode, 8N1,
- * 115200 baud, and accepts any new settings: programs written for
- * /dev/ttyUSB0 configure the line before they use it. */
-static int tcs_serial_fd(int fd)
-{
-	return tcs_device_kind(fd) == TCS_DEVICE_SERIAL;
-}
-
+ * (serial.c); a record device answers like a serial port (devices.c). */
 TCS_EXPORT int tcgetattr(int fd, struct termios *t)
 {
-	if (tcs_device_handle(fd) < 0)
-		return tcs_real()->tcgetattr(fd, t);
-	if (tcs_serial_fd(fd))
-		return tcs_errno_result(tcs_serial_getattr(fd, t));
-	memset(t, 0, sizeof *t);
-	t->c_cflag = CS8 | CREAD | CLOCAL | B115200;
-	t->c_ispeed = B115200;
-	t->c_ospeed = B115200;
-	return 0;
+	struct tcs_fd e;
+	if (tcs_fd_of(fd, &e) && e.ops->tcgetattr)
+		return tcs_errno_result(e.ops->tcgetattr(fd, &e, t));
+	return tcs_real()->tcgetattr(fd, t);
 }
 
 TCS_EXPORT int tcsetattr(int fd, int when, const struct termios *t)
 {
-	if (tcs_device_handle(fd) < 0)
-		return tcs_real()->tcsetattr(fd, when, t);
-	if (tcs_serial_fd(fd)) {
-		if (when == TCSADRAIN || when == TCSAFLUSH) {
-			long r = tcs_serial_drain(fd, tcs_device_handle(fd));
-			if (r < 0)
-				return tcs_errno_result(r);
-		}
-		if (when == TCSAFLUSH)
-			(void)tcs_serial_flush(fd, tcs_device_handle(fd), TCIFLUSH);
-		return tcs_errno_result(tcs_serial_setattr(fd, tcs_device_handle(fd), t));
-	}
-	return 0;
+	struct tcs_fd e;
+	if (tcs_fd_of(fd, &e) && e.ops->tcsetattr)
+		return tcs_errno_result(e.ops->tcsetattr(fd, &e, when, t));
+	return tcs_real()->tcsetattr(fd, when, t);
 }
 
 TCS_EXPORT int tcflush(int fd, int queue)
 {
-	if (tcs_device_handle(fd) < 0)
-		return tcs_errno_result(tcs_sys3(SYS_ioctl, fd, TCFLSH, queue));
-	if (tcs_serial_fd(fd))
-		return tcs_errno_result(tcs_serial_flush(fd, tcs_device_handle(fd), queue));
-	return 0;
+	struct tcs_fd e;
+	if (tcs_fd_of(fd, &e) && e.ops->tcflush)
+		return tcs_errno_result(e.ops->tcflush(fd, &e, queue));
+	return tcs_errno_result(tcs_sys3(SYS_ioctl, fd, TCFLSH, queue));
 }
 
 TCS_EXPORT int tcdrain(int fd)
 {
-	if (tcs_device_handle(fd) < 0)
-		return tcs_errno_result(tcs_sys3(SYS_ioctl, fd, TCSBRK, 1));
-	if (tcs_serial_fd(fd))
-		return tcs_errno_result(tcs_serial_drain(fd, tcs_device_handle(fd)));
-	return 0;
+	struct tcs_fd e;
+	if (tcs_fd_of(fd, &e) && e.ops->tcdrain)
+		return tcs_errno_result(e.ops->tcdrain(fd, &e));
+	return tcs_errno_result(tcs_sys3(SYS_ioctl, fd, TCSBRK, 1));
 }
-
-/* The kernel's struct termios, as TCGETS fills it (not glibc's). */
-struct tcs_kernel_termios {
-	unsigned int c_iflag, c_oflag, c_cflag, c_lflag;
-	unsigned char c_line;
-	unsigned char c_cc[19];
-};
 
 TCS_EXPORT int ioctl(int fd, unsigned long request, ...)
 {
@@ -244,40 +214,10 @@ TCS_EXPORT int ioctl(int fd, unsigned long request, ...)
 	va_start(ap, request);
 	void *arg = va_arg(ap, void *);
 	va_end(ap);
-	if (tcs_device_handle(fd) < 0) {
-		/* A CAN interface's name or index, asked of any socket. */
-		long r = tcs_can_if_ioctl(request, arg);
-		return tcs_errno_result(r == 1 ? tcs_sys3(SYS_ioctl, fd, request, arg) : r);
-	}
-	if (tcs_device_kind(fd) == TCS_DEVICE_CAN)
-		return tcs_errno_result(tcs_can_ioctl(fd, tcs_device_handle(fd), request, arg));
-	if (tcs_serial_fd(fd))
-		return tcs_errno_result(tcs_serial_ioctl(fd, tcs_device_handle(fd), request, arg));
-	if (tcs_device_kind(fd) == TCS_DEVICE_I2C)
-		return tcs_errno_result(tcs_i2c_ioctl(fd, tcs_device_handle(fd), request, arg));
-	switch (request) {
-	case TCGETS: {
-		struct tcs_kernel_termios *t = (struct tcs_kernel_termios *)arg;
-		memset(t, 0, sizeof *t);
-		t->c_cflag = CS8 | CREAD | CLOCAL | B115200;
-		return 0;
-	}
-	case TIOCMGET:
-		*(int *)arg = TIOCM_DTR | TIOCM_RTS | TIOCM_CTS | TIOCM_DSR;
-		return 0;
-	case TCSETS:
-	case TCSETSW:
-	case TCSETSF:
-	case TCFLSH:
-	case TCSBRK:
-	case TCXONC:
-	case TIOCMSET:
-	case TIOCMBIS:
-	case TIOCMBIC:
-	case TIOCEXCL:
-	case TIOCNXCL:
-		return 0;
-	default: /* FIONREAD and the socket's own work as they are */
-		return tcs_errno_result(tcs_sys3(SYS_ioctl, fd, request, arg));
-	}
+	struct tcs_fd e;
+	if (tcs_fd_of(fd, &e) && e.ops->ioctl)
+		return tcs_errno_result(e.ops->ioctl(fd, &e, request, arg));
+	/* A CAN interface's name or index, asked of any socket. */
+	long r = tcs_can_if_ioctl(request, arg);
+	return tcs_errno_result(r == 1 ? tcs_sys3(SYS_ioctl, fd, request, arg) : r);
 }

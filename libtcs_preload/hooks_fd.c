@@ -1,32 +1,15 @@
 /* Descriptor hooks: keep the runtime's own fds (channel and clock page)
- * alive in programs that close every descriptor or dup2 over them. To the
- * program those fds look like they were never open (EBADF). */
+ * alive in programs that close every descriptor or dup2 over them (to the
+ * program those fds look like they were never open: EBADF), and keep the
+ * fd table (fd_table.h) true: what a closed fd was is forgotten, a
+ * duplicate is what its original is. */
 #include <fcntl.h>
 #include <limits.h>
 #include <linux/close_range.h>
 
-#include "devices.h"
-#include "random.h"
+#include "fd_table.h"
 #include "raw_syscall.h"
 #include "thread_channels.h"
-#include "timerfds.h"
-
-/* What the runtime knows of an fd: whether it is a device, a virtual
- * timerfd, a seeded random device. Forgotten when it is closed, copied
- * when it is duplicated. */
-static void tcs_fd_forget(int fd)
-{
-	tcs_device_forget(fd);
-	tcs_vtimer_forget(fd);
-	tcs_random_forget(fd);
-}
-
-static void tcs_fd_copy(int from, int to)
-{
-	tcs_device_copy(from, to);
-	tcs_vtimer_copy(from, to);
-	tcs_random_copy(from, to);
-}
 
 TCS_EXPORT int close(int fd)
 {
@@ -65,24 +48,18 @@ static long tcs_close_range(unsigned first, unsigned last, unsigned flags)
 	return first <= last ? tcs_sys3(SYS_close_range, first, last, flags) : 0;
 }
 
-static void tcs_forget_range(unsigned first, unsigned last)
-{
-	for (unsigned fd = first; fd <= last && fd < TCS_DEVICE_FD_MAX; fd++)
-		tcs_fd_forget((int)fd);
-}
-
 TCS_EXPORT int close_range(unsigned first, unsigned last, int flags)
 {
 	if (first > last)
 		return tcs_errno_result(-EINVAL);
 	if (!(flags & CLOSE_RANGE_CLOEXEC))
-		tcs_forget_range(first, last);
+		tcs_fd_forget_range(first, last);
 	return tcs_errno_result(tcs_close_range(first, last, (unsigned)flags));
 }
 
 TCS_EXPORT void closefrom(int lowfd)
 {
-	tcs_forget_range(lowfd < 0 ? 0 : (unsigned)lowfd, UINT_MAX);
+	tcs_fd_forget_range(lowfd < 0 ? 0 : (unsigned)lowfd, UINT_MAX);
 	tcs_close_range(lowfd < 0 ? 0 : (unsigned)lowfd, UINT_MAX, 0);
 }
 
@@ -108,9 +85,7 @@ TCS_EXPORT int dup3(int oldfd, int newfd, int flags)
 	if (tcs_is_runtime_fd(newfd) || tcs_is_runtime_fd(oldfd))
 		return tcs_errno_result(-EBADF);
 	long r = tcs_sys3(SYS_dup3, oldfd, newfd, flags);
-	if (r >= 0) {
-		tcs_fd_forget(newfd);
+	if (r >= 0)
 		tcs_fd_copy(oldfd, newfd);
-	}
 	return tcs_errno_result(r);
 }

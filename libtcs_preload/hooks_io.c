@@ -1,27 +1,19 @@
-/* I/O hooks: read, readv, __read_chk, write, writev. What the fd is
- * decides who serves the call: a virtual timerfd's read its own hooks
- * (hooks_timerfd.c), a device's read or write the device table
- * (devices.c), which makes the one round trip it needs, a random device's
- * read under --seed the seeded stream (random.c); anything else goes
- * straight to the kernel. */
+/* I/O hooks: read, readv, __read_chk, write, writev. What the fd is (its
+ * entry in the fd table, fd_table.h) decides who serves the call: the
+ * entry's operations (a device's read or write, with the one round trip it
+ * needs; a virtual timerfd's read; a random device's under --seed), or,
+ * for every fd that is not tcs's, the kernel, after one bounds check and
+ * one load. */
 #include <sys/uio.h>
 
-#include "devices.h"
-#include "hooks_timerfd.h"
-#include "random.h"
+#include "fd_table.h"
 #include "raw_syscall.h"
-#include "timerfds.h"
 
 TCS_EXPORT ssize_t read(int fd, void *buf, size_t n)
 {
-	if (tcs_active()) {
-		if (tcs_vtimer_of(fd))
-			return tcs_errno_result(tcs_timerfd_read(fd, buf, n));
-		if (tcs_device_handle(fd) >= 0)
-			return tcs_errno_result(tcs_device_read(fd, buf, n));
-		if (tcs_random_fd(fd))
-			return tcs_errno_result(tcs_random_read(buf, n));
-	}
+	struct tcs_fd e;
+	if (tcs_fd_of(fd, &e) && e.ops->read && tcs_active())
+		return tcs_errno_result(e.ops->read(fd, &e, buf, n));
 	return tcs_errno_result(tcs_sys3(SYS_read, fd, buf, n));
 }
 
@@ -35,23 +27,26 @@ TCS_EXPORT long __read_chk(int fd, void *buf, size_t n, size_t buflen)
 
 TCS_EXPORT ssize_t readv(int fd, const struct iovec *iov, int n)
 {
-	if (tcs_active() && tcs_device_handle(fd) >= 0)
-		return tcs_errno_result(tcs_device_readv(fd, iov, n));
-	if (tcs_active() && tcs_random_fd(fd))
-		return tcs_errno_result(tcs_random_readv(iov, n));
+	struct tcs_fd e;
+	if (tcs_fd_of(fd, &e) && e.ops->readv && tcs_active())
+		return tcs_errno_result(e.ops->readv(fd, &e, iov, n));
 	return tcs_errno_result(tcs_sys3(SYS_readv, fd, iov, n));
 }
 
+/* A write goes to the kind even when tcs is not active (a child the
+ * coordinator did not take on): a device's write then passes through. */
 TCS_EXPORT ssize_t write(int fd, const void *buf, size_t n)
 {
-	if (tcs_device_handle(fd) < 0) /* most writes: no device */
-		return tcs_errno_result(tcs_sys3(SYS_write, fd, buf, n));
-	return tcs_errno_result(tcs_device_write(fd, buf, n));
+	struct tcs_fd e;
+	if (tcs_fd_of(fd, &e) && e.ops->write)
+		return tcs_errno_result(e.ops->write(fd, &e, buf, n));
+	return tcs_errno_result(tcs_sys3(SYS_write, fd, buf, n));
 }
 
 TCS_EXPORT ssize_t writev(int fd, const struct iovec *iov, int n)
 {
-	if (tcs_device_handle(fd) < 0)
-		return tcs_errno_result(tcs_sys3(SYS_writev, fd, iov, n));
-	return tcs_errno_result(tcs_device_writev(fd, iov, n));
+	struct tcs_fd e;
+	if (tcs_fd_of(fd, &e) && e.ops->writev)
+		return tcs_errno_result(e.ops->writev(fd, &e, iov, n));
+	return tcs_errno_result(tcs_sys3(SYS_writev, fd, iov, n));
 }

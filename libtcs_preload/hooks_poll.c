@@ -9,7 +9,8 @@
 #include <sys/epoll.h>
 #include <sys/select.h>
 
-#include "devices.h"
+#include "device_requests.h"
+#include "fd_table.h"
 #include "raw_syscall.h"
 #include "spin.h"
 #include "timer_slack.h"
@@ -36,7 +37,7 @@ static long tcs_multiplex(int64_t timeout_ns, tcs_check_fn check, void *ctx, str
 	/* With devices open, what is due on them must be in their fds before
 	 * the kernel is asked what is ready, and the wait must end when the
 	 * next record is due. */
-	int devices = tcs_devices_open() > 0;
+	int devices = tcs_fds_served() > 0;
 	if (devices) {
 		long s = tcs_device_sync_held(0, -1, TCS_SYNC_POLL);
 		if (s < 0)

@@ -6,59 +6,17 @@
  * the timer's next expiry in virtual time and writes the expirations into
  * the eventfd when the program looks: before a multiplexer checks its fds,
  * and in read(). Multiplexers also wake at the next expiry, so a wait on a
- * timerfd ends at its virtual time. The timers are timerfds.c's table;
- * read() on one comes here from the read hook (hooks_io.c). */
+ * timerfd ends at its virtual time. The timers, and a timerfd's read (the
+ * read hook calls it through the fd table), are timerfds.c's. */
 #include <fcntl.h>
 #include <sys/timerfd.h>
 
-#include "devices.h"
-#include "hooks_timerfd.h"
 #include "raw_syscall.h"
 #include "report.h"
 #include "spin.h"
 #include "timerfds.h"
 #include "vclock.h"
 #include "wait.h"
-
-/* Reads the eventfd's count without blocking: 8, or -EAGAIN. */
-static long tcs_drain(int fd, void *buf)
-{
-	struct pollfd p = { fd, POLLIN, 0 };
-	struct timespec zero = { 0, 0 };
-	long r = tcs_sys5(SYS_ppoll, &p, 1, &zero, NULL, TCS_KERNEL_SIGSET_SIZE);
-	if (r < 0)
-		return r;
-	if (r == 0)
-		return -EAGAIN;
-	return tcs_sys3(SYS_read, fd, buf, 8);
-}
-
-long tcs_timerfd_read(int fd, void *buf, size_t n)
-{
-	if (n < 8)
-		return -EINVAL;
-	struct tcs_vtimer *t = tcs_vtimer_of(fd);
-	for (;;) {
-		tcs_vtimers_fire(tcs_vnow());
-		long r = tcs_drain(fd, buf);
-		if (r != -EAGAIN)
-			return r;
-		long fl = tcs_sys3(SYS_fcntl, fd, F_GETFL, 0);
-		if (fl < 0)
-			return fl;
-		if (fl & O_NONBLOCK)
-			return -EAGAIN;
-		/* Blocks until the next expiry, in virtual time (forever when
-		 * disarmed, as a real timerfd's read does). */
-		if (!tcs_wait_enter())
-			return tcs_sys3(SYS_read, fd, buf, 8);
-		struct tcs_wait_time w = { t->next, 0, 0, 0, 0, 0 };
-		int got = tcs_wait(&w, TCS_BLOCK_SLEEP, TCS_BLOCK_ABSOLUTE, NULL, 0, NULL);
-		tcs_wait_leave();
-		if (got == -EINTR)
-			return -EINTR;
-	}
-}
 
 static int tcs_timer_clock_ok(clockid_t id)
 {
@@ -76,7 +34,7 @@ TCS_EXPORT int timerfd_create(int clockid, int flags)
 	long fd = tcs_sys2(SYS_eventfd2, 0, flags);
 	if (fd < 0)
 		return tcs_errno_result(fd);
-	if (fd >= TCS_DEVICE_FD_MAX) {
+	if (fd >= TCS_FD_MAX) {
 		tcs_sys1(SYS_close, fd);
 		return tcs_errno_result(-EMFILE);
 	}
@@ -111,7 +69,7 @@ TCS_EXPORT int timerfd_settime(int fd, int flags, const struct itimerspec *val, 
 	int64_t now = tcs_vnow();
 	tcs_vtimers_fire(now);
 	uint64_t stale;
-	tcs_drain(fd, &stale); /* arming anew resets the count, as for a timerfd */
+	tcs_vtimer_drain(fd, &stale); /* arming anew resets the count, as for a timerfd */
 	int64_t value = tcs_ts_to_ns(&val->it_value);
 	int64_t next = TCS_NEVER;
 	if (value > 0)

@@ -5,6 +5,7 @@
  * which the coordinator puts in the fd when the transfer has ended. */
 #include "i2c.h"
 
+#include <fcntl.h>
 #include <linux/i2c-dev.h>
 #include <linux/i2c.h>
 #include <string.h>
@@ -12,6 +13,7 @@
 
 #include "raw_syscall.h"
 #include "tcs/wire_protocol.h"
+#include "device_requests.h"
 #include "wire_fds.h"
 #include "wire_io.h"
 
@@ -125,7 +127,7 @@ static long tcs_i2c_smbus(int fd, int h, const struct tcs_wire_fd *w, struct i2c
 	return 0;
 }
 
-long tcs_i2c_ioctl(int fd, int h, unsigned long request, void *arg)
+static long tcs_i2c_ioctl(int fd, int h, unsigned long request, void *arg)
 {
 	struct tcs_wire_fd *w = tcs_wire_fd(fd);
 	if (!w)
@@ -160,7 +162,7 @@ long tcs_i2c_ioctl(int fd, int h, unsigned long request, void *arg)
 	}
 }
 
-long tcs_i2c_read(int fd, int h, void *buf, size_t n)
+static long tcs_i2c_read(int fd, int h, void *buf, size_t n)
 {
 	struct tcs_wire_fd *w = tcs_wire_fd(fd);
 	if (!w)
@@ -174,7 +176,7 @@ long tcs_i2c_read(int fd, int h, void *buf, size_t n)
 	return r < 0 ? r : (long)n;
 }
 
-long tcs_i2c_write(int fd, int h, const void *buf, size_t n)
+static long tcs_i2c_write(int fd, int h, const void *buf, size_t n)
 {
 	struct tcs_wire_fd *w = tcs_wire_fd(fd);
 	if (!w)
@@ -187,3 +189,48 @@ long tcs_i2c_write(int fd, int h, const void *buf, size_t n)
 	long r = tcs_i2c_transfer(fd, h, &m, 1);
 	return r < 0 ? r : (long)n;
 }
+
+/* ---- the kind's operations (fd_table.h) ------------------------------------------ */
+
+static long tcs_i2c_opened(int fd, int handle, unsigned dev)
+{
+	int slot = tcs_wire_slot_new();
+	if (slot < 0)
+		return slot;
+	struct tcs_fd e = { &tcs_i2c_ops, handle, dev, (unsigned)slot, 0 };
+	tcs_fd_set(fd, &e);
+	return 0;
+}
+
+static long tcs_i2c_read_op(int fd, const struct tcs_fd *e, void *buf, size_t n)
+{
+	return tcs_i2c_read(fd, e->handle, buf, n);
+}
+
+static long tcs_i2c_write_op(int fd, const struct tcs_fd *e, const void *buf, size_t n)
+{
+	return tcs_i2c_write(fd, e->handle, buf, n);
+}
+
+static long tcs_i2c_ioctl_op(int fd, const struct tcs_fd *e, unsigned long request, void *arg)
+{
+	return tcs_i2c_ioctl(fd, e->handle, request, arg);
+}
+
+/* i2c-dev has read and write only: the kernel makes readv and writev one
+ * message per buffer. */
+const struct tcs_fd_ops tcs_i2c_ops = {
+	.kind = TCS_FD_I2C,
+	.served = 1,
+	.access = 1u << O_RDONLY | 1u << O_WRONLY | 1u << O_RDWR,
+	.fork_access = O_RDWR,
+	.read = tcs_i2c_read_op,
+	.readv = tcs_fd_readv_by_reads,
+	.write = tcs_i2c_write_op,
+	.writev = tcs_fd_writev_by_writes,
+	.ioctl = tcs_i2c_ioctl_op,
+	.opened = tcs_i2c_opened,
+	.forget = tcs_wire_forget,
+	.copy = tcs_wire_copy,
+	.after_fork = tcs_device_after_fork,
+};

@@ -5,16 +5,9 @@
 #ifndef TCS_I2C_H
 #define TCS_I2C_H
 
-#include <stddef.h>
-
+#include "fd_table.h"
 #include "runtime.h"
 
-/* read(2)/write(2) of I2C fd (device handle h): one message to the
- * address I2C_SLAVE set. The result or -errno. */
-long tcs_i2c_read(int fd, int h, void *buf, size_t n) TCS_HIDDEN;
-long tcs_i2c_write(int fd, int h, const void *buf, size_t n) TCS_HIDDEN;
-/* ioctl(2) of I2C fd: I2C_SLAVE(_FORCE), I2C_TENBIT, I2C_FUNCS, I2C_RDWR,
- * I2C_SMBUS, I2C_PEC, I2C_RETRIES, I2C_TIMEOUT; -ENOTTY for others. */
-long tcs_i2c_ioctl(int fd, int h, unsigned long request, void *arg) TCS_HIDDEN;
+extern const struct tcs_fd_ops tcs_i2c_ops TCS_HIDDEN;
 
 #endif

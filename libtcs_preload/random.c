@@ -1,22 +1,20 @@
 /* --seed in the preload (random.h). The stream's position is the clock
  * page's random_drawn, taken a block at a time with one atomic add, so
  * threads never draw the same bytes and an exec'd image goes on where its
- * predecessor stopped. Random-device fds are a bitmap like the device
- * table's (devices.h): below TCS_DEVICE_FD_MAX, beyond it real. */
+ * predecessor stopped. A random device's fd is an entry of the fd table
+ * (fd_table.h) whose reads draw the stream: below TCS_FD_MAX, beyond it
+ * real. */
 #include "random.h"
 
 #include <limits.h>
 #include <sys/random.h>
 #include <sys/uio.h>
 
-#include "devices.h"
 #include "raw_syscall.h"
 #include "tcs/random_stream.h"
 
 /* What getrandom(2) gives at most in one call. */
 #define TCS_GETRANDOM_MAX (INT_MAX >> 6)
-
-static uint64_t tcs_random_fds[TCS_DEVICE_FD_MAX / 64];
 
 int tcs_seeded(void)
 {
@@ -58,41 +56,19 @@ int tcs_random_path(const char *path)
 	return path && (tcs_str_equal(path, "/dev/urandom") || tcs_str_equal(path, "/dev/random"));
 }
 
-void tcs_random_fd_opened(int fd)
+/* read(2) and readv(2) of such an fd: all that was asked. */
+static long tcs_random_read(int fd, const struct tcs_fd *e, void *buf, size_t n)
 {
-	if (fd >= 0 && fd < TCS_DEVICE_FD_MAX)
-		__atomic_or_fetch(&tcs_random_fds[fd / 64], 1ull << (fd % 64), __ATOMIC_RELAXED);
-}
-
-int tcs_random_fd(int fd)
-{
-	if (fd < 0 || fd >= TCS_DEVICE_FD_MAX)
-		return 0;
-	return (__atomic_load_n(&tcs_random_fds[fd / 64], __ATOMIC_RELAXED) >> (fd % 64)) & 1;
-}
-
-void tcs_random_forget(int fd)
-{
-	if (fd >= 0 && fd < TCS_DEVICE_FD_MAX)
-		__atomic_and_fetch(&tcs_random_fds[fd / 64], ~(1ull << (fd % 64)), __ATOMIC_RELAXED);
-}
-
-void tcs_random_copy(int from, int to)
-{
-	if (tcs_random_fd(from))
-		tcs_random_fd_opened(to);
-}
-
-long tcs_random_read(void *buf, size_t n)
-{
+	(void)fd, (void)e;
 	if (n > SSIZE_MAX)
 		n = SSIZE_MAX;
 	tcs_random_fill(buf, n);
 	return (long)n;
 }
 
-long tcs_random_readv(const struct iovec *iov, int n)
+static long tcs_random_readv(int fd, const struct tcs_fd *e, const struct iovec *iov, int n)
 {
+	(void)fd, (void)e;
 	if (n < 0 || n > IOV_MAX)
 		return -EINVAL;
 	long total = 0;
@@ -101,4 +77,18 @@ long tcs_random_readv(const struct iovec *iov, int n)
 		total += (long)iov[i].iov_len;
 	}
 	return total;
+}
+
+/* What is written to a random device, its ioctls, and fork: the kernel's
+ * (a write mixes into the kernel's pool, which the stream never reads). */
+static const struct tcs_fd_ops tcs_random_ops = {
+	.kind = TCS_FD_RANDOM,
+	.read = tcs_random_read,
+	.readv = tcs_random_readv,
+};
+
+void tcs_random_fd_opened(int fd)
+{
+	struct tcs_fd e = { &tcs_random_ops, -1, 0, 0, 0 };
+	tcs_fd_set(fd, &e);
 }

@@ -11,8 +11,11 @@
 #include <string.h>
 #include <sys/ioctl.h>
 #include <sys/socket.h>
+#include <sys/uio.h>
+#include <termios.h>
 
-#include "devices.h"
+#include "device_requests.h"
+#include "wire_fds.h"
 #include "raw_syscall.h"
 #include "spin.h"
 #include "tcs/protocol.h"
@@ -77,7 +80,8 @@ static uint32_t tcs_frame_bits(tcflag_t cflag)
 	return 1 + data[(cflag & CSIZE) >> 4] + ((cflag & PARENB) ? 1 : 0) + ((cflag & CSTOPB) ? 2 : 1);
 }
 
-void tcs_serial_opened(struct tcs_wire_fd *w, uint32_t baud)
+/* A new serial fd's line: raw, 8N1, VMIN 1, at baud. */
+static void tcs_serial_line_init(struct tcs_wire_fd *w, uint32_t baud)
 {
 	memset(&w->tio, 0, sizeof w->tio);
 	speed_t code = tcs_code_of(baud);
@@ -100,7 +104,7 @@ static long tcs_serial_line(int fd, int h, struct tcs_wire_fd *w, uint32_t baud,
 	return tcs_wire_send(fd, h, TCS_WIRE_LINE, &line, sizeof line);
 }
 
-long tcs_serial_getattr(int fd, struct termios *t)
+static long tcs_serial_getattr(int fd, struct termios *t)
 {
 	struct tcs_wire_fd *w = tcs_wire_fd(fd);
 	if (!w)
@@ -109,7 +113,7 @@ long tcs_serial_getattr(int fd, struct termios *t)
 	return 0;
 }
 
-long tcs_serial_setattr(int fd, int h, const struct termios *t)
+static long tcs_serial_setattr(int fd, int h, const struct termios *t)
 {
 	struct tcs_wire_fd *w = tcs_wire_fd(fd);
 	if (!w)
@@ -121,7 +125,7 @@ long tcs_serial_setattr(int fd, int h, const struct termios *t)
 	return 0;
 }
 
-long tcs_serial_flush(int fd, int h, int queue)
+static long tcs_serial_flush(int fd, int h, int queue)
 {
 	if (queue != TCIFLUSH && queue != TCIOFLUSH)
 		return queue == TCOFLUSH ? 0 : -EINVAL; /* (what is on the wire goes on) */
@@ -134,7 +138,7 @@ long tcs_serial_flush(int fd, int h, int queue)
 	return 0;
 }
 
-long tcs_serial_drain(int fd, int h)
+static long tcs_serial_drain(int fd, int h)
 {
 	if (!tcs_wait_enter())
 		return 0;
@@ -155,7 +159,7 @@ static long tcs_serial_read_end(long got, int waited)
 	return got;
 }
 
-long tcs_serial_read(int fd, int h, void *buf, size_t n)
+static long tcs_serial_read(int fd, int h, void *buf, size_t n)
 {
 	struct tcs_wire_fd *w = tcs_wire_fd(fd);
 	if (!w)
@@ -190,7 +194,7 @@ long tcs_serial_read(int fd, int h, void *buf, size_t n)
 	}
 }
 
-long tcs_serial_write(int fd, int h, const void *buf, size_t n)
+static long tcs_serial_write(int fd, int h, const void *buf, size_t n)
 {
 	size_t done = 0;
 	while (done < n) {
@@ -226,7 +230,7 @@ static void tcs_from_kernel(const struct tcs_kernel_termios2 *k, struct termios 
 	t->c_ispeed = t->c_ospeed = t->c_cflag & TCS_CBAUD;
 }
 
-long tcs_serial_ioctl(int fd, int h, unsigned long request, void *arg)
+static long tcs_serial_ioctl(int fd, int h, unsigned long request, void *arg)
 {
 	struct tcs_wire_fd *w = tcs_wire_fd(fd);
 	if (!w)
@@ -298,3 +302,88 @@ long tcs_serial_ioctl(int fd, int h, unsigned long request, void *arg)
 		return -ENOTTY;
 	}
 }
+
+/* ---- the kind's operations (fd_table.h) ------------------------------------------ */
+
+static long tcs_serial_opened(int fd, int handle, unsigned dev)
+{
+	int slot = tcs_wire_slot_new();
+	if (slot < 0)
+		return slot;
+	struct tcs_fd e = { &tcs_serial_ops, handle, dev, (unsigned)slot, 0 };
+	tcs_serial_line_init(tcs_wire_of(&e), tcs_rt.devices->dev[dev].width);
+	tcs_fd_set(fd, &e);
+	return 0;
+}
+
+static long tcs_serial_read_op(int fd, const struct tcs_fd *e, void *buf, size_t n)
+{
+	return tcs_serial_read(fd, e->handle, buf, n);
+}
+
+/* Into its first buffer only: a short read, as a tty's readv may be. */
+static long tcs_serial_readv_op(int fd, const struct tcs_fd *e, const struct iovec *iov, int n)
+{
+	int i = 0;
+	while (i < n && iov[i].iov_len == 0)
+		i++;
+	return i < n ? tcs_serial_read(fd, e->handle, iov[i].iov_base, iov[i].iov_len) : 0;
+}
+
+static long tcs_serial_write_op(int fd, const struct tcs_fd *e, const void *buf, size_t n)
+{
+	return tcs_serial_write(fd, e->handle, buf, n);
+}
+
+static long tcs_serial_ioctl_op(int fd, const struct tcs_fd *e, unsigned long request, void *arg)
+{
+	return tcs_serial_ioctl(fd, e->handle, request, arg);
+}
+
+static long tcs_serial_tcgetattr(int fd, const struct tcs_fd *e, struct termios *t)
+{
+	(void)e;
+	return tcs_serial_getattr(fd, t);
+}
+
+static long tcs_serial_tcsetattr(int fd, const struct tcs_fd *e, int when, const struct termios *t)
+{
+	if (when == TCSADRAIN || when == TCSAFLUSH) {
+		long r = tcs_serial_drain(fd, e->handle);
+		if (r < 0)
+			return r;
+	}
+	if (when == TCSAFLUSH)
+		(void)tcs_serial_flush(fd, e->handle, TCIFLUSH);
+	return tcs_serial_setattr(fd, e->handle, t);
+}
+
+static long tcs_serial_tcflush(int fd, const struct tcs_fd *e, int queue)
+{
+	return tcs_serial_flush(fd, e->handle, queue);
+}
+
+static long tcs_serial_tcdrain(int fd, const struct tcs_fd *e)
+{
+	return tcs_serial_drain(fd, e->handle);
+}
+
+const struct tcs_fd_ops tcs_serial_ops = {
+	.kind = TCS_FD_SERIAL,
+	.served = 1,
+	.access = 1u << O_RDONLY | 1u << O_WRONLY | 1u << O_RDWR,
+	.fork_access = O_RDWR,
+	.read = tcs_serial_read_op,
+	.readv = tcs_serial_readv_op,
+	.write = tcs_serial_write_op,
+	.writev = tcs_fd_writev_by_writes,
+	.ioctl = tcs_serial_ioctl_op,
+	.tcgetattr = tcs_serial_tcgetattr,
+	.tcsetattr = tcs_serial_tcsetattr,
+	.tcflush = tcs_serial_tcflush,
+	.tcdrain = tcs_serial_tcdrain,
+	.opened = tcs_serial_opened,
+	.forget = tcs_wire_forget,
+	.copy = tcs_wire_copy,
+	.after_fork = tcs_device_after_fork,
+};

@@ -5,6 +5,7 @@
 
 #include <time.h>
 
+#include "fd_table.h"
 #include "runtime.h"
 
 struct tcs_vtimer {
@@ -17,7 +18,7 @@ struct tcs_vtimer {
 
 /* The virtual timer fd refers to, or NULL: fd is no virtual timerfd. */
 struct tcs_vtimer *tcs_vtimer_of(int fd) TCS_HIDDEN;
-/* fd (an eventfd below TCS_DEVICE_FD_MAX) becomes a disarmed timer on
+/* fd (an eventfd below TCS_FD_MAX) becomes a disarmed timer on
  * clock: 0, or -EMFILE when the table is full. */
 int tcs_vtimer_add(int fd, clockid_t clock) TCS_HIDDEN;
 /* What is left of t at virtual time now, and its interval. */
@@ -30,8 +31,11 @@ void tcs_vtimer_arm(struct tcs_vtimer *t, int64_t next, int64_t interval, int64_
 int64_t tcs_vtimers_fire(int64_t v) TCS_HIDDEN;
 /* Whether any virtual timer is armed (then multiplexers wake for them). */
 int tcs_vtimers_armed(void) TCS_HIDDEN;
-/* fd was closed / to became a copy of from. */
-void tcs_vtimer_forget(int fd) TCS_HIDDEN;
-void tcs_vtimer_copy(int from, int to) TCS_HIDDEN;
+/* Reads fd's expiration count without blocking: 8, or -EAGAIN. */
+long tcs_vtimer_drain(int fd, void *buf) TCS_HIDDEN;
+
+/* The kind's operations (fd_table.h): read(2) is the expiration count, in
+ * virtual time. */
+extern const struct tcs_fd_ops tcs_timerfd_ops TCS_HIDDEN;
 
 #endif

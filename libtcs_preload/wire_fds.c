@@ -1,59 +1,57 @@
-/* Wire fds' state (see wire_fds.h): a few slots, found through a byte per
- * fd. Programs open a handful of buses, so 64 slots are plenty; an open
- * beyond them fails with EMFILE. */
+/* Wire fds' state (see wire_fds.h): a few slots, which an fd's entry in
+ * the fd table names. Programs open a handful of buses, so 64 slots are
+ * plenty; an open beyond them fails with EMFILE. A slot is taken and let
+ * go by the thread that opens, dups or closes a wire's fd; a signal
+ * handler's open may interrupt it, so a slot is claimed with one atomic
+ * step. */
 #include "wire_fds.h"
-
-#include "devices.h"
 
 #define TCS_WIRE_SLOTS 64
 
 static struct tcs_wire_fd tcs_wire_slots[TCS_WIRE_SLOTS];
-static uint8_t tcs_wire_slot_of[TCS_DEVICE_FD_MAX]; /* slot + 1; 0: none */
-static uint16_t tcs_wire_refs[TCS_WIRE_SLOTS];        /* fds on each slot */
+static uint16_t tcs_wire_refs[TCS_WIRE_SLOTS]; /* fds on each slot; 0: free */
+
+static int tcs_is_wire(const struct tcs_fd *e)
+{
+	unsigned k = e->ops->kind;
+	return k == TCS_FD_SERIAL || k == TCS_FD_I2C || k == TCS_FD_CAN;
+}
+
+struct tcs_wire_fd *tcs_wire_of(const struct tcs_fd *e)
+{
+	return &tcs_wire_slots[e->slot % TCS_WIRE_SLOTS];
+}
 
 struct tcs_wire_fd *tcs_wire_fd(int fd)
 {
-	if (fd < 0 || fd >= TCS_DEVICE_FD_MAX || tcs_wire_slot_of[fd] == 0)
+	struct tcs_fd e;
+	if (!tcs_fd_of(fd, &e) || !tcs_is_wire(&e))
 		return NULL;
-	return &tcs_wire_slots[tcs_wire_slot_of[fd] - 1];
+	return tcs_wire_of(&e);
 }
 
-struct tcs_wire_fd *tcs_wire_fd_new(int fd, uint32_t kind)
+int tcs_wire_slot_new(void)
 {
-	if (fd < 0 || fd >= TCS_DEVICE_FD_MAX)
-		return NULL;
-	tcs_wire_fd_forget(fd);
 	for (int i = 0; i < TCS_WIRE_SLOTS; i++) {
-		struct tcs_wire_fd *w = &tcs_wire_slots[i];
-		if (tcs_wire_refs[i])
+		uint16_t free_slot = 0;
+		if (!__atomic_compare_exchange_n(&tcs_wire_refs[i], &free_slot, 1, 0, __ATOMIC_ACQUIRE, __ATOMIC_RELAXED))
 			continue;
-		tcs_wire_refs[i] = 1;
+		struct tcs_wire_fd *w = &tcs_wire_slots[i];
 		__builtin_memset(w, 0, sizeof *w);
-		w->fd = fd;
-		w->kind = kind;
 		w->i2c_addr = 0xffff;
-		tcs_wire_slot_of[fd] = (uint8_t)(i + 1);
-		return w;
+		return i;
 	}
-	return NULL;
+	return -EMFILE;
 }
 
-void tcs_wire_fd_forget(int fd)
+void tcs_wire_forget(int fd, const struct tcs_fd *e)
 {
-	if (fd < 0 || fd >= TCS_DEVICE_FD_MAX || tcs_wire_slot_of[fd] == 0)
-		return;
-	tcs_wire_refs[tcs_wire_slot_of[fd] - 1]--;
-	tcs_wire_slot_of[fd] = 0;
+	(void)fd;
+	__atomic_sub_fetch(&tcs_wire_refs[e->slot % TCS_WIRE_SLOTS], 1, __ATOMIC_RELEASE);
 }
 
-/* A dup shares the open file, as the kernel's does: one state for both. */
-void tcs_wire_fd_copy(int from, int to)
+void tcs_wire_copy(int to, const struct tcs_fd *e)
 {
-	if (from < 0 || from >= TCS_DEVICE_FD_MAX || to < 0 || to >= TCS_DEVICE_FD_MAX)
-		return;
-	if (tcs_wire_slot_of[from] == 0 || from == to)
-		return;
-	tcs_wire_fd_forget(to);
-	tcs_wire_slot_of[to] = tcs_wire_slot_of[from];
-	tcs_wire_refs[tcs_wire_slot_of[to] - 1]++;
+	(void)to;
+	__atomic_add_fetch(&tcs_wire_refs[e->slot % TCS_WIRE_SLOTS], 1, __ATOMIC_RELAXED);
 }

@@ -7,11 +7,10 @@
 #include <stdint.h>
 #include <termios.h>
 
+#include "fd_table.h"
 #include "runtime.h"
 
 struct tcs_wire_fd {
-	int fd; /* -1: a free slot */
-	uint32_t kind; /* TCS_DEVICE_SERIAL, _I2C, _CAN */
 	struct termios tio;  /* serial: as tcgetattr shows it */
 	uint32_t baud;       /* serial: the line's rate, also where c_cflag cannot say it (BOTHER) */
 	uint16_t i2c_addr;   /* I2C: I2C_SLAVE's; 0xffff: none set */
@@ -27,11 +26,17 @@ struct tcs_wire_fd {
 	int64_t can_last_ns;       /* the last frame read's arrival (virtual), -1: none */
 };
 
-/* The state of wire fd, or NULL. */
+/* The state of wire fd, or NULL (fd is no wire's). */
 struct tcs_wire_fd *tcs_wire_fd(int fd) TCS_HIDDEN;
-/* A fresh state for fd (NULL when every slot is taken). */
-struct tcs_wire_fd *tcs_wire_fd_new(int fd, uint32_t kind) TCS_HIDDEN;
-void tcs_wire_fd_forget(int fd) TCS_HIDDEN;
-void tcs_wire_fd_copy(int from, int to) TCS_HIDDEN;
+/* The state of a wire's entry. */
+struct tcs_wire_fd *tcs_wire_of(const struct tcs_fd *e) TCS_HIDDEN;
+/* A fresh state in a free slot, zeroed but for no I2C address: the slot,
+ * or -EMFILE when every one is taken. */
+int tcs_wire_slot_new(void) TCS_HIDDEN;
+/* Every wire kind's forget and copy (struct tcs_fd_ops): a dup shares the
+ * open file, as the kernel's does, so one state for both; the slot is free
+ * again when its last fd is closed. */
+void tcs_wire_forget(int fd, const struct tcs_fd *e) TCS_HIDDEN;
+void tcs_wire_copy(int to, const struct tcs_fd *e) TCS_HIDDEN;
 
 #endif

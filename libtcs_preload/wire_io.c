@@ -8,7 +8,7 @@
 #include <fcntl.h>
 #include <sys/socket.h>
 
-#include "devices.h"
+#include "device_requests.h"
 #include "raw_syscall.h"
 #include "report.h"
 #include "spin.h"
