@@ -8,7 +8,10 @@ naming FILE:LINE, where libtcs_preload/ parts from it.
   hooks_*.c one calls a function a hooks_*.c file defines;
 - no lock but spin_lock.h's, which blocks signals while held: nothing
   else spins on an atomic exchange, and nothing takes a pthread lock (a
-  signal handler's hook would find it held by the flow it interrupted).
+  signal handler's hook would find it held by the flow it interrupted);
+- the fd table (fd_table.c) is the only table per fd: no other file has an
+  array sized by TCS_FD_MAX, and the table itself takes no lock (a
+  handler's hook reads it while the flow it interrupted writes it).
 
     preload_layout.py SOURCE_ROOT
 """
@@ -93,6 +96,15 @@ def main(root):
             if re.search(r"while\s*\(\s*__atomic_(exchange|test_and_set)|(?<![.\w])pthread_(mutex|spin|rwlock)_(lock|trylock|wrlock|rdlock)\s*\(", line):
                 errors.append("libtcs_preload/%s:%d: a lock other than spin_lock.h's tcs_lock, which blocks signals "
                               "while held (docs/DESIGN.md, \"Re-entrancy\")" % (f, n))
+    for f in names:
+        code = strip_comments(texts[f])
+        for n, line in enumerate(code.split("\n"), 1):
+            if f not in ("fd_table.c", "fd_table.h") and re.search(r"\[[^\]]*\bTCS_FD_MAX\b[^\]]*\]", line):
+                errors.append("libtcs_preload/%s:%d: a table per fd beside fd_table.c's: an fd's state is its entry's "
+                              "(struct tcs_fd: the kind's slot)" % (f, n))
+            if f == "fd_table.c" and re.search(r"\btcs_(lock|locks_hold_all)\s*\(", line):
+                errors.append("libtcs_preload/%s:%d: the fd table takes a lock: a handler's hook reading it "
+                              "would wait for the flow it interrupted" % (f, n))
     for e in errors:
         print(e)
     print("%d files, %d problems" % (len(names), len(errors)))
