@@ -16,7 +16,7 @@
 #include <termios.h>
 
 #include "device_requests.h"
-#include "journal.h"
+#include "replay.h"
 #include "lazy_writes.h"
 #include "raw_syscall.h"
 #include "spin.h"

@@ -6,7 +6,7 @@
 #include <sys/times.h>
 
 #include "cpu_estimate.h"
-#include "journal.h"
+#include "replay.h"
 #include "raw_syscall.h"
 #include "real.h"
 #include "spin.h"

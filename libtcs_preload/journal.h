@@ -1,6 +1,8 @@
 /* The controller's journal (journal.c; the layout is tcs/journal.h):
  * recording, what the program read and asked is appended; replaying, it is
- * taken from the record instead, until the program departs from it. */
+ * taken from the record instead (replay.h), until the program departs from
+ * it. What is here never waits: the round trips and waits below which
+ * replaying stands note into it. */
 #ifndef TCS_PRELOAD_JOURNAL_H
 #define TCS_PRELOAD_JOURNAL_H
 
@@ -9,42 +11,24 @@
 
 /* Maps the journal the clock page announces (start-up). */
 int tcs_start_journal(void) TCS_HIDDEN;
-
 /* Recording: appends an entry (nothing when not recording). */
 void tcs_journal_note(unsigned kind, unsigned type, int64_t value, int64_t arg) TCS_HIDDEN;
-
-/* Replaying, and not departed: *out is the record's next entry, which must
- * be of this kind (and, for TCS_J_CHARGE, type), and not before the time
- * reached already: returns 1. Anything else: 0, and the first such call is
- * the departure, told to the coordinator in the journal. */
-int tcs_replay_take(unsigned kind, unsigned type, struct tcs_journal_entry *out) TCS_HIDDEN;
-/* Replaying: virtual time v is reached, by a wait of the replay's own where
- * the world must step first (tcs_spin_to); not from inside a hook. */
-void tcs_replay_reach(int64_t v) TCS_HIDDEN;
+/* How many entries the mapping holds. */
+uint64_t tcs_journal_entries_max(void) TCS_HIDDEN;
 /* Requests made between these are tcs's own, not the program's: none is
  * journalled, and no entry of a record is taken for them. */
 void tcs_replay_inner_begin(void) TCS_HIDDEN;
 void tcs_replay_inner_end(void) TCS_HIDDEN;
-
+/* How many such requests this thread is inside (0: the program's). */
+int tcs_replay_inner_depth(void) TCS_HIDDEN;
 /* Replaying, and not departed. */
 int tcs_replaying(void) TCS_HIDDEN;
-/* Replaying, and not departed: whether the record's next entry is of this
- * kind and type (it stays there). */
-int tcs_replay_next(unsigned kind, unsigned type) TCS_HIDDEN;
-/* Replaying: the call just taken from the record came out otherwise (value:
- * what it came to): the departure. */
-void tcs_replay_depart(unsigned kind, int64_t value) TCS_HIDDEN;
-
-/* Replaying: a clock's value from the record (1), its time reached. */
-int tcs_replay_clock(unsigned kind, int64_t *value) TCS_HIDDEN;
-
 /* A new child: the journal was its parent's. */
 void tcs_journal_forget(void) TCS_HIDDEN;
-
-/* A request's charge point (vclock.c): replaying, its time from the record
- * (and the record's time is reached); recording, the WAKE's word on its
- * time is journalled as it comes (tcs_journal_answered). */
-void tcs_journal_request(unsigned type) TCS_HIDDEN;
+/* Recording: the request of this type, whose charge point the program's
+ * time v had reached, is journalled when its WAKE says at what time it was
+ * charged (tcs_journal_answered, called for every answer). */
+void tcs_journal_pending(unsigned type, int64_t v) TCS_HIDDEN;
 void tcs_journal_answered(unsigned type, int64_t v) TCS_HIDDEN;
 
 static inline int tcs_journal_on(void)

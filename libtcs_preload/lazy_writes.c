@@ -14,7 +14,7 @@
  * counts. */
 #include "lazy_writes.h"
 #include "tcs/record_check.h"
-#include "wait.h"
+#include "thread_waits.h"
 
 /* Handles beyond this always take the round trip (one bit each in the page). */
 #define TCS_LAZY_HANDLES 64

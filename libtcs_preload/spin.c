@@ -9,15 +9,6 @@
 #include "raw_syscall.h"
 #include "wait.h"
 
-/* A clock read or empty read since this thread's last wait: the next one
- * is a spin's. */
-static __thread int tcs_spun;
-
-void tcs_spin_waited(void)
-{
-	tcs_spun = 0;
-}
-
 int64_t tcs_spin_to(int64_t v, int held)
 {
 	struct tcs_clock_page *p = tcs_rt.page;

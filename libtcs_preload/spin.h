@@ -7,6 +7,7 @@
 #ifndef TCS_PRELOAD_SPIN_H
 #define TCS_PRELOAD_SPIN_H
 
+#include "thread_waits.h"
 #include "vclock.h"
 
 /* Virtual time now for a clock the program reads: in lockstep, later by
@@ -41,7 +42,5 @@ void tcs_spin_empty_read(int held) TCS_HIDDEN;
  * the caller is inside a hook's wait. */
 int64_t tcs_spin_to(int64_t v, int held) TCS_HIDDEN;
 
-/* This thread waited: its next clock read or empty read is free. */
-void tcs_spin_waited(void) TCS_HIDDEN;
 
 #endif

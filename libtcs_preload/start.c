@@ -11,6 +11,7 @@
 #include <sys/mman.h>
 
 #include "journal.h"
+#include "replay.h"
 #include "child.h"
 #include "cpu_estimate.h"
 #include "raw_syscall.h"
@@ -18,6 +19,8 @@
 #include "report.h"
 #include "roundtrip.h"
 #include "thread_channels.h"
+#include "vclock.h"
+#include "wait.h"
 
 static int tcs_env_int(const char *name, long *out)
 {
@@ -34,6 +37,14 @@ static int tcs_env_int(const char *name, long *out)
 static int tcs_start_real_functions(void)
 {
 	tcs_real_resolve();
+	return 0;
+}
+
+/* The clock's ways up into the waits (vclock.h), before any clock is read. */
+static int tcs_start_clock_ways_up(void)
+{
+	tcs_vclock_up.catch_up = tcs_catch_up;
+	tcs_vclock_up.journal_request = tcs_replay_request;
 	return 0;
 }
 
@@ -123,6 +134,7 @@ static int tcs_start_hello(void)
 
 static int (*const tcs_start_steps[])(void) = {
 	tcs_start_real_functions,  /* before any hook passes a call on */
+	tcs_start_clock_ways_up,
 	tcs_start_thread_channels, /* the key that closes an ending thread's channel */
 	tcs_start_slow_clock,
 	tcs_start_environment,     /* stops outside tcs-run */

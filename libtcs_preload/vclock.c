@@ -9,6 +9,18 @@
  * reading, and the clock must not go back: tcs_v_not_before(). */
 int64_t tcs_v_seen;
 
+/* Until start-up fills them: nothing to catch up with, no journal. */
+static void tcs_no_catch_up(void)
+{
+}
+
+static void tcs_no_journal_request(unsigned type)
+{
+	(void)type;
+}
+
+struct tcs_vclock_ways_up tcs_vclock_up = { tcs_no_catch_up, tcs_no_journal_request };
+
 /* The latest exact CPU reading behind a CPU-time clock the program read:
  * what a wait charges is never less (see tcs_wait). */
 static int64_t tcs_cpu_seen;
@@ -32,7 +44,7 @@ void tcs_cpu_forget(void)
 int64_t tcs_charge_point(unsigned type)
 {
 	if (__builtin_expect(tcs_journal_on(), 0))
-		tcs_journal_request(type);
+		tcs_vclock_up.journal_request(type);
 	/* Estimated (the coordinator bounds it by its own reading), but never
 	 * below a CPU time the program has already read: an estimate can fall
 	 * short by an interrupt charged to the process, and its CPU-time clock

@@ -8,7 +8,6 @@
 
 #include "cpu_estimate.h"
 #include "runtime.h"
-#include "wait.h"
 
 /* The latest virtual time this process has been told (see tcs_vnow). */
 extern int64_t tcs_v_seen TCS_HIDDEN;
@@ -24,6 +23,19 @@ static inline int64_t tcs_v_not_before(int64_t v)
 	return v;
 }
 
+/* The clock's two ways up into the waits above it, which start-up fills
+ * (start.c): what a clock read does when the coordinator has stepped the
+ * controller aside (TCS_PAGE_ASLEEP: asks the world's time, wait.c's
+ * tcs_catch_up), and what a request's charge point does with a journal
+ * (replay.c's tcs_replay_request: replaying, it reaches the record's time
+ * first). Both wait, and a wait reads this clock: a call down through a
+ * pointer rather than a file below calling one above. */
+struct tcs_vclock_ways_up {
+	void (*catch_up)(void);
+	void (*journal_request)(unsigned type);
+};
+extern struct tcs_vclock_ways_up tcs_vclock_up TCS_HIDDEN;
+
 /* The process CPU time up to which a request of type (TCS_MSG_*) charges
  * it. Replaying, the record's time for the request is reached first. */
 int64_t tcs_charge_point(unsigned type) TCS_HIDDEN;
@@ -38,12 +50,12 @@ int64_t tcs_sleep_clock_origin(clockid_t id) TCS_HIDDEN;
 
 /* The controller's virtual time now. Stepped aside by the coordinator
  * (TCS_PAGE_ASLEEP), it first asks the world's time (tcs_catch_up,
- * wait.c). */
+ * wait.c, through tcs_vclock_up). */
 static inline __attribute__((always_inline)) int64_t tcs_vnow(void)
 {
 	const struct tcs_clock_page *p = tcs_rt.page;
 	if (__builtin_expect(__atomic_load_n(&p->flags, __ATOMIC_RELAXED) & TCS_PAGE_ASLEEP, 0))
-		tcs_catch_up();
+		tcs_vclock_up.catch_up();
 	/* Lockstep needs no CPU reading: the cheapest path of all. */
 	if (p->mode == TCS_MODE_LOCKSTEP)
 		return tcs_page_lockstep_v(p, tcs_page_read_slice(p));

@@ -8,16 +8,11 @@
  * interrupted one first (roundtrip.c). */
 #include "journal.h"
 #include "raw_syscall.h"
-#include "report.h"
 #include "roundtrip.h"
 #include "signal_mask.h"
 #include "signal_timers.h"
-#include "spin.h"
-#include "thread_channels.h"
 #include "vclock.h"
 #include "wait.h"
-
-__thread int tcs_in_wait;
 
 static void tcs_send_kill(long target)
 {
@@ -34,25 +29,6 @@ void tcs_signal_sending(long target, int sig)
 		return;
 	tcs_send_kill(target);
 	tcs_wait_leave();
-}
-
-int tcs_wait_enter(void)
-{
-	if (!tcs_active())
-		return 0;
-	if (tcs_my_channel() < 0) {
-		static int once;
-		tcs_report_once(&once, "a thread could not get a channel to the coordinator (out of file descriptors?); "
-				       "its waits run in real time");
-		return 0;
-	}
-	tcs_in_wait++;
-	return 1;
-}
-
-void tcs_wait_leave(void)
-{
-	tcs_in_wait--;
 }
 
 /* Timer signals due during a wait: raised here, inside the wait, so that

@@ -8,16 +8,7 @@
 #include <signal.h>
 
 #include "runtime.h"
-
-/* How many blocking hooks this thread is inside: more than one when a
- * signal handler's hook runs inside another's. */
-extern __thread int tcs_in_wait TCS_HIDDEN __attribute__((tls_model("initial-exec")));
-
-/* Enter/leave a blocking hook. tcs_wait_enter() returns 0 when the caller
- * must pass through to the real call (not a controller, or no channel for
- * this thread); a signal handler's hook inside another enters as well. */
-int tcs_wait_enter(void) TCS_HIDDEN;
-void tcs_wait_leave(void) TCS_HIDDEN;
+#include "thread_waits.h"
 
 enum tcs_wait_result {
 	TCS_WAIT_DEADLINE = 0, /* the deadline was reached */
