@@ -11,7 +11,11 @@ naming FILE:LINE, where libtcs_preload/ parts from it.
   signal handler's hook would find it held by the flow it interrupted);
 - the fd table (fd_table.c) is the only table per fd: no other file has an
   array sized by TCS_FD_MAX, and the table itself takes no lock (a
-  handler's hook reads it while the flow it interrupted writes it).
+  handler's hook reads it while the flow it interrupted writes it);
+- no hook file names a kind of fd (TCS_DEVICE_SERIAL, TCS_FD_CAN, ...): a
+  hook calls the operations the fd's entry names, and only the kinds'
+  own files, and device_open.c's map from device kind to operations,
+  choose by kind.
 
     preload_layout.py SOURCE_ROOT
 """
@@ -102,6 +106,10 @@ def main(root):
             if f not in ("fd_table.c", "fd_table.h") and re.search(r"\[[^\]]*\bTCS_FD_MAX\b[^\]]*\]", line):
                 errors.append("libtcs_preload/%s:%d: a table per fd beside fd_table.c's: an fd's state is its entry's "
                               "(struct tcs_fd: the kind's slot)" % (f, n))
+            if f.startswith("hooks_") and re.search(r"\bTCS_(DEVICE|FD)_(SENSOR|ACTUATOR|SERIAL|I2C|CAN|TIMERFD|RANDOM)\b",
+                                                    line):
+                errors.append("libtcs_preload/%s:%d: a hook chooses by kind of fd: it calls the operations of the "
+                              "fd's entry (fd_table.h) instead" % (f, n))
             if f == "fd_table.c" and re.search(r"\btcs_(lock|locks_hold_all)\s*\(", line):
                 errors.append("libtcs_preload/%s:%d: the fd table takes a lock: a handler's hook reading it "
                               "would wait for the flow it interrupted" % (f, n))
