@@ -20,10 +20,10 @@
 
 #include "can_ifaces.h"
 #include "device_requests.h"
-#include "wire_fds.h"
 #include "raw_syscall.h"
 #include "tcs/wire_protocol.h"
 #include "vclock.h"
+#include "wire_fds.h"
 #include "wire_io.h"
 
 /* The part of struct sockaddr_can that CAN_RAW reads and writes

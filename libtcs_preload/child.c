@@ -11,9 +11,9 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include "journal.h"
 #include "child.h"
 #include "fd_table.h"
+#include "journal.h"
 #include "raw_syscall.h"
 #include "report.h"
 #include "roundtrip.h"

@@ -16,9 +16,9 @@
 #include <termios.h>
 
 #include "device_requests.h"
-#include "replay.h"
 #include "lazy_writes.h"
 #include "raw_syscall.h"
+#include "replay.h"
 #include "spin.h"
 #include "vclock.h"
 

@@ -11,9 +11,9 @@
 #include <string.h>
 #include <sys/socket.h>
 
+#include "device_requests.h"
 #include "raw_syscall.h"
 #include "tcs/wire_protocol.h"
-#include "device_requests.h"
 #include "wire_fds.h"
 #include "wire_io.h"
 

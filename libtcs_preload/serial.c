@@ -15,13 +15,13 @@
 #include <termios.h>
 
 #include "device_requests.h"
-#include "wire_fds.h"
 #include "raw_syscall.h"
 #include "spin.h"
 #include "tcs/protocol.h"
 #include "tcs/wire_protocol.h"
 #include "vclock.h"
 #include "wait.h"
+#include "wire_fds.h"
 #include "wire_io.h"
 
 /* The kernel's struct termios and termios2, as TCGETS and TCGETS2 fill

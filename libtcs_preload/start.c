@@ -10,12 +10,12 @@
 #include <stdlib.h>
 #include <sys/mman.h>
 
-#include "journal.h"
-#include "replay.h"
 #include "child.h"
 #include "cpu_estimate.h"
+#include "journal.h"
 #include "raw_syscall.h"
 #include "real.h"
+#include "replay.h"
 #include "report.h"
 #include "roundtrip.h"
 #include "thread_channels.h"
