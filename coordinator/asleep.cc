@@ -137,12 +137,14 @@ bool still_asleep(Run &run, Controller &c, int64_t at)
 // its time now: an upper bound of the cause's time. (Controllers run ahead
 // of the world within a step: a writer at 200.05 ms of a step begun at
 // 200 ms woke a reader that then read 200 ms on its clock, before the write.)
+// Its time is what its clocks read: in cpu mode an estimate may be ahead of
+// its exact CPU (a reader read 7 us before the write, TCS_NO_TSC).
 static int64_t latest_cause(const Run &run, const Controller &c)
 {
 	int64_t at = run.sim_ns;
 	for (const auto &o : run.ctls)
 		if (o.get() != &c)
-			at = std::max(at, o->v_now(run.cfg.mode));
+			at = std::max(at, o->v_told(run.cfg.mode));
 	return at;
 }
 

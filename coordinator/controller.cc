@@ -275,6 +275,18 @@ int64_t Controller::v_now(int mode) const
 	return mode == TCS_MODE_CPU ? std::max(v, v_at_cpu(cpu_now())) : spun();
 }
 
+int64_t Controller::v_told(int mode) const
+{
+	int64_t exact = v_now(mode);
+	if (mode != TCS_MODE_CPU || !page_)
+		return exact;
+	// What its clock reads told it, no further ahead of the exact reading
+	// than an estimate runs between two (its word, held to that).
+	int64_t seen = __atomic_load_n(&page_->v_seen, __ATOMIC_RELAXED);
+	int64_t span = (int64_t)(((unsigned __int128)page_->tick_resync * page_->tick_mult) >> 32);
+	return std::clamp(seen, exact, tcs_ns_add(exact, tcs_scale_cpu(span, scale)));
+}
+
 void Controller::account(int64_t cpu, int mode)
 {
 	int64_t used = tcs_scale_cpu(slice_cpu(cpu), scale);

@@ -245,6 +245,9 @@ public:
 	uint64_t take_lazy_handles();
 	uint64_t quick_waits() const;
 	uint64_t past_deadlines() const;
+	// cpu mode: the latest time its clock reads returned, which an estimate
+	// of its CPU may put ahead of v_now by one estimate's span at most.
+	int64_t v_told(int mode) const;
 	// Seconds its threads have waited in round trips for an answer (page).
 	uint64_t unanswered_waits() const;
 	// --record, --replay: its journal (null: none), and how many entries

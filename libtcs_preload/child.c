@@ -73,6 +73,8 @@ int tcs_become_child(int parent_channel, int64_t fork_v, int v_known)
 	struct tcs_clock_page *old = tcs_rt.page;
 	if (tcs_register_child(parent_channel, tcs_rt.channel_fd, tcs_rt.page_fd, fork_v, v_known) < 0)
 		return -1;
+	/* What its parent had read, its clocks do not go back from. */
+	int64_t seen = old ? __atomic_load_n(&old->v_seen, __ATOMIC_RELAXED) : 0;
 	if (old)
 		tcs_sys2(SYS_munmap, old, TCS_SHARED_SIZE);
 	tcs_rt.page = NULL;
@@ -81,6 +83,7 @@ int tcs_become_child(int parent_channel, int64_t fork_v, int v_known)
 		return -1;
 	tcs_rt.page = (struct tcs_clock_page *)m;
 	tcs_rt.devices = tcs_device_table_of(tcs_rt.page);
+	(void)tcs_v_not_before(seen);
 	tcs_rt.pid = tcs_sys0(SYS_getpid);
 	tcs_thread_channels_after_fork();
 	tcs_cpu_forget(); /* a CPU clock of its own now, from 0 */

@@ -5,9 +5,6 @@
 
 #include "journal.h"
 
-/* Estimates of CPU time (cpu_estimate.c) may run ahead of a later exact
- * reading, and the clock must not go back: tcs_v_not_before(). */
-int64_t tcs_v_seen;
 
 /* Until start-up fills them: nothing to catch up with, no journal. */
 static void tcs_no_catch_up(void)

@@ -9,17 +9,16 @@
 #include "cpu_estimate.h"
 #include "runtime.h"
 
-/* The latest virtual time this process has been told (see tcs_vnow). */
-extern int64_t tcs_v_seen TCS_HIDDEN;
-/* v, or the latest virtual time already told if that is later. Threads
- * share one core, so a plain load and store (no locked instruction) keep
- * it. */
+/* v, or the latest virtual time already told if that is later (the
+ * page's v_seen, which the coordinator reads too). Threads share one core,
+ * so a plain load and store (no locked instruction) keep it. */
 static inline int64_t tcs_v_not_before(int64_t v)
 {
-	int64_t seen = __atomic_load_n(&tcs_v_seen, __ATOMIC_RELAXED);
+	int64_t *told = &tcs_rt.page->v_seen;
+	int64_t seen = __atomic_load_n(told, __ATOMIC_RELAXED);
 	if (v < seen)
 		return seen;
-	__atomic_store_n(&tcs_v_seen, v, __ATOMIC_RELAXED);
+	__atomic_store_n(told, v, __ATOMIC_RELAXED);
 	return v;
 }
 

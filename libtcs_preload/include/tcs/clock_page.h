@@ -21,7 +21,7 @@ extern "C" {
 #endif
 
 #define TCS_PAGE_MAGIC 0x70736374u /* "tcsp" */
-#define TCS_PAGE_VERSION 14u
+#define TCS_PAGE_VERSION 15u
 #define TCS_PAGE_SIZE 4096
 
 enum tcs_mode {
@@ -142,6 +142,12 @@ struct tcs_clock_page {
 				  * this slice, short of spin_limit (spin.c) */
 	uint64_t random_drawn;   /* --seed: blocks of its stream drawn so far (kept
 				  * across exec, so the stream goes on) */
+	int64_t v_seen;          /* cpu mode: the latest virtual time a clock read
+				  * of it returned. An estimate of its CPU may run
+				  * ahead of the exact reading, by the ticks between
+				  * two readings (tick_resync) at most: a controller
+				  * woken by what this one wrote is told no earlier
+				  * time (coordinator/asleep.cc) */
 	uint64_t unanswered;     /* each second of real time a thread has waited
 				  * for an answer in a round trip: the coordinator
 				  * looks for one it owes no answer (stuck.cc) */
