@@ -82,11 +82,14 @@ void tcs_fds_after_fork(void)
 			e.ops->after_fork(fd, &e);
 }
 
-long tcs_fd_readv_by_reads(int fd, const struct tcs_fd *e, const struct iovec *iov, int n)
+/* One call per buffer, as the kernel's readv/writev of such a file does;
+ * what was done, or the first error if nothing was. */
+static long tcs_fd_each_buffer(int fd, const struct tcs_fd *e, const struct iovec *iov, int n, int writing)
 {
 	long done = 0;
 	for (int i = 0; i < n; i++) {
-		long r = e->ops->read(fd, e, iov[i].iov_base, iov[i].iov_len);
+		long r = writing ? e->ops->write(fd, e, iov[i].iov_base, iov[i].iov_len)
+				 : e->ops->read(fd, e, iov[i].iov_base, iov[i].iov_len);
 		if (r < 0)
 			return done > 0 ? done : r;
 		done += r;
@@ -96,16 +99,12 @@ long tcs_fd_readv_by_reads(int fd, const struct tcs_fd *e, const struct iovec *i
 	return done;
 }
 
+long tcs_fd_readv_by_reads(int fd, const struct tcs_fd *e, const struct iovec *iov, int n)
+{
+	return tcs_fd_each_buffer(fd, e, iov, n, 0);
+}
+
 long tcs_fd_writev_by_writes(int fd, const struct tcs_fd *e, const struct iovec *iov, int n)
 {
-	long done = 0;
-	for (int i = 0; i < n; i++) {
-		long r = e->ops->write(fd, e, iov[i].iov_base, iov[i].iov_len);
-		if (r < 0)
-			return done > 0 ? done : r;
-		done += r;
-		if ((size_t)r < iov[i].iov_len)
-			break;
-	}
-	return done;
+	return tcs_fd_each_buffer(fd, e, iov, n, 1);
 }
