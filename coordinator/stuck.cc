@@ -49,7 +49,8 @@ void look_for_stuck(Run &run)
 		if (n != s.unanswered)
 			s.counted_at = now;
 		s.unanswered = n;
-		if (holds_request(c) || now - s.counted_at > kStillWaiting) {
+		// (The count first: holding a request is asked of the channels.)
+		if (now - s.counted_at > kStillWaiting || holds_request(c)) {
 			s.since = 0;
 			continue;
 		}
