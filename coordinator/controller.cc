@@ -404,6 +404,14 @@ uint64_t Controller::take_due_timer_signals()
 	return bits;
 }
 
+pid_t Controller::due_timer_thread(int64_t at) const
+{
+	for (const SignalTimer &t : timers)
+		if (t.next <= at && t.tid > 0)
+			return t.tid;
+	return 0;
+}
+
 void Controller::raise_due_timers()
 {
 	advance_due([&](const SignalTimer &t) {

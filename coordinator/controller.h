@@ -328,6 +328,8 @@ public:
 	// the timers moved past v: a waiting controller raises them itself,
 	// each to its timer's thread.
 	uint64_t take_due_timer_signals();
+	// A thread a timer due by `at` signals (0: none names one).
+	pid_t due_timer_thread(int64_t at) const;
 	// The signals its timers due by v owe, sent (it is not waiting: stopped,
 	// or about to run), each to the thread its timer names.
 	void raise_due_timers();

@@ -6,6 +6,13 @@
 // and each receiver waiting in a hooked wait is woken to re-check at the
 // sender's time: it dies there, or runs its handler (its wait ends with
 // EINTR), or, if it blocks or ignores the signal, waits on.
+//
+// A signal to one's own process (pthread_kill, or kill of one's own pid from
+// a threaded program) is told after it was sent, and ends the waits of the
+// sender's other threads to re-check at its time, at once: the sender runs,
+// so time does not pass before the receiver, running its handler, has
+// asked for its next wait (which otherwise began when the world next
+// stepped: in lockstep up to a whole wait late).
 #include "signals.h"
 
 #include <unistd.h>
@@ -13,6 +20,7 @@
 #include <algorithm>
 
 #include "device_requests.h"
+#include "threads.h"
 
 namespace tcs {
 
@@ -40,6 +48,12 @@ void on_kill(Run &run, Controller &c, const ::tcs_msg &m)
 	for (auto &o : run.ctls)
 		if (o.get() != &c && o->state == CtlState::Blocked && reaches(o->pid, m.arg, sender_pgid))
 			o->kick(at);
+	if (!c.side.empty() && reaches(c.pid, m.arg, sender_pgid)) {
+		for (SideWait &w : c.side)
+			if (w.wake_reason == 0)
+				w.wake_reason = TCS_WAKE_RECHECK;
+		end_side_waits(run, c);
+	}
 	reply_now(run, c, 0);
 }
 

@@ -230,6 +230,25 @@ bool set_own_wait_aside(Run &run, Controller &c, int fd)
 	return true;
 }
 
+// Someone must raise c's timer signals due at `at` inside a wait: the
+// thread a timer names, if it waits, else its own wait's, else the first
+// waiting one. A signal raised into another waiting thread would end that
+// one's wait only as the kernel got round to it, after the raiser may have
+// waited again and let virtual time pass (up to a wait late, in lockstep).
+static void choose_raiser(Run &run, Controller &c, int64_t at)
+{
+	pid_t tid = c.due_timer_thread(at);
+	auto target = std::find_if(c.side.begin(), c.side.end(), [&](const SideWait &w) { return tid > 0 && w.tid == tid; });
+	if (target == c.side.end() && (c.wait.active || c.side.empty()))
+		return;
+	if (target == c.side.end())
+		target = c.side.begin();
+	SideWait raiser = *target;
+	c.side.erase(target);
+	demote_wait(run, c);
+	c.take_wait(raiser);
+}
+
 // c is Blocked with several waiting threads (or threads asleep outside the
 // hooks): ends what is due at `at`, after which it is Ready. False when
 // nothing is due and no thread woke by itself: it stays Blocked.
@@ -255,12 +274,8 @@ bool wake_threads(Run &run, Controller &c, int64_t at)
 		return false;
 	}
 	c.others_asleep = false;
-	if (timer && !c.wait.active && !c.sync && !c.side.empty()) {
-		// Someone must raise the timer's signals inside a wait: the first
-		// waiting thread.
-		c.take_wait(c.side.front());
-		c.side.erase(c.side.begin());
-	}
+	if (timer && !c.sync)
+		choose_raiser(run, c, v);
 	if (timer && c.wait.active && !c.sync) {
 		c.v = v;
 		c.wake_arg = (int64_t)c.take_due_timer_signals();

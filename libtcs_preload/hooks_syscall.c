@@ -68,22 +68,28 @@ static long tcs_futex(long a[6])
 }
 
 /* A signal sent by number: the coordinator is told whom it is for, then
- * the kernel sends it (wait.c). */
+ * the kernel sends it, then one to this process is told (wait.c). */
 static long tcs_signal_syscall(long nr, const long a[6])
 {
+	long target = a[0], tid = 0;
+	int sig = (int)a[1];
 	switch (nr) {
 	case SYS_kill:
 	case SYS_rt_sigqueueinfo:
-		tcs_signal_sending(a[0], (int)a[1]);
 		break;
 	case SYS_tgkill:
-		tcs_signal_sending(a[0], (int)a[2]);
+		tid = a[1];
+		sig = (int)a[2];
 		break;
 	default: /* tkill, pidfd_send_signal: the process is not at hand */
-		tcs_signal_sending(-1, (int)a[1]);
+		target = -1;
 		break;
 	}
-	return tcs_sys6(nr, a[0], a[1], a[2], a[3], a[4], a[5]);
+	tcs_signal_sending(target, sig);
+	long r = tcs_sys6(nr, a[0], a[1], a[2], a[3], a[4], a[5]);
+	if (r == 0)
+		tcs_signal_sent(target, tid, sig);
+	return r;
 }
 
 /* The C convention of syscall(): -1 and errno on failure. */

@@ -36,6 +36,8 @@ void tcs_real_resolve(void)
 	TCS_RESOLVE(posix_spawnp, "posix_spawnp");
 	TCS_RESOLVE(system, "system");
 	TCS_RESOLVE(pthread_create, "pthread_create");
+	TCS_RESOLVE(pthread_kill, "pthread_kill");
+	TCS_RESOLVE(pthread_sigqueue, "pthread_sigqueue");
 	TCS_RESOLVE(pthread_setaffinity_np, "pthread_setaffinity_np");
 	TCS_RESOLVE(pthread_setschedparam, "pthread_setschedparam");
 	TCS_RESOLVE(pthread_setschedprio, "pthread_setschedprio");

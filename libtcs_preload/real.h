@@ -38,6 +38,8 @@ struct tcs_real_fns {
 			    char *const[], char *const[]);
 	int (*system)(const char *);
 	int (*pthread_create)(pthread_t *, const pthread_attr_t *, void *(*)(void *), void *);
+	int (*pthread_kill)(pthread_t, int);
+	int (*pthread_sigqueue)(pthread_t, int, const union sigval);
 	/* Priorities and affinity of a thread. */
 	int (*pthread_setaffinity_np)(pthread_t, size_t, const cpu_set_t *);
 	int (*pthread_setschedparam)(pthread_t, int, const struct sched_param *);

@@ -31,6 +31,19 @@ void tcs_signal_sending(long target, int sig)
 	tcs_wait_leave();
 }
 
+void tcs_signal_sent(long target, long tid, int sig)
+{
+	if (sig == 0 || (target != tcs_rt.pid && target != 0 && target != -1) || !tcs_active() ||
+	    __atomic_load_n(&tcs_rt.page->threads_started, __ATOMIC_RELAXED) == 0)
+		return;
+	if (tid != 0 && tid == tcs_sys0(SYS_gettid))
+		return;
+	if (!tcs_wait_enter())
+		return;
+	tcs_send_kill(tcs_rt.pid);
+	tcs_wait_leave();
+}
+
 /* Timer signals due during a wait: raised here, inside the wait, so that
  * they meet the wait's signal mask; then the kernel says whether a handler
  * ran (EINTR) or not (ignored, or blocked: wait on). */

@@ -49,4 +49,15 @@ void tcs_catch_up(void) TCS_HIDDEN;
  * handler inside a wait too: the wait is ended first (roundtrip.c). */
 void tcs_signal_sending(long target, int sig) TCS_HIDDEN;
 
+/* After a send of sig to target (as tcs_signal_sending's; to thread tid
+ * of it, or 0): one that reached this process and may be another thread's
+ * is told to the coordinator (TCS_MSG_KILL of this pid), which ends the
+ * waits of the other threads at the sender's time, to re-check. Told
+ * after: the signal is then pending when a thread re-checks, and the
+ * sender, which runs until the answer, keeps virtual time from passing
+ * before the receiver's handler has asked for its own (else a wait in the
+ * handler began at the world's next step, up to a wait late). Nothing for
+ * a process without threads. */
+void tcs_signal_sent(long target, long tid, int sig) TCS_HIDDEN;
+
 #endif

@@ -156,6 +156,7 @@ class Run:
         self.left_behind = []
         self.stdout = self.stderr = ""
         self.wall = 0.0
+        self.proc = None
 
     def start(self, cpu=None):
         """Starts it, on that core alone if given (tcs-run then keeps its
@@ -245,7 +246,8 @@ def execute(runs, jobs, on_done=None, cpus=None, budget=None):
                         on_done(r)
     finally:
         for r in active.values():
-            end_session(r.proc.pid)
+            if r.proc:  # (None: it failed to start)
+                end_session(r.proc.pid)
         for s, h in old.items():
             signal.signal(s, h)
 
