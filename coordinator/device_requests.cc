@@ -206,6 +206,8 @@ bool raise_timers_in_read(Controller &c, int64_t at)
 	if (!c.sync || c.next_timer() > at)
 		return false;
 	c.v = std::max(c.v, at);
+	// Its handlers run now, inside the read: their clocks read this time.
+	c.publish_slice(c.cpu_at_end >= 0 ? c.cpu_at_end : c.cpu_now());
 	c.raise_due_timers();
 	return true;
 }

@@ -210,6 +210,19 @@ void on_early(Run &run, Controller &c, const ::tcs_msg &m, int fd)
 		schedule(run);
 		return;
 	}
+	if (c.sync && c.state != CtlState::Running && m.seq == c.wait.seq &&
+	    fd == (c.wait.fd >= 0 ? c.wait.fd : c.channel.get())) {
+		// A handler ran inside a device read still waiting for its record
+		// (a timer's signal raised in it): the read's wait ends at the
+		// signal's time, not at the next record, so that what the handler
+		// asks for (a wait) begins then; the read itself goes on after it
+		// (device_requests.c).
+		c.sync.reset();
+		c.wake_arg = 0;
+		wake(run, c, std::max(c.v, run.sim_ns), TCS_WAKE_EARLY);
+		schedule(run);
+		return;
+	}
 	for (size_t i = 0; i < c.side.size(); i++) {
 		SideWait &w = c.side[i];
 		if (w.fd != fd || w.seq != m.seq)

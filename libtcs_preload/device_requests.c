@@ -68,12 +68,18 @@ long tcs_device_sync_until(int handle, unsigned kind, int nonblock, int64_t dead
 		m.deadline = deadline;
 	}
 	m.arg = handle;
-	m.cpu = cpu;
-	m.v = tcs_page_vnow(p, tcs_page_read_slice(p), cpu);
-	unsigned early = tcs_roundtrip(&m, NULL, 0, NULL, &w, NULL);
-	if (early == TCS_EARLY_SIGNAL && w.kind == TCS_WAKE_EARLY)
-		return -EINTR;
-	return w.arg < 0 ? w.arg : 0;
+	for (;;) {
+		m.cpu = cpu;
+		m.v = tcs_page_vnow(p, tcs_page_read_slice(p), cpu);
+		unsigned early = tcs_roundtrip(&m, NULL, 0, NULL, &w, NULL);
+		if (early != TCS_EARLY_SIGNAL || w.kind != TCS_WAKE_EARLY)
+			return w.arg < 0 ? w.arg : 0;
+		/* A handler ran while it waited for its record: the coordinator
+		 * ended the wait at the signal's time (so that a wait in the
+		 * handler began there); the read goes on, as with SA_RESTART. */
+		cpu = tcs_charge_point(TCS_MSG_DEV_SYNC);
+		m.seq = 0;
+	}
 }
 
 long tcs_device_sync(int handle, int fd, unsigned kind)

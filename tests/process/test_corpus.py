@@ -34,11 +34,6 @@ KNOWN = [
      "cpu mode: a thread whose sleep ends while another of its controller computes runs only once "
      "that one waits (natively they interleave): the killer thread's SIGUSR1 comes after the SIGALRM "
      "handler that reads clocks has returned (TCS_NO_FIFO=1 passes; cause not pinned down)"),
-    (r"^lockstep nested/\S+ \S+ dev_fd$",
-     r"^wrong: a wait lasted \d+ ns more than it asked",
-     "lockstep: a handler that runs inside a device read waiting for its record (a timer's signal "
-     "raised in it) has its own waits begin only once the record is due: the read's wait is not "
-     "ended at the signal's time (a wait in it seems up to 0.7 ms longer)"),
 ]
 
 
