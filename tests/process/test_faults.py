@@ -100,10 +100,9 @@ def test_a_lost_answer_ends_the_run_saying_so():
         # (The lost answer is the first controller's.)
         print("  %-8s pair: exit %d after %.1f s, %d dropped" % (mode, r.returncode, r.wall, len(dropped)))
         check(r.returncode == 2 and len(dropped) == 1, "%s: the stuck one dropped, saying so" % mode, r)
-        # (Its misses only those a pause of this shared machine explains.)
-        v = r.values()
-        check(v.get("loops") == "800" and v.get("misses") == v.get("pause_misses"),
-              "%s: the other ended, on time" % mode, r)
+        # The other ends on time: its misses only those a pause of this
+        # shared machine explains, its 800 loops ending at the last release.
+        periodic_on_time(r.values(), 50, 16, "%s: the other" % mode, r)
 
 
 if __name__ == "__main__":
