@@ -431,6 +431,11 @@ bool Controller::missed_raised_signal(const ::tcs_msg &m) const
 void Controller::kick(int64_t at)
 {
 	wait.kicked_at = std::min(wait.kicked_at, at);
+	recheck_side_waits();
+}
+
+void Controller::recheck_side_waits()
+{
 	for (SideWait &w : side)
 		if (w.wake_reason == 0)
 			w.wake_reason = TCS_WAKE_RECHECK;

@@ -341,6 +341,9 @@ public:
 	// Blocked, it has been sent a signal at virtual time `at`: its waits
 	// are re-checked then (an asleep one is looked at then).
 	void kick(int64_t at);
+	// Its threads' waits beside its own are to end, to re-check (a signal
+	// may be theirs).
+	void recheck_side_waits();
 	bool budgeted = false;      // Running with a budget timer
 	int lane = -1;  // Running: the coordinator's lane it runs in (lanes.cc)
 	int core = -1;  // the core its threads were last pinned to (-1: not by us)

@@ -49,9 +49,7 @@ void on_kill(Run &run, Controller &c, const ::tcs_msg &m)
 		if (o.get() != &c && o->state == CtlState::Blocked && reaches(o->pid, m.arg, sender_pgid))
 			o->kick(at);
 	if (!c.side.empty() && reaches(c.pid, m.arg, sender_pgid)) {
-		for (SideWait &w : c.side)
-			if (w.wake_reason == 0)
-				w.wake_reason = TCS_WAKE_RECHECK;
+		c.recheck_side_waits();
 		end_side_waits(run, c);
 	}
 	reply_now(run, c, 0);

@@ -79,5 +79,16 @@ def test_the_sample_runs_natively_and_in_both_modes():
         "\n".join(failing)))
 
 
+def test_cases_once_found_wrong_are_right_run_after_run():
+    # Defects the corpus found that failed often alone: each case ten times
+    # in lockstep, judged as the sample is. A handler run inside a device
+    # read waiting for its record waited from the next record (1 run in 2).
+    again = [cases.Case("nested/timer", "pause", "dev_fd")] * 10
+    results = run_corpus.run_cases(again, ("lockstep",), jobs=1, budget=120)
+    failing = [run_corpus.describe(r, p) for r, p in results if p]
+    check(len(results) == 20 and not failing, "%d of %d runs failed:\n%s" % (
+        len(failing), len(results), "\n".join(failing)))
+
+
 if __name__ == "__main__":
     main(globals())
