@@ -100,8 +100,9 @@ def test_stream_records_come_at_the_rate():
                 # program's clock (D unknown: its start-up's CPU). A read
                 # returns at its record's time, or at once if the program is
                 # later than that; either way later by what it computes in
-                # the read, as its CPU clock says (a first read's page
-                # faults, a pause of the VM: charged as CPU too). Each time
+                # the read, as the kernel's CPU clock says (a first read's
+                # page faults, a pause of the VM: charged as CPU too; the
+                # kernel's account, which tcs's charges may not exceed). Each time
                 # read is an estimate within AHEAD of the truth, either way
                 # (harness.charged_as_the_kernel_says). No read is early, so
                 # D is at most the least of at_k - k ms (+ AHEAD); with that

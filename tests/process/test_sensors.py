@@ -56,10 +56,13 @@ def test_a_noisy_quantised_sensor_has_its_deviation_and_grid_and_repeats_with_it
         other, other_rows = read(world, "--seed", "6")
     angles = [row[0] for row in rows]
     mean, sd = statistics.fmean(angles), statistics.pstdev(angles)
-    # 3000 draws: the deviation's standard error is 1.3 %, the mean's
-    # 0.00018 rad; quantising to 0.002 adds 0.002^2/12 to the variance.
+    # 3000 draws: the deviation's relative standard error is
+    # 1 / sqrt(2 (N - 1)) = 1.3 % (normal draws), the mean's 0.01 / sqrt(N)
+    # = 0.00018 rad; quantising to 0.002 adds 0.002^2/12 to the variance.
+    # Both within 5 standard errors (by chance outside once in 1.7 million).
     expected_sd = math.sqrt(0.01 ** 2 + 0.002 ** 2 / 12)
-    check(abs(sd / expected_sd - 1) < 0.06, "standard deviation %.5f rad, declared 0.01 (%.5f quantised)" %
+    sd_error = 1 / math.sqrt(2 * (N - 1))
+    check(abs(sd / expected_sd - 1) < 5 * sd_error, "standard deviation %.5f rad, declared 0.01 (%.5f quantised)" %
           (sd, expected_sd))
     check(abs(mean - 0.05) < 5 * 0.01 / math.sqrt(N), "mean %.5f rad: the bias, 0.05" % mean)
     check(all(abs(a / 0.002 - round(a / 0.002)) < 1e-6 for a in angles), "every angle on the 0.002 rad grid")

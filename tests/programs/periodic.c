@@ -15,7 +15,10 @@
  * tail_kernel_cpu_ns the CPU from the last wait's return to the end
  * (head_kernel_cpu_ns: from before the first reads to after them);
  * last_wait_kernel_cpu_ns and least_wait_kernel_cpu_ns the CPU of the last
- * wait's call and of the least one, waits_kernel_cpu_ns that of them all
+ * wait's call and of the least one, waits_kernel_cpu_ns that of them all,
+ * last_round_start_ns when the last round began (the loop's last look at
+ * its clock before the end's) and last_round_kernel_cpu_ns the CPU from just
+ * before that look to the end (the most a late loop's end can follow it)
  * (unscaled: the kernel's own cost of a sleep, which tcs does not charge,
  * 26 us for a deadline already past on one virtual machine) (the last's excess is a pause of the
  * machine charged as CPU within it: what part of it followed the wake,
@@ -69,7 +72,13 @@ int main(int argc, char **argv)
 	long long round_start = account ? kernel_cpu_ns() : 0, debt = 0, crossed_waits = 0, woke_kernel = 0;
 	long long head_kernel_cpu = account ? (long long)((round_start - loop_kernel_cpu) * scale) : -1;
 	long long asked_kernel = 0, last_wait = -1, least_wait = -1, waits_kernel = 0;
-	while (clock_ns(CLOCK_MONOTONIC) - start < duration) {
+	long long last_round_start = -1, last_round_kernel = 0;
+	for (;;) {
+		long long top_kernel = account ? kernel_cpu_ns() : 0, top = clock_ns(CLOCK_MONOTONIC) - start;
+		if (top >= duration)
+			break;
+		last_round_start = top;
+		last_round_kernel = top_kernel;
 		if (cpu_work >= 0)
 			compute_ns(CLOCK_PROCESS_CPUTIME_ID, cpu_work);
 		else
@@ -128,13 +137,14 @@ int main(int argc, char **argv)
 	 * all that may follow the last release in elapsed_s (-1: a loop with
 	 * no work does not read it). */
 	long long tail_kernel_cpu = account ? (long long)((end_kernel - woke_kernel) * scale) : -1;
+	last_round_kernel = account ? (long long)((end_kernel - last_round_kernel) * scale) : -1;
 	switches = context_switches() - switches;
 	printf("asked_hz=%s\nloops=%lld\nelapsed_s=%.9f\nrate_hz=%.3f\nmisses=%lld\nsleep_failures=%lld\nloop_cpu_ns=%lld\ncpu_ns=%lld\n"
 	       "loop_kernel_cpu_ns=%lld\ncores_seen=%llu\nswitches=%ld\npaused_rounds=%lld\npause_misses=%lld\ncrossed_waits=%lld\n"
 	       "head_kernel_cpu_ns=%lld\ntail_kernel_cpu_ns=%lld\nlast_wait_kernel_cpu_ns=%lld\nleast_wait_kernel_cpu_ns=%lld\n"
-	       "waits_kernel_cpu_ns=%lld\n",
+	       "waits_kernel_cpu_ns=%lld\nlast_round_start_ns=%lld\nlast_round_kernel_cpu_ns=%lld\n",
 	       argv[1], loops, elapsed, loops / elapsed, misses, failures, loop_cpu, clock_ns(CLOCK_PROCESS_CPUTIME_ID), loop_kernel_cpu, cores_seen,
 	       switches, paused_rounds, pause_misses, crossed_waits, head_kernel_cpu, tail_kernel_cpu, last_wait, least_wait,
-	       account ? waits_kernel : -1);
+	       account ? waits_kernel : -1, last_round_start, last_round_kernel);
 	return 0;
 }
