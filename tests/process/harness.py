@@ -1,7 +1,7 @@
 """Process-test harness: runs real programs under tcs-run with a timeout,
 in a session of their own, and fails a test that leaves any process behind
 (stopped or not). Each test file is a list of test_* functions; main() runs
-them and ends with the line 'N passed, N failed'."""
+them and ends with the line 'N passed, N failed, N skipped'."""
 
 import contextlib
 import csv
@@ -11,6 +11,7 @@ import itertools
 import json
 import os
 import re
+import shutil
 import signal
 import subprocess
 import sys
@@ -337,6 +338,33 @@ def skip(reason):
     raise Skip(reason)
 
 
+def under_ci():
+    """Whether this is a CI run: CI set, as CI services set it (CI=true;
+    .ci/run sets it too), to anything but empty, 0 or false."""
+    return os.environ.get("CI", "").lower() not in ("", "0", "false")
+
+
+def missing(what, how):
+    """Something a test needs is absent here (a tool, a folder of files):
+    under CI a failure naming it and how to get it, since a CI machine that
+    lacks it would otherwise go green without the check; elsewhere a skip,
+    which tools/bootstrap.sh lists with this reason."""
+    reason = "%s: %s" % (what, how)
+    if under_ci():
+        raise AssertionError("%s (a failure, not a skip, under CI=%s)" % (reason, os.environ["CI"]))
+    skip(reason)
+
+
+def need_tool(program, package):
+    """The path of a program a test runs, from the Debian package that has
+    it; where it is not installed, missing() (a CI failure, else a skip)."""
+    path = shutil.which(program)
+    if path is None:
+        missing("%s is not installed" % program,
+                "apt-get install %s (tools/bootstrap.sh test installs it)" % package)
+    return path
+
+
 # Meson's exit status for a test that was skipped as a whole.
 EXIT_SKIP = 77
 
@@ -344,7 +372,8 @@ EXIT_SKIP = 77
 def main(namespace):
     """Runs the file's test_ functions (or those named on the command line),
     one line each: ok, FAILED with the traceback, or SKIP with the reason
-    (tools/bootstrap.sh lists those at the end). Exit 1 if any failed, 77 if
+    (tools/test_summary.py counts these and lists each skip at the end of
+    tools/bootstrap.sh test). Exit 1 if any failed, 77 if
     every one was skipped."""
     tests = [(n, f) for n, f in namespace.items() if n.startswith("test_") and callable(f)]
     only = sys.argv[1:]
@@ -359,7 +388,8 @@ def main(namespace):
             print("ok     %-48s %6.2fs" % (name, time.monotonic() - t0), flush=True)
         except Skip as why:
             skipped += 1
-            print("SKIP   %-48s %s" % (name, why), flush=True)
+            # One line, the reason last: tools/test_summary.py reads it.
+            print("SKIP   %-48s %s" % (name, " ".join(str(why).split())), flush=True)
         except Exception:
             failed += 1
             print("FAILED %-48s %6.2fs" % (name, time.monotonic() - t0), flush=True)

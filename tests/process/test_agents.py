@@ -13,7 +13,7 @@ import subprocess
 import time
 
 from daemon import DDS_ENV, EXAMPLES, Daemon, mcap_counts
-from harness import TCS_RUN, check, finish, main, run, skip
+from harness import TCS_RUN, check, finish, main, need_tool, run, skip
 
 PENDULUM_PD = os.path.join(EXAMPLES, "pendulum_pd")
 SCENARIOS = os.environ.get("TCS_SCENARIOS", "scenarios")
@@ -32,6 +32,7 @@ class Hosts:
     why; apart() then skips the test, whose checks passed on one host)."""
 
     def __enter__(self):
+        need_tool("ip", "iproute2")
         n = os.getpid() % 250 + 1
         self.ns = "tcs-test-%d" % os.getpid()
         here, there = "10.201.%d.1" % n, "10.201.%d.2" % n

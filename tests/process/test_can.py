@@ -10,11 +10,10 @@ of signals carry the world out and efforts in; the trace holds every frame
 with its times and who sent it, and exports the bus as candump's log."""
 
 import os
-import shutil
 import struct
 import tempfile
 
-from harness import TCS_TRACE, check, main, read_trace, run, scenario_file, skip, tcs, trace_rows
+from harness import TCS_TRACE, check, main, need_tool, read_trace, run, scenario_file, tcs, trace_rows
 
 BUS = """\
 [sim]
@@ -82,8 +81,7 @@ def run_sh(world, script, timeout=60):
 
 
 def need_can_utils():
-    if not shutil.which("candump"):
-        skip("can-utils is not installed (tools/bootstrap.sh installs it)")
+    need_tool("candump", "can-utils")
 
 
 def test_cansend_reaches_candump_when_its_last_bit_has():

@@ -7,10 +7,9 @@ reads what the link feels."""
 
 import json
 import os
-import shutil
 import tempfile
 
-from harness import TCS_TRACE, check, main, read_trace, scenario_file, skip, tcs, trace_rows
+from harness import TCS_TRACE, check, main, need_tool, read_trace, scenario_file, tcs, trace_rows
 from harness import run as run_tool
 
 EXAMPLES = os.environ.get("TCS_EXAMPLES", "examples")
@@ -40,8 +39,7 @@ def world(angle="0.0", clock="400kHz"):
 
 
 def need_i2c_tools():
-    if not shutil.which("i2cdetect"):
-        skip("i2c-tools is not installed (tools/bootstrap.sh installs it)")
+    need_tool("i2cdetect", "i2c-tools")
 
 
 def run(w, *argv, mode="lockstep"):

@@ -8,7 +8,7 @@ import tempfile
 import textwrap
 import time
 
-from harness import AHEAD, READ, PYTHON, SLACK, TCS_RUN, check, main, prog, run, tcs
+from harness import AHEAD, READ, PYTHON, SLACK, TCS_RUN, check, main, need_tool, prog, run, tcs
 
 
 def ns(value, unit):
@@ -70,8 +70,7 @@ def cpu_clock_readings(loops):
     """periodic's loop of `loops` round trips (no work) in lockstep under
     strace: (the controller's CPU-clock readings, the coordinator's of the
     controller's clock, clock_gettime system calls in all, the run)."""
-    strace = shutil.which("strace")
-    check(strace is not None, "strace is installed (tools/bootstrap.sh test installs it)")
+    strace = need_tool("strace", "strace")
     out = os.path.join(tempfile.mkdtemp(prefix="tcs-test-lockstep-"), "strace.txt")
     r = run([strace, "-f", "-qq", "-e", "trace=clock_gettime", "-o", out, TCS_RUN, "-q", "-m", "lockstep",
              prog("periodic"), "1000", str(loops / 1000), "0"], timeout=120)

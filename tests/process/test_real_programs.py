@@ -6,10 +6,9 @@ priorities (SCHED_FIFO 80, SCHED_DEADLINE) that tcs keeps below its own."""
 
 import os
 import re
-import shutil
 import time
 
-from harness import AHEAD, PROGRAMS, PYTHON, SLACK, check, main, prog, tcs
+from harness import AHEAD, PROGRAMS, PYTHON, SLACK, check, main, need_tool, prog, tcs
 
 
 def virtual_s(r):
@@ -37,11 +36,6 @@ def wall_s(r):
     m = re.search(r" virtual in ([0-9.]+) (s|ms|us|ns) wall", r.stderr)
     check(m is not None, "tcs-run's summary gives the wall time", r)
     return float(m.group(1)) * UNIT[m.group(2)] / 1e9
-
-
-def need(program, package):
-    check(shutil.which(program) is not None,
-          "%s is not installed: apt-get install %s (tools/bootstrap.sh test installs it)" % (program, package))
 
 
 def test_timeout_ends_a_sleep_at_its_limit():
@@ -158,7 +152,7 @@ CYCLIC = re.compile(r"C:\s*(\d+)\s+Min:\s*(\d+)\s+Act:\s*(\d+)\s+Avg:\s*(\d+)\s+
 
 
 def test_cyclictest_runs_to_completion():
-    need("cyclictest", "rt-tests")
+    need_tool("cyclictest", "rt-tests")
     # Lockstep: every wake-up exactly on time, whatever priority it asks.
     r = tcs("-m", "lockstep", "--", "cyclictest", "-l", "1000", "-i", "1000", "-p", "80", "-m", "-q", timeout=60)
     m = CYCLIC.search(r.stdout)
@@ -202,7 +196,7 @@ def test_cyclictest_runs_to_completion():
 
 
 def test_stress_ng_cyclic_runs_to_completion():
-    need("stress-ng", "stress-ng")
+    need_tool("stress-ng", "stress-ng")
     args = ["stress-ng", "--cyclic", "1", "--cyclic-ops", "1000", "--cyclic-method", "clock_ns", "--cyclic-sleep",
             "1000", "-t", "5", "--metrics-brief"]
     for mode in ("lockstep", "cpu"):
