@@ -102,22 +102,9 @@ meson test -C "$build" --print-errorlogs || status=$?
 echo
 echo "bootstrap: the process tests again, as on a machine without tcs's fast paths (--setup slowclock)"
 meson test -C "$build" --print-errorlogs --setup slowclock --suite process || status=$?
-# Closing lines any CI can read: the counts, then each skip and its reason.
-python3 - "$build/meson-logs/testlog.json" "$build/meson-logs/testlog-slowclock.json" <<'PY'
-import json, sys
-# A test skipped as a whole (exit 77), or a check inside one (its "SKIP"
-# line, tests/process/harness.py): each is listed with its reason.
-for path, what in zip(sys.argv[1:], ("", " (slowclock)")):
-    tests = [json.loads(line) for line in open(path) if line.strip()]
-    results = [t["result"] for t in tests]
-    ok = sum(r == "OK" for r in results)
-    skips = ["%s: %s" % (t["name"], " ".join(l.split()[1:]))
-             for t in tests for l in (t.get("stdout") or "").splitlines() if l.startswith("SKIP ")]
-    skips += ["%s: %s" % (t["name"], ((t.get("stdout") or "").strip().splitlines() or ["(no reason given)"])[-1])
-              for t in tests if t["result"] == "SKIP" and not any(s.startswith(t["name"] + ":") for s in skips)]
-    print("%d passed, %d failed, %d skipped%s" % (ok, len(results) - ok - results.count("SKIP"),
-                                                   results.count("SKIP"), what))
-    for s in skips:
-        print("  skipped%s: %s" % (what, s))
-PY
+# Closing lines any CI can read: test functions passed, failed and skipped
+# in each setup, then each skipped function and its reason (tools/
+# test_summary.py: a skip inside a file meson calls OK is counted too).
+echo
+python3 tools/test_summary.py "$build/meson-logs/testlog.json" "$build/meson-logs/testlog-slowclock.json" || status=$?
 exit $status
