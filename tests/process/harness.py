@@ -191,7 +191,14 @@ def read_trace(path, complete=True):
     """A trace as the ecosystem's reference readers read it (tests/mcap/
     check.mjs: @mcap/core, every message decoded as Foxglove decodes it):
     its {messages, channels, schemas, topics: {topic: count}, truncated}.
-    complete: the file must have its footer."""
+    complete: the file must have its footer. Node.js and the readers
+    (npm ci in tests/mcap) are what the check needs: missing()."""
+    need_tool("node", "nodejs")
+    readers = os.path.join(os.path.dirname(MCAP_CHECK), "node_modules")
+    for package in ("@mcap/core", "@foxglove/rosmsg", "@foxglove/rosmsg2-serialization", "@foxglove/wasm-zstd"):
+        if not os.path.isdir(os.path.join(readers, package)):
+            missing("the MCAP reader's %s is not in %s" % (package, readers),
+                    "npm ci --prefix %s (tools/bootstrap.sh test runs it)" % os.path.dirname(MCAP_CHECK))
     r = run(["node", MCAP_CHECK] + (["--complete"] if complete else []) + [path], timeout=120)
     check(r.returncode == 0, "the official MCAP reader reads %s" % path, r)
     return json.loads(r.stdout.strip().splitlines()[-1])
