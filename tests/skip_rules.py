@@ -4,7 +4,8 @@ lines of tools/bootstrap.sh test), and under CI (CI=true) a failure naming
 what is missing and how to get it. Checked on both runners: the cmocka
 robot_load test with ../shared/robots pointed at an empty folder (its four
 published-file cases need it, its eleven others do not), and a harness.py
-test file with one function that needs a tool no machine has.
+test file with one function that needs a tool no machine has. And a
+file that dies inside a function is counted failed, not lost.
 
     skip_rules.py TEST_ROBOT_LOAD SOURCE_ROOT
 """
@@ -32,6 +33,20 @@ def test_that_needs_nothing():
 
 def test_that_needs_a_tool_no_machine_has():
     need_tool("tcs-absent-tool", "tcs-absent-package")
+
+main(globals())
+'''
+
+# A file that dies inside a function prints no FAILED line for it.
+DYING = '''
+import os
+from harness import main
+
+def test_that_passes():
+    pass
+
+def test_that_dies_inside():
+    os._exit(3)
 
 main(globals())
 '''
@@ -111,5 +126,14 @@ with tempfile.TemporaryDirectory() as tmp:
     check(lines[:2] == ["plain: 1 functions passed, 1 failed, 0 skipped (in 1 test files)",
                         "  failed: unit / test_probe.py test_that_needs_a_tool_no_machine_has"],
           "  ... and the summary counts that function failed", lines)
+
+    dying = os.path.join(tmp, "test_dying.py")
+    with open(dying, "w") as f:
+        f.write(DYING)
+    status, record = run([sys.executable, dying], ci=False, extra_env=on_path)
+    lines = summary_of(record)
+    check(status == 3 and lines[:2] == ["plain: 1 functions passed, 1 failed, 0 skipped (in 1 test files)",
+                                        "  failed: unit / test_dying.py (the file: FAIL after its last function)"],
+          "a file that dies inside a function: the summary counts a failure", [str(status)] + lines)
 
 sys.exit(1 if failures else 0)
