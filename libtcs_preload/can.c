@@ -22,6 +22,7 @@
 #include "device_requests.h"
 #include "raw_syscall.h"
 #include "tcs/wire_protocol.h"
+#include "thread_waits.h"
 #include "vclock.h"
 #include "wire_fds.h"
 #include "wire_io.h"
@@ -233,6 +234,9 @@ static long tcs_can_recvmsg(int fd, int h, struct msghdr *msg, int flags)
 		if (r < 0 && r != -EAGAIN)
 			return r;
 	}
+	/* A frame got ends a spin, as a device's record does (spin.h): a clock
+	 * read after it is its arrival's time, not a spin's read later. */
+	tcs_spin_waited();
 	struct tcs_wire_can_rx rx;
 	memcpy(&rx, buf, sizeof rx);
 	const size_t size = (size_t)n - sizeof rx;

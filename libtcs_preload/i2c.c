@@ -14,6 +14,7 @@
 #include "device_requests.h"
 #include "raw_syscall.h"
 #include "tcs/wire_protocol.h"
+#include "thread_waits.h"
 #include "wire_fds.h"
 #include "wire_io.h"
 
@@ -21,13 +22,16 @@
  * i2c-algo-bit's functions, without PEC. */
 #define TCS_I2C_FUNCS 0x0FFF8017u
 
-/* The answer to the transfer just sent: its head and up to cap bytes. */
+/* The answer to the transfer just sent: its head and up to cap bytes. The
+ * thread waited for the wire until the transfer's end, so its next clock
+ * read is no spin's (spin.h): it reads the end, not a spin's read later. */
 static long tcs_i2c_answer(int fd, int h, struct tcs_wire_i2c_reply *head, char *data, size_t cap)
 {
 	char buf[sizeof *head + TCS_WIRE_PAYLOAD_MAX];
 	for (;;) {
 		long n = tcs_sys6(SYS_recvfrom, fd, buf, sizeof buf, MSG_DONTWAIT, 0, 0);
 		if (n >= (long)sizeof *head) {
+			tcs_spin_waited();
 			memcpy(head, buf, sizeof *head);
 			size_t len = (size_t)n - sizeof *head;
 			if (head->len != len || len > cap)
