@@ -164,22 +164,29 @@ def test_vmin_vtime_and_nonblocking_reads():
 def test_a_spin_on_a_nonblocking_read_gets_the_reply_on_time():
     # The SDK's way: read() on an O_NONBLOCK tty again and again, a
     # CLOCK_REALTIME timeout checked each time. In lockstep each empty read
-    # and clock read costs what it costs natively (--epoch: 500 and 25 ns),
-    # so the spin ends, at the reply's last byte or at its timeout, late by
-    # no more than a turn of the loop (525 ns) and the clock reads around
-    # it (25 ns each).
+    # and clock read costs a spin's (docs/DESIGN.md §2: --epoch's 500 and
+    # 25 ns, or --spin-cost's), a turn of the loop both. The span starts
+    # at a clock read after a sleep (free); the write goes then; the loop's
+    # first clock read costs one.
+    # - The reply's last byte is read by the first read after it came: a
+    #   turn after the last empty one at most. That read got bytes, so the
+    #   clock read after it is free; the span's closing one costs one.
+    # - No reply: the loop turns until its clock has gone past 50 ms, the
+    #   first turn that does, exactly; and the closing read costs one.
     baud = 57600
     exact = transaction(READ, READ_REPLY, baud)
-    for options, turn in ((("--epoch", "0"), 600), ((), 5 * US)):
+    for options, read, clock in ((("--epoch", "0"), 500, 25), (("--spin-cost", "40ns,3us"), 3000, 40)):
         v, r = probe("lockstep", baud, "spin", options=options)
-        got, silent = int(v["reply_ns"]), int(v["silent_ns"])
-        check(v["reply_len"] == "15" and exact <= got <= exact + turn and int(v["reply_tries"]) > 0,
-              "lockstep %s: the reply after %.6f ms, expected %.6f ms + %d ns" %
-              (options, got / MS, exact / MS, turn), r)
-        check(v["silent_len"] == "0" and 50 * MS < silent <= 50 * MS + turn,
-              "lockstep %s: an unanswered PING's timeout at 50 ms (%.6f)" % (options, silent / MS), r)
-        print("  lockstep%s: reply %.6f ms after the write (%.6f exactly), %s empty reads; timeout %.6f ms" %
-              (" --epoch 0" if options else "", got / MS, exact / MS, v["reply_tries"], silent / MS))
+        got, silent, turn = int(v["reply_ns"]), int(v["silent_ns"]), read + clock
+        check(v["reply_len"] == "15" and exact <= got <= exact + turn + clock and int(v["reply_tries"]) > 0,
+              "lockstep %s: the reply after %.6f ms, expected %.6f ms + at most %d ns" %
+              (options, got / MS, exact / MS, turn + clock), r)
+        turns = 50 * MS // turn + 1
+        check(v["silent_len"] == "0" and int(v["silent_tries"]) == turns and silent == clock + turns * turn + clock,
+              "lockstep %s: an unanswered PING's timeout after %s turns of %d ns, at %d ns (%d)" %
+              (options, v["silent_tries"], turn, clock + turns * turn + clock, silent), r)
+        print("  lockstep %s: reply %.6f ms after the write (%.6f exactly), %s empty reads; timeout %.6f ms" %
+              (" ".join(options), got / MS, exact / MS, v["reply_tries"], silent / MS))
     # In cpu mode the spin's CPU is its time: it sees the reply within a
     # turn of its loop, well within a byte's time.
     v, r = probe("cpu", baud, "spin")
