@@ -115,17 +115,18 @@ def test_same_epoch_same_timestamps():
               "    print('t=%d m=%d' % (time.time_ns(), time.monotonic_ns()))\n")
     runs = [tcs("-q", "-m", "lockstep", "--epoch", "2024-05-01T12:00:00Z", "--", PYTHON, "-c", script)
             for _ in range(2)]
-    check(runs[0].stdout == runs[1].stdout, "two runs with one epoch print the same", runs[1])
     # (Each 0.25 s sleep ends 50 us late: its timer slack.) Python's
     # start-up reads the clock, 25 ns each after the first with an epoch
     # (spins in lockstep), so the first sleep begins a whole number of
-    # those in; each later one begins 25 ns after the line before it (the
-    # time read after a sleep is free, the monotonic one after it is not).
+    # those in. Each line's time.time() follows a sleep (free), its
+    # time.monotonic() costs a read, and the next sleep reads the monotonic
+    # clock for its deadline (CPython's clock_nanosleep TIMER_ABSTIME): each
+    # later line 50 ns and a sleep after the one before.
     tm = [[int(x.split("=")[1]) for x in line.split()] for line in runs[0].stdout.splitlines()]
     start = tm[0][0] - 1714564800250050000
     check(len(tm) == 3 and start >= 0 and start % 25 == 0, "time.time() starts at the epoch (%d ns in)" % start,
           runs[0])
-    check([b[0] - a[0] for a, b in zip(tm, tm[1:])] == [25 + 250050000] * 2,
+    check([b[0] - a[0] for a, b in zip(tm, tm[1:])] == [50 + 250050000] * 2,
           "time.time() then moves by the sleeps and the clock reads", runs[0])
     # The monotonic clock too starts at a fixed value: 100000 s (read
     # right after time.time(), one read later).
@@ -137,6 +138,11 @@ def test_same_epoch_same_timestamps():
                script)
     check(free.stdout.split()[:2] == ["t=1714564800250050000", "m=%d" % (100000 * 10**9 + 250050000)],
           "--spin-cost 0: time.time() at the epoch and 0.25 s, time.monotonic() at 100000.25 s", free)
+    # KNOWN FAILURE (issue 36, reported): Python's start-up is charged 2 to
+    # 4 clock reads more or fewer from one run to the next (50 to 100 ns;
+    # now and then a whole step, 1 ms), --seed or not; a C program's reads
+    # repeat (below). The contract is that the output repeats.
+    check(runs[0].stdout == runs[1].stdout, "two runs with one epoch print the same", runs[1])
     c = [tcs("-q", "-m", "lockstep", "--epoch", "1714564800", prog("clocks")) for _ in range(2)]
     steps = [[line for line in x.stdout.splitlines() if line.startswith("step")] for x in c]
     check(len(steps[0]) == 4 and steps[0] == steps[1], "every clock identical across runs", c[1])
