@@ -330,7 +330,7 @@ def test_the_acrobot_example_swings_up_and_balances():
         off = [(t, max(abs(wrap(q[0] - math.pi)), abs(wrap(q[0] + q[1] - math.pi)))) for t, q in steps]
         up = next((t / 1e9 for t, x in off if x < 0.1), -1)
         worst = max(x for _, x in last(off, 1))
-        check(steps[-1][0] >= 7999000000 and 0 < up < 7 and worst < 0.05,
+        check(steps[-1][0] == 8000000000 and 0 < up < 7 and worst < 0.05,
               "%s: in the world up at %.3f s, at most %.4f rad off over the last second of %.3f s" %
               (mode, up, worst, steps[-1][0] / 1e9), r)
         print("  %-8s acrobot up at %.3f s, within %.4f rad of upright over the last second (it says %s s, %s rad)" %
