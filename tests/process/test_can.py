@@ -362,7 +362,7 @@ data_bitrate = "4Mbit/s"
 """
 
 FD = """\
-import fcntl, socket, struct
+import fcntl, socket, struct, time
 s = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
 def ifreq(code, fmt, *a):
     size = struct.calcsize(fmt)
@@ -382,12 +382,13 @@ writer.send(struct.pack("=IBBBB64s", 0x123, 12, 1, 0, 0, bytes(range(12))))  # C
 writer.send(struct.pack("=IB3x8s", 0x124, 2, b"hi"))
 for _ in range(2):
     data, cmsgs, _, _ = reader.recvmsg(72, 64)
+    now = time.monotonic_ns()
     can_id, length, flags = struct.unpack("=IBB", data[:6])
     stamp = [struct.unpack("=qq", d) for level, kind, d in cmsgs if kind == 35]  # SCM_TIMESTAMPNS
     ns = struct.unpack("=qq", fcntl.ioctl(reader, 0x8907, bytes(16)))             # SIOCGSTAMPNS
     us = struct.unpack("=qq", fcntl.ioctl(reader, 0x8906, bytes(16)))             # SIOCGSTAMP
     print("frame", len(data), can_id, length, flags, data[8:8 + length].hex(), stamp[0][0] * 10**9 + stamp[0][1],
-          ns[0] * 10**9 + ns[1], us[0] * 10**6 + us[1])
+          ns[0] * 10**9 + ns[1], us[0] * 10**6 + us[1], now)
 """
 
 
@@ -410,6 +411,12 @@ def test_fd_frames_timestamps_and_the_interface_ioctls():
         stamp, ns, us = int(f[5]), int(f[6]), int(f[7])
         check(stamp == ns == EPOCH * 10**9 + int(t["v_end_ns"]) and us == ns // 1000,
               "SCM_TIMESTAMPNS and SIOCGSTAMPNS are the frame's end on the wire on the epoch, SIOCGSTAMP in µs", r)
+        # The clock read right after the recvmsg that waited for the frame
+        # is its end, exactly: a frame received ends a spin (docs/DESIGN.md
+        # §2), so the read costs nothing. (CLOCK_MONOTONIC is 100000 s at
+        # virtual 0 with --epoch.)
+        check(int(f[8]) == 100000 * 10**9 + int(t["v_end_ns"]),
+              "the clock read after recvmsg is the frame's end: %s, %d" % (f[8], int(t["v_end_ns"])), r)
     # With BRS: its arbitration and tail at 1 Mbit/s, from ESI to the CRC's
     # end at the data phase's 4 Mbit/s; the classic frame at 1 Mbit/s.
     fd_ns = int(rows[0]["v_end_ns"]) - int(rows[0]["v_start_ns"])
