@@ -5,28 +5,78 @@ sent it, whether the sender is another process (sigqueue, tgkill) or
 another thread of its own (tgkill to a thread, sigqueue to its own
 process). Checked exactly in lockstep (--spin-cost 0: clock reads are
 free): the sender sends 3 ms and its sleep's timer slack (50 us,
-docs/DESIGN.md §2) after the start, the handler's clock reads that, and
-the receiver's 1 s sleep has the rest left. What the signal carries, and
-how the sleep ends, are as natively (tests/programs/signal_time.c)."""
+docs/DESIGN.md §2) after the start, the receiver's 1 s sleep has the rest
+left, and its handler's clock reads the sending time ("a signal handler
+runs at the virtual time the signal was delivered", shared/DESIGN.md §10).
+What the signal carries, and how the sleep ends, are as natively
+(tests/programs/signal_time.c)."""
 
 from harness import SLACK, check, main, native, prog, tcs
 
 MS = 1000000
 SEND_AT = 3 * MS + SLACK
+HOWS = ("sigqueue", "tgkill", "thread_tgkill", "thread_sigqueue")
+# Runs of each way: a race with the receiver's mailbox spin (below) shows
+# in 0 to 1 run in 7 of the cross-process ones, as the machine is loaded.
+RUNS = 40
+_runs = {}
 
 
-def test_a_signal_acts_at_the_senders_time():
-    for how in ("sigqueue", "tgkill", "thread_tgkill", "thread_sigqueue"):
-        n = native([prog("signal_time"), how]).values()
+def sent(how):
+    """The runs of signal_time HOW in lockstep (made once, shared by the
+    tests), each checked for what the signal carries and when it was sent:
+    the native run's values and theirs."""
+    if how in _runs:
+        return _runs[how]
+    n = native([prog("signal_time"), how]).values()
+    runs = []
+    for _ in range(RUNS):
         r = tcs("-q", "-m", "lockstep", "--spin-cost", "0", prog("signal_time"), how, timeout=60)
         v = r.values()
-        check(r.returncode == 0 and v.get("value") == n.get("value") and v.get("sleep_errno") == n.get("sleep_errno")
-              == "EINTR", "%s: the handler gets value %s and the sleep ends with EINTR, as natively" %
+        check(r.returncode == 0 and v.get("value") == n.get("value"), "%s: the handler gets value %s, as natively" %
               (how, n.get("value")), r)
         check(int(v["sent"]) == SEND_AT, "%s: sent 3 ms + 50 us after the start" % how, r)
-        check(int(v["handled"]) == SEND_AT, "%s: the receiver's handler reads the sender's time, %d ns: %s" %
-              (how, SEND_AT, v["handled"]), r)
-        check(int(v["left"]) == 1000 * MS - SEND_AT, "%s: its 1 s sleep had the rest left" % how, r)
+        runs.append((v, r))
+    _runs[how] = n, runs
+    return n, runs
+
+
+def test_a_signal_ends_a_wait_at_the_senders_time():
+    # DEFECT of tcs (found by this test, issue 36), sigqueue from another
+    # process, 0 to 1 run in 7: the handler runs, but the 1 s sleep goes
+    # on to its end and returns 0. The receiver's request is in its
+    # mailbox, spinning for the answer (libtcs_preload/mailbox.c), when
+    # the signal lands; a handler run in that spin counts as one "just
+    # before the wait" and does not end it, though in virtual time it came
+    # 3 ms after the wait began.
+    wrong = []
+    for how in HOWS:
+        n, runs = sent(how)
+        check(n.get("sleep_errno") == "EINTR", "%s: natively the sleep ends with EINTR" % how, n)
+        ends = sorted(set("%s %s %s" % (v["sleep_errno"], v["woke"], v["left"]) for v, _ in runs))
+        print("  %-16s sleep ended (errno, at, left): %s" % (how, "; ".join(ends)))
+        wrong += ["%s: %s" % (how, e) for e in ends if e != "EINTR %d %d" % (SEND_AT, 1000 * MS - SEND_AT)]
+    check(not wrong, "each 1 s sleep ends with EINTR at the sender's %d ns with the rest left, not: %s" %
+          (SEND_AT, "; ".join(wrong)))
+
+
+def test_a_handler_reads_the_senders_time():
+    # DEFECT of tcs (found by this test, issue 36), sigqueue and tgkill
+    # from another process, every run but those of the defect above: the
+    # handler's clock reads the receiver's time before its wait (0 here),
+    # not the sender's, though the wait then ends at the sender's time.
+    # The coordinator moves the receiver to the sender's time (on_kill's
+    # kick) only when, its handler run, it sends its EARLY; the handler
+    # runs in the wait's ppoll before that, on the clock page of the wait's
+    # start. Between threads of one process the page is the sender's, and
+    # it reads right.
+    wrong = []
+    for how in HOWS:
+        _, runs = sent(how)
+        read = sorted(set(v["handled"] for v, _ in runs))
+        print("  %-16s sent at %d ns, handler read %s ns" % (how, SEND_AT, ", ".join(read)))
+        wrong += ["%s: %s ns" % (how, t) for t in read if int(t) != SEND_AT]
+    check(not wrong, "the receiver's handler reads the sender's time, %d ns, not: %s" % (SEND_AT, "; ".join(wrong)))
 
 
 if __name__ == "__main__":

@@ -10,7 +10,7 @@
  * before the sender began): when the sender sent (sent, read just before
  * the send), when the handler ran (handled), the value it got (value: -1
  * if none), how the sleep ended (sleep_errno) and what it had left
- * (left). */
+ * (left), and when it returned (woke). */
 #include <errno.h>
 #include <pthread.h>
 #include <signal.h>
@@ -99,11 +99,12 @@ int main(int argc, char **argv)
 	struct timespec second = { 1, 0 }, left = { 0, 0 };
 	int r = nanosleep(&second, &left);
 	int e = r < 0 ? errno : 0;
+	long long woke = mono() - t0;
 	if (threaded)
 		pthread_join(th, NULL);
 	else
 		waitpid(child, NULL, 0);
-	printf("sent=%lld\nhandled=%lld\nvalue=%d\nsleep_errno=%s\nleft=%lld\n", *sent, handled, value,
-	       e == EINTR ? "EINTR" : e == 0 ? "none" : "other", left.tv_sec * 1000000000LL + left.tv_nsec);
+	printf("sent=%lld\nhandled=%lld\nvalue=%d\nsleep_errno=%s\nleft=%lld\nwoke=%lld\n", *sent, handled, value,
+	       e == EINTR ? "EINTR" : e == 0 ? "none" : "other", left.tv_sec * 1000000000LL + left.tv_nsec, woke);
 	return 0;
 }
