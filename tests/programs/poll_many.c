@@ -8,7 +8,8 @@
  *                            holding a byte: the indexes with revents
  *   woken_ret, woken_fds, write_at, woken_at
  *                            ppoll, no timeout; a forked child writes a
- *                            byte into the last pipe after a 5 ms sleep:
+ *                            byte into the last pipe after a 5 ms sleep
+ *                            (and ends 20 ms later):
  *                            CLOCK_MONOTONIC (ns) at the child's write
  *                            (read just before it) and at ppoll's return */
 #include <poll.h>
@@ -88,6 +89,10 @@ int main(int argc, char **argv)
 		nanosleep(&five, NULL);
 		*shared = mono();
 		(void)!write(wr[n - 1], "y", 1);
+		/* Alive on: its end, which tcs tells its parent of, must not be
+		 * what ends the parent's wait. */
+		struct timespec twenty = { 0, 20 * MS };
+		nanosleep(&twenty, NULL);
 		_exit(0);
 	}
 	r = ppoll(p, (nfds_t)n, NULL, NULL);

@@ -3,7 +3,8 @@
  * last has left, and sleeps 1 ms. What goes out on a wire is not in a
  * record (docs/DESIGN.md §9), so a replay that writes more is seen to
  * depart only at a request whose time differs. Prints the CLOCK_MONOTONIC
- * reading (ns) just before the first write (write_at). */
+ * reading (ns) just before the first write (write_at), and on stderr a
+ * line as each sleep has returned ("wire_drain: slept N"). */
 #include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -37,6 +38,7 @@ int main(int argc, char **argv)
 		tcdrain(fd);
 		struct timespec d = { 0, 1000000 };
 		nanosleep(&d, NULL);
+		fprintf(stderr, "wire_drain: slept %d\n", i); /* (unbuffered: in order with tcs-run's lines) */
 	}
 	printf("write_at=%lld\n", write_at);
 	return 0;
