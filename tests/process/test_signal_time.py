@@ -16,8 +16,8 @@ from harness import SLACK, check, main, native, prog, tcs
 MS = 1000000
 SEND_AT = 3 * MS + SLACK
 HOWS = ("sigqueue", "tgkill", "thread_tgkill", "thread_sigqueue")
-# Runs of each way: a race with the receiver's mailbox spin (below) shows
-# in 0 to 1 run in 7 of the cross-process ones, as the machine is loaded.
+# Runs of each way: the handler's clock (below) reads wrong in a race,
+# about 1 run in 2 of the cross-process ones on this machine.
 RUNS = 40
 _runs = {}
 
@@ -42,13 +42,16 @@ def sent(how):
 
 
 def test_a_signal_ends_a_wait_at_the_senders_time():
-    # DEFECT of tcs (found by this test, issue 36), sigqueue from another
-    # process, 0 to 1 run in 7: the handler runs, but the 1 s sleep goes
-    # on to its end and returns 0. The receiver's request is in its
-    # mailbox, spinning for the answer (libtcs_preload/mailbox.c), when
-    # the signal lands; a handler run in that spin counts as one "just
-    # before the wait" and does not end it, though in virtual time it came
-    # 3 ms after the wait began.
+    # DEFECT of tcs (found by this test, issue 36), sigqueue and tgkill
+    # from another process that sleeps on after its send (signal_time
+    # does): in every run the handler runs, but the receiver's 1 s sleep
+    # goes on to its end and returns 0 (natively: EINTR at 3 ms). Told of
+    # the signal (on_kill), the coordinator wakes the receiver to re-check
+    # at the sender's time, before the kernel has sent it; the receiver
+    # finds nothing, waits again through its mailbox, and the signal lands
+    # in the mailbox's spin, where a handler counts as one "just before
+    # the wait" (libtcs_preload/mailbox.c) and ends nothing. Between
+    # threads of one process (no mailbox) it ends the sleep right.
     wrong = []
     for how in HOWS:
         n, runs = sent(how)
@@ -62,14 +65,13 @@ def test_a_signal_ends_a_wait_at_the_senders_time():
 
 def test_a_handler_reads_the_senders_time():
     # DEFECT of tcs (found by this test, issue 36), sigqueue and tgkill
-    # from another process, every run but those of the defect above: the
-    # handler's clock reads the receiver's time before its wait (0 here),
-    # not the sender's, though the wait then ends at the sender's time.
-    # The coordinator moves the receiver to the sender's time (on_kill's
-    # kick) only when, its handler run, it sends its EARLY; the handler
-    # runs in the wait's ppoll before that, on the clock page of the wait's
-    # start. Between threads of one process the page is the sender's, and
-    # it reads right.
+    # from another process, in a race (about 1 run in 2 here): the
+    # handler's clock reads the receiver's time before its wait (0), not
+    # the sender's (the page still holds the slice before the wait, the
+    # re-check's wake not yet read). When the sender ends at once instead
+    # of sleeping on, it is most runs, and the wait then ends right.
+    # Between threads of one process the page is the sender's, and it
+    # reads right.
     wrong = []
     for how in HOWS:
         _, runs = sent(how)

@@ -44,7 +44,7 @@ static void on_usr1(int sig, siginfo_t *si, void *uc)
 		value = si->si_value.sival_int;
 }
 
-/* The sender: 3 ms asleep, then the send. */
+/* The sender: 3 ms asleep, the send, 3 ms asleep again. */
 static void send_it(void)
 {
 	struct timespec d = { 0, 3000000 };
@@ -59,6 +59,10 @@ static void send_it(void)
 		tgkill(getpid(), main_tid, SIGUSR1);
 	else
 		sigqueue(getpid(), SIGUSR1, v);
+	/* On to a later time at once: the receiver's wait must still end at
+	 * the send, not wherever the sender (and the world) got to before the
+	 * receiver was heard. */
+	nanosleep(&d, NULL);
 }
 
 static void *sender_thread(void *arg)
