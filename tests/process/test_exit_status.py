@@ -8,7 +8,7 @@ import os
 import shutil
 import tempfile
 
-from harness import check, main, prog, scenario_file, tcs
+from harness import check, main, prog, scenario_file, skip, tcs
 
 WORLD = """\
 [sim]
@@ -56,7 +56,8 @@ def test_a_program_that_cannot_be_executed_exits_127():
         path = os.path.join(d, "no_loader")
         with open(prog("exit_with"), "rb") as f:
             data = f.read()
-        check(data.count(LOADER) == 1, "exit_with names the loader once")
+        if data.count(LOADER) != 1:
+            skip("exit_with does not name %s once (not an x86-64 glibc system)" % LOADER.decode())
         with open(path, "wb") as f:
             f.write(data.replace(LOADER, LOADER[:-1] + b"9"))
         os.chmod(path, 0o755)
