@@ -20,15 +20,22 @@ static long tcs_virtual_sleep(clockid_t clock, int flags, const struct timespec 
 	if (origin < 0)
 		return origin;
 	struct tcs_wait_time t = { tcs_ts_to_ns(req), !(flags & TIMER_ABSTIME), 0, 0, 0, tcs_timer_slack() };
+	struct tcs_wait_hold held = { 0, 0 };
 	if (flags & TIMER_ABSTIME)
 		t.deadline = t.deadline > origin ? t.deadline - origin : 0;
 	unsigned bflags = (flags & TIMER_ABSTIME) ? TCS_BLOCK_ABSOLUTE : 0;
-	long r = tcs_wait(&t, TCS_BLOCK_SLEEP, bflags, NULL, 0, NULL);
+	long r = tcs_wait_held(&t, &held, TCS_BLOCK_SLEEP, bflags);
 	int64_t start = t.start;
-	/* Woken to re-check (a signal no handler took): sleep on to the same
-	 * deadline, now absolute. */
+	/* Woken to re-check (a signal from another process is on its way, or
+	 * one came that no handler took): sleep on to the same deadline, now
+	 * absolute. Signals stay blocked from the re-check's answer on and
+	 * are let in by each wait's own look and ppoll, as sigsuspend's are:
+	 * inside the program's sleep, a handler ends it (EINTR), wherever it
+	 * comes; let in before the wait was asked again, through the
+	 * mailbox's spin, it went unnoticed and the sleep ran to its end. */
 	while (r == TCS_WAIT_RECHECK)
-		r = tcs_wait(&t, TCS_BLOCK_SLEEP, bflags, NULL, 0, NULL);
+		r = tcs_wait_held(&t, &held, TCS_BLOCK_SLEEP, bflags);
+	tcs_wait_unhold(&held);
 	t.start = start;
 	if (r != -EINTR)
 		return 0;

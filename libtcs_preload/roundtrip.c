@@ -50,6 +50,16 @@ struct tcs_call {
 
 static __thread struct tcs_call *tcs_calls;
 
+/* tcs_roundtrip_hold_on_recheck's request, taken by the next round trip. */
+static __thread uint64_t *tcs_hold_mask;
+static __thread int *tcs_hold_flag;
+
+void tcs_roundtrip_hold_on_recheck(uint64_t *held, int *holding)
+{
+	tcs_hold_mask = held;
+	tcs_hold_flag = holding;
+}
+
 /* The coordinator is gone or spoke nonsense: there is no virtual time left
  * to give this program, and running on in real time would be a silent lie. */
 static __attribute__((noreturn)) void tcs_lost(const char *why)
@@ -182,6 +192,19 @@ static void tcs_settle(struct tcs_call *c)
 	tcs_await(c, NULL, 0, &none, 0);
 }
 
+/* c was answered RECHECK, and nothing ended it early. */
+static int tcs_rechecks(const struct tcs_call *c)
+{
+	return c->answered && !c->early && c->reply.kind == TCS_WAKE_RECHECK;
+}
+
+/* Signals stay blocked: the mask before them for the caller. */
+static void tcs_hold(uint64_t *held, int *holding, uint64_t open)
+{
+	*held = open;
+	*holding = 1;
+}
+
 /* The WAKE in c, returned. */
 static void tcs_hand_over(struct tcs_call *c, struct tcs_msg *reply, int *fd_out)
 {
@@ -207,6 +230,10 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 	if (fd_out)
 		*fd_out = -1;
 	c.outer = tcs_calls;
+	uint64_t *hold = tcs_hold_mask;
+	int *holding = tcs_hold_flag;
+	tcs_hold_mask = NULL;
+	tcs_hold_flag = NULL;
 	/* On a core of its own, beside the coordinator polling on its own: no
 	 * system call at all, unless it must be rung or the answer is slow.
 	 * Not for a handler's request: the mailbox is its interrupted one's. */
@@ -223,11 +250,16 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 		if (tcs_mailbox_wait(&c.answered)) {
 			if (!c.answered)
 				tcs_mailbox_answered(&c);
+			if (hold && tcs_rechecks(&c))
+				tcs_hold(hold, holding, tcs_signals_block());
 		} else if (!c.answered) {
 			/* Parked: the answer comes on the channel. */
 			open = tcs_signals_block();
 			tcs_await(&c, NULL, 0, &open, 0);
-			tcs_signals_restore(open);
+			if (hold && tcs_rechecks(&c))
+				tcs_hold(hold, holding, open);
+			else
+				tcs_signals_restore(open);
 		}
 	} else {
 		open = tcs_signals_block();
@@ -241,7 +273,10 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 		const uint32_t here = TCS_PAGE_FIFO | TCS_PAGE_SHARES_CORE;
 		int look_first = (__atomic_load_n(&tcs_rt.page->flags, __ATOMIC_RELAXED) & here) == here;
 		tcs_await(&c, fds, nfds, mask ? (const uint64_t *)(const void *)mask : &open, look_first);
-		tcs_signals_restore(open);
+		if (hold && tcs_rechecks(&c))
+			tcs_hold(hold, holding, open);
+		else
+			tcs_signals_restore(open);
 	}
 	if (c.in_mailbox)
 		tcs_mailbox_done();

@@ -106,8 +106,29 @@ void tcs_catch_up(void)
 	tcs_wait_leave();
 }
 
+static int tcs_wait_in(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct pollfd *fds, unsigned nfds,
+		       const sigset_t *mask, struct tcs_wait_hold *hold);
+
 int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct pollfd *fds, unsigned nfds,
 	     const sigset_t *mask)
+{
+	return tcs_wait_in(t, kind, flags, fds, nfds, mask, NULL);
+}
+
+long tcs_wait_held(struct tcs_wait_time *t, struct tcs_wait_hold *h, unsigned kind, unsigned flags)
+{
+	return tcs_wait_in(t, kind, flags, NULL, 0, h->holding ? (const sigset_t *)(const void *)&h->mask : NULL, h);
+}
+
+void tcs_wait_unhold(struct tcs_wait_hold *h)
+{
+	if (h->holding)
+		tcs_signals_restore(h->mask);
+	h->holding = 0;
+}
+
+static int tcs_wait_in(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct pollfd *fds, unsigned nfds,
+		       const sigset_t *mask, struct tcs_wait_hold *hold)
 {
 	struct tcs_clock_page *p = tcs_rt.page;
 	if (__builtin_expect(__atomic_load_n(&p->flags, __ATOMIC_RELAXED) & TCS_PAGE_ASLEEP, 0))
@@ -158,6 +179,8 @@ int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct poll
 	m.v = v;
 	m.cpu = cpu;
 	struct tcs_msg w;
+	if (hold && !hold->holding)
+		tcs_roundtrip_hold_on_recheck(&hold->mask, &hold->holding);
 	unsigned early = tcs_roundtrip(&m, fds, nfds, mask, &w, NULL);
 	t->end = w.v;
 	tcs_spin_waited();

@@ -27,6 +27,12 @@ struct tcs_wait_time {
 			     sooner (timer_slack.h; 0: at the deadline) */
 };
 
+/* Signals held blocked across a wait's re-checks (tcs_wait_held). */
+struct tcs_wait_hold {
+	int holding;   /* every signal is blocked: a RECHECK came */
+	uint64_t mask; /* the mask before, each later wait's own */
+};
+
 /* Waits until the virtual deadline (TCS_NEVER: forever). With fds, the wait
  * also ends when one of fds[1..nfds-1] becomes ready; fds[0] is reserved for
  * the channel and mask (may be NULL) is the signal mask during the wait.
@@ -35,6 +41,17 @@ struct tcs_wait_time {
  * is read once, for both the deadline and the BLOCK: one CPU-clock read. */
 int tcs_wait(struct tcs_wait_time *t, unsigned kind, unsigned flags, struct pollfd *fds, unsigned nfds,
 	     const sigset_t *mask) TCS_HIDDEN;
+
+/* tcs_wait without fds for a wait that goes on after a re-check: the first
+ * RECHECK returns with every signal blocked (h->holding, the mask before in
+ * h->mask), and each later wait lets them in by its own look and ppoll with
+ * h->mask, as sigsuspend does; the caller gives the mask back at the end
+ * (tcs_wait_unhold). Inside the program's call, a handler then runs only
+ * where a wait notices it and ends the call (-EINTR): let in between the
+ * RECHECK and the next wait (through the mailbox's spin, say), it went
+ * unnoticed. */
+long tcs_wait_held(struct tcs_wait_time *t, struct tcs_wait_hold *h, unsigned kind, unsigned flags) TCS_HIDDEN;
+void tcs_wait_unhold(struct tcs_wait_hold *h) TCS_HIDDEN;
 
 /* Stepped aside by the coordinator (TCS_PAGE_ASLEEP) and awake again: asks
  * the world's time before a clock read answers (tcs_vnow). */

@@ -16,8 +16,9 @@ from harness import SLACK, check, main, native, prog, tcs
 MS = 1000000
 SEND_AT = 3 * MS + SLACK
 HOWS = ("sigqueue", "tgkill", "thread_tgkill", "thread_sigqueue")
-# Runs of each way: the handler's clock (below) reads wrong in a race,
-# about 1 run in 2 of the cross-process ones on this machine.
+# Runs of each way: the handler's clock (below) read wrong in a race,
+# about 1 run in 2 of the cross-process ones on this machine, before it
+# was fixed; 40 make a return of it all but certain to show.
 RUNS = 40
 _runs = {}
 
@@ -42,16 +43,15 @@ def sent(how):
 
 
 def test_a_signal_ends_a_wait_at_the_senders_time():
-    # DEFECT of tcs (found by this test, issue 36), sigqueue and tgkill
-    # from another process that sleeps on after its send (signal_time
-    # does): in every run the handler runs, but the receiver's 1 s sleep
-    # goes on to its end and returns 0 (natively: EINTR at 3 ms). Told of
-    # the signal (on_kill), the coordinator wakes the receiver to re-check
-    # at the sender's time, before the kernel has sent it; the receiver
-    # finds nothing, waits again through its mailbox, and the signal lands
-    # in the mailbox's spin, where a handler counts as one "just before
-    # the wait" (libtcs_preload/mailbox.c) and ends nothing. Between
-    # threads of one process (no mailbox) it ends the sleep right.
+    # sigqueue and tgkill from another process that sleeps on after its
+    # send (signal_time does): the receiver's 1 s sleep ends with EINTR at
+    # the send, as natively. (Found by this test: the handler ran but the
+    # sleep went on to its end, every run. Told of the signal, the
+    # coordinator wakes the receiver to re-check at the sender's time,
+    # before the kernel has sent it; the receiver waited again through its
+    # mailbox, where a handler counts as one just before the wait. Now the
+    # re-check's answer holds signals blocked, and the next wait lets them
+    # in where it notices them: docs/DESIGN.md §10.)
     wrong = []
     for how in HOWS:
         n, runs = sent(how)
@@ -64,14 +64,11 @@ def test_a_signal_ends_a_wait_at_the_senders_time():
 
 
 def test_a_handler_reads_the_senders_time():
-    # DEFECT of tcs (found by this test, issue 36), sigqueue and tgkill
-    # from another process, in a race (about 1 run in 2 here): the
-    # handler's clock reads the receiver's time before its wait (0), not
-    # the sender's (the page still holds the slice before the wait, the
-    # re-check's wake not yet read). When the sender ends at once instead
-    # of sleeping on, it is most runs, and the wait then ends right.
-    # Between threads of one process the page is the sender's, and it
-    # reads right.
+    # sigqueue and tgkill from another process: the handler's clock reads
+    # the sender's time. (Found by this test, about 1 run in 2: it read the
+    # receiver's time before its wait, the handler having run in the
+    # mailbox's spin before the re-check's wake was read; fixed with the
+    # above.) Between threads of one process the page is the sender's.
     wrong = []
     for how in HOWS:
         _, runs = sent(how)
