@@ -214,6 +214,12 @@ TCS_EXPORT int ioctl(int fd, unsigned long request, ...)
 	va_start(ap, request);
 	void *arg = va_arg(ap, void *);
 	va_end(ap);
+	/* What the kernel answers for every fd whatever it is (fs/ioctl.c,
+	 * do_vfs_ioctl): the open file's O_NONBLOCK and close-on-exec, which a
+	 * served fd keeps on its real fd, where its reads look. (Python's
+	 * socket.setblocking and settimeout are FIONBIO.) */
+	if (request == FIONBIO || request == FIOCLEX || request == FIONCLEX)
+		return tcs_errno_result(tcs_sys3(SYS_ioctl, fd, request, arg));
 	struct tcs_fd e;
 	if (tcs_fd_of(fd, &e) && e.ops->ioctl)
 		return tcs_errno_result(e.ops->ioctl(fd, &e, request, arg));
