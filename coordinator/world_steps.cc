@@ -202,7 +202,12 @@ int64_t next_run_at(const Run &run, const Controller &c)
 	if (((c.wait.recheck || c.others_asleep) && c.wait.rechecked_at < run.sim_ns) || side_recheck)
 		return std::max(c.v, run.sim_ns);
 	int64_t until = std::min({ c.wait.deadline, c.next_timer(), c.side_next(), c.wait.kicked_at });
-	if (c.wait.devices || side_devices)
+	// A read waiting on a wire waits for arrivals too: another
+	// controller's CAN frame is put on its way after the read began, so
+	// the deadline the read was given cannot know it.
+	const bool wire_read = c.sync && c.sync->kind == TCS_SYNC_READ && c.sync->handle >= 0 &&
+			       size_t(c.sync->handle) < c.devices.size() && c.devices[size_t(c.sync->handle)]->wire;
+	if (c.wait.devices || side_devices || wire_read)
 		until = std::min(until, next_record_due(c));
 	return until == TCS_NEVER ? TCS_NEVER : std::max(c.v, until);
 }
