@@ -121,8 +121,9 @@ void can_deliver(const std::vector<std::weak_ptr<WirePort>> &ports, int32_t ifin
 			continue;
 		if (!can_filters_pass(*p, d.frame))
 			continue;
+		// (drops: stamped as it goes into the socket, device_server.cc)
 		tcs_wire_can_rx head{ d.end_ns, ifindex,
-				      from_socket ? (TCS_CAN_RX_LOCAL | (own ? TCS_CAN_RX_OWN : 0u)) : 0u };
+				      from_socket ? (TCS_CAN_RX_LOCAL | (own ? TCS_CAN_RX_OWN : 0u)) : 0u, 0, 0 };
 		std::string packet(reinterpret_cast<const char *>(&head), sizeof head);
 		packet.resize(sizeof head + size);
 		frame_to_linux(d.frame, packet.data() + sizeof head, size);

@@ -93,6 +93,7 @@ void on_dev_open(Run &run, Controller &c, const ::tcs_msg &m)
 	d->sock.reset(sv[0]);
 	if (bus) {
 		d->wire = run.wires.open(dev.cfg.wire);
+		d->wire->kind = dev.cfg.kind;
 		d->wire->owner = c.name;
 	}
 	int fl = fcntl(sv[0], F_GETFL);

@@ -11,6 +11,8 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstddef>
+#include <cstring>
 
 #include <linux/sockios.h>
 
@@ -91,6 +93,17 @@ bool drained(const OpenDevice &d)
 	return ioctl(d.sock.get(), SIOCOUTQ, &unread) == 0 && unread == 0;
 }
 
+// A CAN frame going into its socket carries the socket's drops so far, as
+// the kernel's sock_queue_rcv_skb stamps each frame it queues (what
+// SO_RXQ_OVFL reports with it).
+static void stamp_drops(const WirePort &p, std::string &packet)
+{
+	if (p.kind != TCS_DEVICE_CAN || packet.size() < sizeof(tcs_wire_can_rx))
+		return;
+	const uint32_t drops = uint32_t(p.dropped);
+	memcpy(packet.data() + offsetof(tcs_wire_can_rx, drops), &drops, sizeof drops);
+}
+
 // A wire's arrivals go into its fd as they come due, whether the
 // controller has read what is there or not: a tty or a socket buffers them.
 static void deliver_wire(OpenDevice &d, int64_t now)
@@ -98,6 +111,7 @@ static void deliver_wire(OpenDevice &d, int64_t now)
 	WirePort &p = *d.wire;
 	while (!d.gone && !p.arrivals.empty() && p.arrivals.front().first <= now) {
 		std::string &bytes = p.arrivals.front().second;
+		stamp_drops(p, bytes);
 		ssize_t n = send(d.sock.get(), bytes.data(), bytes.size(), MSG_DONTWAIT | MSG_NOSIGNAL);
 		if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == ENOBUFS)) {
 			// Its buffer is full: a reader that does not read loses the

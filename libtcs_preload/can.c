@@ -186,8 +186,9 @@ static int64_t tcs_can_realtime(int64_t t)
 	return tcs_sleep_clock_origin(CLOCK_REALTIME) + t;
 }
 
-/* The cmsgs a read of a frame that arrived at t carries. */
-static void tcs_can_cmsgs(const struct tcs_wire_fd *w, struct msghdr *msg, int64_t t)
+/* The cmsgs a read of a frame that arrived at t carries, drops the frames
+ * its socket had dropped when it was queued. */
+static void tcs_can_cmsgs(const struct tcs_wire_fd *w, struct msghdr *msg, int64_t t, uint32_t drops)
 {
 	size_t used = 0;
 	const int64_t real = tcs_can_realtime(t);
@@ -198,17 +199,18 @@ static void tcs_can_cmsgs(const struct tcs_wire_fd *w, struct msghdr *msg, int64
 		struct timespec ts = { real / TCS_NS_PER_S, real % TCS_NS_PER_S };
 		tcs_can_cmsg(msg, &used, SOL_SOCKET, SCM_TIMESTAMPNS, &ts, sizeof ts);
 	}
-	if (w->can_timestamping & (SOF_TIMESTAMPING_SOFTWARE | SOF_TIMESTAMPING_RX_SOFTWARE)) {
+	/* The software stamp is reported with SOF_TIMESTAMPING_SOFTWARE; the
+	 * generation flag alone reports none (net/socket.c). */
+	if (w->can_timestamping & SOF_TIMESTAMPING_SOFTWARE) {
 		struct timespec ts[3];
 		memset(ts, 0, sizeof ts);
 		ts[0].tv_sec = real / TCS_NS_PER_S;
 		ts[0].tv_nsec = real % TCS_NS_PER_S;
 		tcs_can_cmsg(msg, &used, SOL_SOCKET, SCM_TIMESTAMPING, ts, sizeof ts);
 	}
-	if (w->can_rxq_ovfl) {
-		uint32_t dropped = 0;
-		tcs_can_cmsg(msg, &used, SOL_SOCKET, SO_RXQ_OVFL, &dropped, sizeof dropped);
-	}
+	/* As the kernel's sock_recv_drops: only once the socket has dropped. */
+	if (w->can_rxq_ovfl && drops)
+		tcs_can_cmsg(msg, &used, SOL_SOCKET, SO_RXQ_OVFL, &drops, sizeof drops);
 	msg->msg_controllen = used;
 }
 
@@ -257,7 +259,7 @@ static long tcs_can_recvmsg(int fd, int h, struct msghdr *msg, int flags)
 		msg->msg_namelen = TCS_CAN_NAMELEN;
 	}
 	if (msg->msg_control)
-		tcs_can_cmsgs(w, msg, rx.t_ns);
+		tcs_can_cmsgs(w, msg, rx.t_ns, rx.drops);
 	else
 		msg->msg_controllen = 0;
 	w->can_last_ns = rx.t_ns;

@@ -67,6 +67,8 @@ struct tcs_wire_can_rx {
 	int64_t t_ns;    /* virtual CLOCK_MONOTONIC when it arrived */
 	int32_t ifindex; /* the interface it came on */
 	uint32_t flags;  /* TCS_CAN_RX_* */
+	uint32_t drops;  /* frames the socket had dropped when this one was queued (SO_RXQ_OVFL) */
+	uint32_t reserved;
 };
 #define TCS_CAN_RX_LOCAL 1u /* sent from this machine (MSG_DONTROUTE) */
 #define TCS_CAN_RX_OWN 2u   /* sent from this socket (MSG_CONFIRM) */
