@@ -89,7 +89,14 @@ static void tcs_serial_line_init(struct tcs_wire_fd *w, uint32_t baud)
 	w->tio.c_cc[VMIN] = 1;
 	w->tio.c_ispeed = w->tio.c_ospeed = code;
 	w->baud = baud;
+	/* DTR and RTS raised, as the tty layer does at the open of a line with
+	 * a rate; CTS and DSR: an adapter whose other end is ready. */
+	w->modem = TIOCM_DTR | TIOCM_RTS | TIOCM_CTS | TIOCM_DSR;
 }
+
+/* The lines a program drives: DTR and RTS (tty_tiocmset also takes OUT1,
+ * OUT2 and LOOP, which a USB adapter does not have). */
+#define TCS_TIOCM_OUT (TIOCM_DTR | TIOCM_RTS)
 
 /* The line's new rate and frame to the coordinator (when they changed). */
 static long tcs_serial_line(int fd, int h, struct tcs_wire_fd *w, uint32_t baud, tcflag_t cflag)
@@ -283,16 +290,22 @@ static long tcs_serial_ioctl(int fd, int h, unsigned long request, void *arg)
 		*(int *)arg = 0;
 		return 0;
 	case TIOCMGET:
-		*(int *)arg = TIOCM_DTR | TIOCM_RTS | TIOCM_CTS | TIOCM_DSR;
+		*(int *)arg = (int)w->modem;
+		return 0;
+	case TIOCMSET:
+		w->modem = (w->modem & ~(uint32_t)TCS_TIOCM_OUT) | (*(const int *)arg & TCS_TIOCM_OUT);
+		return 0;
+	case TIOCMBIS:
+		w->modem |= *(const int *)arg & TCS_TIOCM_OUT;
+		return 0;
+	case TIOCMBIC:
+		w->modem &= ~(uint32_t)(*(const int *)arg & TCS_TIOCM_OUT);
 		return 0;
 	case TIOCGSERIAL:
 		memset(arg, 0, 72); /* struct serial_struct: nothing to say */
 		return 0;
 	case TIOCSSERIAL:
 	case TCXONC:
-	case TIOCMSET:
-	case TIOCMBIS:
-	case TIOCMBIC:
 	case TIOCEXCL:
 	case TIOCNXCL:
 	case TIOCSBRK:

@@ -13,6 +13,7 @@
 struct tcs_wire_fd {
 	struct termios tio;  /* serial: as tcgetattr shows it */
 	uint32_t baud;       /* serial: the line's rate, also where c_cflag cannot say it (BOTHER) */
+	uint32_t modem;      /* serial: the TIOCM_* lines TIOCMGET shows (TIOCMSET/BIS/BIC set DTR, RTS) */
 	uint16_t i2c_addr;   /* I2C: I2C_SLAVE's; 0xffff: none set */
 	uint8_t i2c_tenbit;  /* I2C: I2C_TENBIT */
 	uint8_t can_fd_frames; /* CAN: CAN_RAW_FD_FRAMES */
