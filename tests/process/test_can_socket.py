@@ -336,7 +336,7 @@ def test_a_forked_childs_can_socket_is_opened_again_unbound_with_the_defaults_an
     t = int(v["t"][0])
     mum = t + standard_frame_bits(0x200, b"mum") * BIT_NS
     kid = t + 10**7 + standard_frame_bits(0x301, b"kid") * BIT_NS
-    check(v["child_domain"] == ["29"], "the child's fd is an AF_CAN socket", r)
+    check(v.get("child_domain") == ["29"], "the child's fd is an AF_CAN socket", r)
     check(v["child_options"] == ["0", "1", "0"], "with the default options: %s" % v["child_options"], r)
     check(v["child_nonblocking"] == ["1"], "O_NONBLOCK kept", r)
     check(v["child_bound"] == ["('',)"] and v["child_unbound_send"] == ["ENXIO"],
