@@ -209,6 +209,11 @@ int64_t CanWire::next_on(const Iface &f) const
 		next = std::min(next, s.next_due);
 	if (auto end = f.bus.next_end())
 		next = std::min(next, *end);
+	// A frame that starts leaves its socket's queue: the bus is advanced
+	// then, not only at the end of the frame before it (else the frame on
+	// the wire would hold a place in the queue until that end).
+	if (auto start = f.bus.next_start())
+		next = std::min(next, *start);
 	return next;
 }
 

@@ -82,6 +82,16 @@ std::optional<int64_t> CanBus::next_end() const
 	return add_saturating(w->second, can_frame_ns(f, bitrate_, data_bitrate_));
 }
 
+std::optional<int64_t> CanBus::next_start() const
+{
+	if (wire_)
+		return std::nullopt;
+	const auto w = winner();
+	if (!w)
+		return std::nullopt;
+	return w->second;
+}
+
 std::vector<CanDelivery> CanBus::advance(int64_t until_ns)
 {
 	std::vector<CanDelivery> out;

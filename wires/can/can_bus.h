@@ -55,6 +55,10 @@ public:
 	// next would end if nothing else is submitted before it starts; none
 	// when nothing is queued.
 	std::optional<int64_t> next_end() const;
+	// When the frame that wins next starts, while the bus is idle; none
+	// when a frame is on the wire (its end is the next start) or nothing
+	// is queued. Advanced to it, the frame leaves its queue (queued()).
+	std::optional<int64_t> next_start() const;
 	// Runs the bus up to until_ns: every frame whose transmission ended
 	// at or before it, in order. A frame that started at or before it is
 	// on the wire: it can no longer be overtaken.
