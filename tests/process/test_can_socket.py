@@ -343,5 +343,36 @@ def test_a_forked_childs_can_socket_is_opened_again_unbound_with_the_defaults_an
           (kid, v["parent_got"]), r)
 
 
+BLOCKING_READER = """\
+s = sock()
+s.setsockopt(socket.SOL_SOCKET, SO_TIMESTAMPNS, 1)
+raw, cmsgs, _, _ = s.recvmsg(16, 64)   # blocks: nothing is on the bus yet
+sec, ns = struct.unpack("=qq", stamps(cmsgs, SO_TIMESTAMPNS)[0])
+out("read", hex(unframe(raw)[0]), unframe(raw)[1].hex(), sec * 10**9 + ns, time.clock_gettime_ns(time.CLOCK_REALTIME))
+"""
+
+LATE_SENDER = """\
+s = sock()
+sleep_until(CLOCK_REALTIME, int(sys.argv[1]))
+s.send(frame(0x321, b"\\x07"))
+"""
+
+
+def test_a_blocking_read_wakes_for_another_programs_frame():
+    """recvmsg on a CAN socket with nothing on the bus blocks, and another
+    program's frame, sent after the read began, ends it when its last bit
+    has crossed the bus: the stamp, and the reader's clock after the read.
+    (It waited for ever: the read's wake-up was fixed when it began.)"""
+    sent = EPOCH * 10**9 + 100 * 10**6
+    with scenario_file(BUS) as world, scenario_file(PRELUDE + BLOCKING_READER) as reader, \
+            scenario_file(PRELUDE + LATE_SENDER) as sender:
+        r = tcs("-q", "-m", "lockstep", "--no-slack", "--epoch", str(EPOCH), "-w", world, "--", "sh", "-c",
+                "python3 %s & python3 %s %d; wait" % (reader, sender, sent), timeout=60)
+    check(r.returncode == 0, "both programs end", r)
+    end = sent + standard_frame_bits(0x321, b"\x07") * BIT_NS
+    check(lines(r).get("read") == ["0x321", "07", str(end), str(end)],
+          "the frame read when its last bit crossed the bus, %d: %s" % (end, lines(r).get("read")), r)
+
+
 if __name__ == "__main__":
     main(globals())
