@@ -2,7 +2,7 @@
 hinge angle wraps there), before anything starts, as every bad robot file
 is: exit 2 and one line, FILE:LINE: what, the line the joint's own. A URDF
 and an SDF of one moving link each, written here, with the limits a case
-gives; limits within ±π load."""
+gives; limits within ±π load, and so do limits that take in all of it."""
 
 import os
 import re
@@ -87,8 +87,10 @@ def test_revolute_limits_beyond_pi_are_refused_at_the_joints_line():
 
 
 def test_revolute_limits_within_pi_load():
+    """And limits that take in all of -π..π (a UR arm's ±2π), which leave the
+    joint turning freely (docs/DESIGN.md §8)."""
     for kind in ("urdf", "sdf"):
-        for lower, upper in ((-1.0, 1.0), (-3.14159, 3.14159)):
+        for lower, upper in ((-1.0, 1.0), (-3.14159, 3.14159), (-6.2832, 6.2832)):
             r, _, _ = load(kind, lower, upper)
             check(r.returncode == 0, "%s, limits %g..%g: loads" % (kind, lower, upper), r)
 
