@@ -50,14 +50,19 @@ struct tcs_call {
 
 static __thread struct tcs_call *tcs_calls;
 
-/* tcs_roundtrip_hold_on_recheck's request, taken by the next round trip. */
+/* tcs_roundtrip_hold_on_recheck's request, for the round trip of message
+ * tcs_hold_msg only: a handler that runs between the request and that
+ * round trip makes its own with another message, which leaves it. */
+static __thread const struct tcs_msg *tcs_hold_msg;
 static __thread uint64_t *tcs_hold_mask;
 static __thread int *tcs_hold_flag;
 
-void tcs_roundtrip_hold_on_recheck(uint64_t *held, int *holding)
+void tcs_roundtrip_hold_on_recheck(const struct tcs_msg *m, uint64_t *held, int *holding)
 {
 	tcs_hold_mask = held;
 	tcs_hold_flag = holding;
+	__atomic_signal_fence(__ATOMIC_SEQ_CST);
+	tcs_hold_msg = m;
 }
 
 /* The coordinator is gone or spoke nonsense: there is no virtual time left
@@ -230,10 +235,13 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
 	if (fd_out)
 		*fd_out = -1;
 	c.outer = tcs_calls;
-	uint64_t *hold = tcs_hold_mask;
-	int *holding = tcs_hold_flag;
-	tcs_hold_mask = NULL;
-	tcs_hold_flag = NULL;
+	uint64_t *hold = NULL;
+	int *holding = NULL;
+	if (tcs_hold_msg == m) {
+		hold = tcs_hold_mask;
+		holding = tcs_hold_flag;
+		tcs_hold_msg = NULL;
+	}
 	/* On a core of its own, beside the coordinator polling on its own: no
 	 * system call at all, unless it must be rung or the answer is slow.
 	 * Not for a handler's request: the mailbox is its interrupted one's. */

@@ -23,13 +23,13 @@ void tcs_send(int fd, const struct tcs_msg *m) TCS_HIDDEN;
 unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, const sigset_t *mask,
 		       struct tcs_msg *reply, int *fd_out) TCS_HIDDEN;
 
-/* Asked for the next round trip of this thread (a handler's own, nested
- * in it, does not see it): if its answer is a RECHECK, nothing having
+/* Asked for the round trip of m on this thread (a handler's own, run
+ * before or inside it, does not take it): if its answer is a RECHECK, nothing having
  * ended it early, it returns with every signal still blocked and the mask
  * from before in *held, and *holding set. A wait that goes on after a
  * re-check is inside the program's call: a handler must run only where the
  * wait notices it (wait.c), not in the gap before it is asked again. */
-void tcs_roundtrip_hold_on_recheck(uint64_t *held, int *holding) TCS_HIDDEN;
+void tcs_roundtrip_hold_on_recheck(const struct tcs_msg *m, uint64_t *held, int *holding) TCS_HIDDEN;
 
 /* In a forked child: the round trips the forking flow was inside (a fork
  * from a signal handler) were its parent's; they end at the fork's

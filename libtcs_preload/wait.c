@@ -180,7 +180,7 @@ static int tcs_wait_in(struct tcs_wait_time *t, unsigned kind, unsigned flags, s
 	m.cpu = cpu;
 	struct tcs_msg w;
 	if (hold && !hold->holding)
-		tcs_roundtrip_hold_on_recheck(&hold->mask, &hold->holding);
+		tcs_roundtrip_hold_on_recheck(&m, &hold->mask, &hold->holding);
 	unsigned early = tcs_roundtrip(&m, fds, nfds, mask, &w, NULL);
 	t->end = w.v;
 	tcs_spin_waited();
