@@ -1,7 +1,8 @@
-/* stop_cost [ROUNDS]: the CPU a stop charges the process it stops, as the
- * coordinator stops a controller at each preemption. A child computes on
+/* stop_cost [ROUNDS [CORE]]: the CPU a stop charges the process it stops, as
+ * the coordinator stops a controller at each preemption. A child computes on
  * one core, writing its own CPU-time clock to shared memory after every
- * reading; the parent, on another core where there is one (at SCHED_FIFO
+ * reading; the parent, on another core where there is one (both on CORE
+ * when given, as tcs-run given one core runs; at SCHED_FIFO
  * where allowed, as the coordinator), stops it with SIGSTOP every 200 us,
  * waits until waitid reports it stopped, reads the child's CPU clock and
  * continues it. What that reading exceeds the child's last own reading by
@@ -41,8 +42,9 @@ static int by_value(const void *a, const void *b)
 int main(int argc, char **argv)
 {
 	int rounds = argc > 1 ? atoi(argv[1]) : 2000;
-	if (rounds < 10) {
-		fprintf(stderr, "usage: stop_cost [ROUNDS >= 10]\n");
+	int one_core = argc > 2 ? atoi(argv[2]) : -1;
+	if (rounds < 10 || argc > 3 || (argc > 2 && one_core < 0)) {
+		fprintf(stderr, "usage: stop_cost [ROUNDS >= 10 [CORE]]\n");
 		return 2;
 	}
 	/* [0]: the child's last reading of its CPU clock; [1]: its readings. */
@@ -58,13 +60,13 @@ int main(int argc, char **argv)
 		return 1;
 	}
 	if (child == 0) {
-		pin(0, cores - 1);
+		pin(0, one_core >= 0 ? one_core : cores - 1);
 		for (;;) {
 			shared[0] = now_ns(CLOCK_PROCESS_CPUTIME_ID);
 			shared[1]++;
 		}
 	}
-	pin(0, cores > 1 ? 0 : cores - 1);
+	pin(0, one_core >= 0 ? one_core : cores > 1 ? 0 : cores - 1);
 	struct sched_param low = { .sched_priority = 10 }, high = { .sched_priority = 20 };
 	sched_setscheduler(child, SCHED_FIFO, &low);
 	sched_setscheduler(0, SCHED_FIFO, &high);
@@ -92,6 +94,6 @@ int main(int argc, char **argv)
 	waitpid(child, NULL, 0);
 	qsort(costs, (size_t)rounds, sizeof *costs, by_value);
 	printf("stop_cost_median_ns=%lld\nstop_cost_p99_ns=%lld\nread_ns=%lld\nother_core=%d\n", costs[rounds / 2],
-	       costs[rounds * 99 / 100], reads > 0 ? cpu / reads : -1, cores > 1);
+	       costs[rounds * 99 / 100], reads > 0 ? cpu / reads : -1, one_core < 0 && cores > 1);
 	return 0;
 }

@@ -69,6 +69,10 @@ std::string summary(const RunReport &r, int mode, const std::string &who)
 	} else if (r.realtime.cpu >= 0) {
 		s += " on CPU " + std::to_string(r.realtime.cpu);
 	}
+	// What the kernel charges a stopped controller, left out (stop_cost.h).
+	const StopCost &stop = r.stop_costs.other;
+	if (mode == TCS_MODE_CPU && stop.stop_ns + stop.continue_ns > 0)
+		s += "; a stop costs " + format_duration(stop.stop_ns + stop.continue_ns) + " of CPU, not charged";
 	s += "\n";
 	if (r.step_wall_max > 0)
 		s += who + ":   world: " + std::to_string(r.steps) + " steps; wall cost per step min " +

@@ -256,10 +256,21 @@ void Controller::publish_slice(int64_t cpu_base)
 		tcs_page_write_slice(page_, slice_);
 }
 
+void Controller::leave_out(int64_t ns)
+{
+	if (ns == 0)
+		return;
+	// As the runtime's own CPU is (tcs_less_own): the slice's CPU less
+	// what the page's own_cpu has grown by since own_base.
+	slice_.own_base -= ns;
+	if (page_)
+		tcs_page_write_slice(page_, slice_);
+}
+
 int64_t Controller::slice_cpu(int64_t cpu) const
 {
 	if (!page_)
-		return tcs_slice_cpu(slice_.cpu_base, 0, cpu);
+		return tcs_less_own(tcs_slice_cpu(slice_.cpu_base, 0, cpu), slice_.own_base, 0);
 	return tcs_page_slice_cpu(page_, slice_, cpu);
 }
 

@@ -205,6 +205,10 @@ public:
 	int64_t cpu_now() const;
 	// Starts a new slice at the controller's current v and charge.
 	void publish_slice(int64_t cpu_base);
+	// CPU of the current slice that is not the program's (what a stop and
+	// its continuation cost it in the kernel): not charged (negative: some
+	// of what was left out charged after all). While stopped.
+	void leave_out(int64_t ns);
 	void set_page_flag(uint32_t flag, bool on);
 	// Signals raised in it by the coordinator (the page's signals_raised).
 	void count_raised_signal();

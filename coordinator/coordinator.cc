@@ -22,6 +22,7 @@
 #include "serve.h"
 #include "slices.h"
 #include "spin_costs.h"
+#include "stop_cost.h"
 #include "world_steps.h"
 #include "tcs/random_stream.h"
 
@@ -120,6 +121,13 @@ Status Coordinator::init()
 	lanes.coordinator_cpu = run.rt.cpu;
 	lanes.mailboxes = run.poller.enabled();
 	lanes.lockstep = run.cfg.mode == TCS_MODE_LOCKSTEP;
+	if (run.cfg.mode == TCS_MODE_CPU) {
+		// Where stops charge what the program never used (cpu mode's
+		// charges): measured on the coordinator's core and another.
+		lanes.stop_home = measure_stop_cost(run.rt, run.rt.cpu);
+		lanes.stop_other = run.rt.cores.size() > 1 ? measure_stop_cost(run.rt, run.rt.cores[1]) : lanes.stop_home;
+		run.stop_costs = { lanes.stop_home, lanes.stop_other };
+	}
 	auto on_budget_of = [&run](Lane &l) { on_budget(run, l); };
 	auto on_watchdog_of = [&run](Lane &l) { on_watchdog(run, l); };
 	if (auto s = run.lanes.init(lanes, run.loop, on_budget_of, on_watchdog_of); !s)
@@ -299,6 +307,7 @@ Result<RunReport> Coordinator::run()
 	r.step_wall_median = run.step_walls.median();
 	r.step_wall_max = run.step_walls.max();
 	r.realtime = run.rt;
+	r.stop_costs = run.stop_costs;
 	for (auto &c : run.ctls)
 		r.controllers.push_back(report_of(run, *c));
 	return r;

@@ -20,6 +20,7 @@
 #include "sim_world.h"
 #include "spin_costs.h"
 #include "step_peers.h"
+#include "stop_cost.h"
 #include "tcs/protocol.h"
 
 namespace tcs {
@@ -116,6 +117,7 @@ struct RunReport {
 	// Wall-clock cost of the world's steps (ns; zero for an empty world).
 	int64_t step_wall_min = 0, step_wall_median = 0, step_wall_max = 0;
 	RealtimePlan realtime;
+	StopCosts stop_costs; // left out of cpu mode's charges
 	std::vector<ControllerReport> controllers;
 	std::string lost; // EndReason::Lost: who, and what it means
 };

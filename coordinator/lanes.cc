@@ -39,6 +39,7 @@ Status Lanes::init(const Setup &setup, EventLoop &loop, std::function<void(Lane 
 	for (int cpu : cores) {
 		auto lane = std::make_unique<Lane>();
 		lane->cpu = cpu;
+		lane->stop_cost = lanes_.empty() ? setup.stop_home : setup.stop_other;
 		for (Timer *t : { &lane->budget, &lane->watchdog })
 			if (auto s = t->init(); !s)
 				return s;

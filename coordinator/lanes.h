@@ -11,6 +11,7 @@
 #include "controller.h"
 #include "error.h"
 #include "event_loop.h"
+#include "stop_cost.h"
 #include "tcs/protocol.h"
 
 namespace tcs {
@@ -21,6 +22,7 @@ struct Lane {
 	Timer budget;   // the running controller's budget (cpu mode)
 	Timer watchdog; // looks at them if they may be asleep (asleep.cc)
 	bool watching = false; // the watchdog ticks
+	StopCost stop_cost;    // what a stop from here costs a controller here
 };
 
 class Lanes {
@@ -34,6 +36,9 @@ public:
 		int coordinator_cpu = -1; // the coordinator's own core (lane 0's)
 		bool mailboxes = false;   // controllers post requests, the coordinator polls
 		bool lockstep = false;
+		// What a stop costs a controller on the coordinator's core, and
+		// on another (stop_cost.h).
+		StopCost stop_home, stop_other;
 	};
 	// The lanes' timers are on loop, calling on_budget and on_watchdog.
 	Status init(const Setup &setup, EventLoop &loop, std::function<void(Lane &)> on_budget,

@@ -201,10 +201,8 @@ void begin_end(Run &run, EndReason reason, int signo)
 				send_wake(run, *c);
 			end_all_side_waits(run, *c);
 		}
-		if (c->stopped) {
-			kill(c->pid, SIGCONT);
-			c->stopped = false;
-		}
+		if (c->stopped)
+			let_go(run, *c);
 		c->state = CtlState::Running;
 	}
 	run.kill_timer.arm(kEndGrace);

@@ -53,6 +53,7 @@ constexpr int64_t kClaimSlack = 1 * TCS_NS_PER_MS;
 struct Run {
 	CoordinatorConfig cfg;
 	RealtimePlan rt;
+	StopCosts stop_costs;
 	ClockSetup clocks;
 	EventLoop loop;
 	// The coordinator's core's first (its controller's estimates go stale

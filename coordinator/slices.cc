@@ -179,10 +179,8 @@ void resume(Run &run, Controller &c, int64_t target, int lane)
 	if (c.wake_pending)
 		send_wake(run, c);
 	end_side_waits(run, c); // other threads' waits due by now
-	if (c.stopped) {
-		kill(c.pid, SIGCONT);
-		c.stopped = false;
-	}
+	if (c.stopped)
+		let_go(run, c);
 	c.state = CtlState::Running;
 	c.budgeted = false;
 	budget_to(run, c, target);
@@ -219,6 +217,21 @@ static void died_in_slice(Run &run, Controller &c)
 	run.lanes.leave(c); // (gone by now unless some thread of it lingers)
 }
 
+// Its slice's CPU, held still (hold_still left the stop's cost out). One
+// that had reached its budget by the kernel's count and falls short only
+// by what was left out is charged the rest of it: resumed for a sliver
+// that short, it would only be stopped again.
+static int64_t used_after_hold(Run &run, Controller &c)
+{
+	int64_t used = c.slice_cpu(c.cpu_now());
+	const Lane *lane = run.lanes.of(c);
+	if (lane && c.budgeted && used < c.budget && used + lane->stop_cost.stop_ns >= c.budget) {
+		c.leave_out(used - c.budget);
+		used = c.budget;
+	}
+	return used;
+}
+
 void on_budget(Run &run, Lane &lane)
 {
 	if (!lane.budget.consume() || lane.running.size() != 1)
@@ -241,14 +254,14 @@ void on_budget(Run &run, Lane &lane)
 		// own last system call, as the kernel brings a running thread's
 		// count up to date only then. Computing without system calls, it
 		// read 0 after 1.8 ms and overran its budget by 3.4 ms. Held
-		// still, its clock is exact. (Not on every check: the stop's own
-		// work in the kernel is charged to the thread it stops.)
+		// still, its clock is exact. (Not on every check: each stop
+		// costs it CPU in the kernel and the coordinator wall time.)
 		if (!hold_still(run, c)) {
 			died_in_slice(run, c);
 			return;
 		}
 		held = true;
-		used = c.slice_cpu(c.cpu_now());
+		used = used_after_hold(run, c);
 	}
 	if (used >= c.budget && used < kMostWaitReturn && c.returning_from_wait()) {
 		// Still in the hook of the wait that its WAKE ended: what it ran
@@ -257,10 +270,8 @@ void on_budget(Run &run, Lane &lane)
 		// of it was charged as the program's (a 1 kHz loop woke 116 us
 		// late by its clock, with a 25 us budget to the world's step, on
 		// a machine whose CPU-clock reading is slow). Look again soon.
-		if (held) {
-			kill(c.pid, SIGCONT);
-			c.stopped = false;
-		}
+		if (held)
+			let_go(run, c);
 		lane.budget.arm(kMinSlice);
 		return;
 	}
@@ -274,10 +285,8 @@ void on_budget(Run &run, Lane &lane)
 		schedule(run);
 		return;
 	}
-	if (held) {
-		kill(c.pid, SIGCONT);
-		c.stopped = false;
-	}
+	if (held)
+		let_go(run, c);
 	// Short of its budget: it was asleep in the kernel, or the core was
 	// busy with something else. If it made no progress at all and sleeps
 	// still, others may have the core meanwhile (asleep.cc).
@@ -331,14 +340,31 @@ bool hold_still(Run &run, Controller &c)
 		nanosleep(&late, nullptr);
 	}
 	kill(c.pid, SIGSTOP);
-	return wait_until_stopped(run, c);
+	if (!wait_until_stopped(run, c))
+		return false;
+	// What the stop cost it in the kernel is CPU it never used on the
+	// robot: not charged (stop_cost.h). Its continuation's likewise.
+	if (Lane *lane = run.lanes.of(c))
+		c.leave_out(lane->stop_cost.stop_ns);
+	return true;
+}
+
+void let_go(Run &run, Controller &c)
+{
+	if (Lane *lane = run.lanes.of(c))
+		c.leave_out(lane->stop_cost.continue_ns);
+	kill(c.pid, SIGCONT);
+	c.stopped = false;
 }
 
 void preempt(Run &run, Controller &c, bool held)
 {
-	if (!held && !hold_still(run, c)) {
-		died_in_slice(run, c);
-		return;
+	if (!held) {
+		if (!hold_still(run, c)) {
+			died_in_slice(run, c);
+			return;
+		}
+		used_after_hold(run, c);
 	}
 	run.lanes.leave(c);
 	c.stopped = true;

@@ -11,8 +11,11 @@ void resume(Run &run, Controller &c, int64_t target, int lane);
 // others wait for the world: it gets one, to target.
 void budget_to(Run &run, Controller &c, int64_t target);
 void on_budget(Run &run, Lane &lane);
-// SIGSTOP, and wait till it has stopped: false if it died first.
+// SIGSTOP, and wait till it has stopped: false if it died first. What the
+// stop costs it is left out of its slice, as its continuation's is by
+// let_go() (SIGCONT).
 bool hold_still(Run &run, Controller &c);
+void let_go(Run &run, Controller &c);
 // Ends c's slice, stopping it unless held already (by hold()).
 void preempt(Run &run, Controller &c, bool held = false);
 bool wait_until_stopped(Run &run, Controller &c);

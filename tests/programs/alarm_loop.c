@@ -56,6 +56,7 @@ int main(int argc, char **argv)
 	/* The loop's CPU read outside its monotonic span and inside it (so a
 	 * pause between two reads is on the right side of each bound), and by
 	 * the kernel's clock around all of them. */
+	long switches_start = kernel_voluntary_switches();
 	long long kernel_start = kernel_cpu_ns(), cpu_start = clock_ns(CLOCK_PROCESS_CPUTIME_ID);
 	long long start = clock_ns(CLOCK_MONOTONIC), inner_start = clock_ns(CLOCK_PROCESS_CPUTIME_ID);
 	if (strcmp(mode, "alarm") == 0) {
@@ -128,6 +129,7 @@ int main(int argc, char **argv)
 	long long took = clock_ns(CLOCK_MONOTONIC) - start;
 	long long took_cpu = clock_ns(CLOCK_PROCESS_CPUTIME_ID) - cpu_start;
 	long long took_kernel_cpu = kernel_cpu_ns() - kernel_start;
+	long switches = kernel_voluntary_switches() - switches_start;
 	long handled = ticks;
 	/* alarm(1) interrupts sleep(5): it returns the 4 s it did not sleep. */
 	signal(SIGALRM, on_tick);
@@ -136,8 +138,9 @@ int main(int argc, char **argv)
 	unsigned unslept = sleep(5);
 	long long slept = clock_ns(CLOCK_MONOTONIC) - s0;
 	printf("ticks=%ld\nloop_ns=%lld\nloop_cpu_ns=%lld\nloop_inner_cpu_ns=%lld\nloop_kernel_cpu_ns=%lld\nleft_ns=%lld\n"
-	       "unslept=%u\nslept_ns=%lld\npause_ticks=%lld\nticked_ns=%lld\nhead_kernel_ns=%lld\ntail_kernel_ns=%lld\n",
+	       "unslept=%u\nslept_ns=%lld\npause_ticks=%lld\nticked_ns=%lld\nhead_kernel_ns=%lld\ntail_kernel_ns=%lld\n"
+	       "loop_switches=%ld\n",
 	       handled, took, took_cpu, took_inner_cpu, took_kernel_cpu, left, unslept, slept, pause_ticks, ticked,
-	       head_kernel, tail_kernel);
+	       head_kernel, tail_kernel, switches);
 	return 0;
 }

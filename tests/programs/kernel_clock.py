@@ -44,10 +44,21 @@ def kernel_cpu_ns():
     return ts.tv_sec * 1000000000 + ts.tv_nsec
 
 
-def kernel_children_cpu_ns():
-    """The CPU of the children this process has waited for (user and
-    system), by the kernel's account, in ns (to the microsecond)."""
+def _children_usage():
     ru = _Rusage()
     if _syscall(SYS_getrusage, RUSAGE_CHILDREN, ctypes.addressof(ru)) != 0:
         raise OSError("getrusage(RUSAGE_CHILDREN) failed")
+    return ru
+
+
+def kernel_children_cpu_ns():
+    """The CPU of the children this process has waited for (user and
+    system), by the kernel's account, in ns (to the microsecond)."""
+    ru = _children_usage()
     return (ru.utime.tv_sec + ru.stime.tv_sec) * 1000000000 + (ru.utime.tv_usec + ru.stime.tv_usec) * 1000
+
+
+def kernel_children_voluntary_switches():
+    """How many times the children this process has waited for gave up
+    their core (ru_nvcsw): their waits, and each stop tcs made of them."""
+    return _children_usage().rest[12]

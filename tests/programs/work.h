@@ -41,26 +41,44 @@ static inline long long kernel_cpu_ns(void)
 	return kernel_clock_ns(CLOCK_PROCESS_CPUTIME_ID);
 }
 
-/* The CPU of this process's children that it has waited for (user and
- * system), by the kernel's account: getrusage(RUSAGE_CHILDREN) with a
- * system call instruction of our own, as above. */
-static inline long long kernel_children_cpu_ns(void)
+/* getrusage(who) by the kernel's account, with a system call instruction
+ * of our own, as above. */
+struct raw_rusage {
+	long utime_s, utime_us, stime_s, stime_us;
+	long maxrss, ixrss, idrss, isrss, minflt, majflt, nswap, inblock, oublock, msgsnd, msgrcv, nsignals;
+	long nvcsw, nivcsw;
+};
+
+static inline struct raw_rusage kernel_rusage(long who)
 {
-	struct {
-		long utime_s, utime_us, stime_s, stime_us;
-		long rest[14];
-	} ru = { 0, 0, 0, 0, { 0 } };
+	struct raw_rusage ru = { 0 };
 #if defined(__x86_64__)
 	long ret;
 	__asm__ volatile("syscall"
 			 : "=a"(ret)
-			 : "0"(98L /* SYS_getrusage */), "D"(-1L /* RUSAGE_CHILDREN */), "S"(&ru)
+			 : "0"(98L /* SYS_getrusage */), "D"(who), "S"(&ru)
 			 : "rcx", "r11", "memory");
 	(void)ret;
 #else
-#error "kernel_children_cpu_ns: a raw system call for this architecture"
+#error "kernel_rusage: a raw system call for this architecture"
 #endif
+	return ru;
+}
+
+/* The CPU of this process's children that it has waited for (user and
+ * system): RUSAGE_CHILDREN. */
+static inline long long kernel_children_cpu_ns(void)
+{
+	struct raw_rusage ru = kernel_rusage(-1L /* RUSAGE_CHILDREN */);
 	return (ru.utime_s + ru.stime_s) * 1000000000LL + (ru.utime_us + ru.stime_us) * 1000LL;
+}
+
+/* How many times this process gave up its core (RUSAGE_SELF's voluntary
+ * context switches): each of its waits, and each stop tcs made (a stop's
+ * cost is left out of what tcs charges; this bounds how many there were). */
+static inline long kernel_voluntary_switches(void)
+{
+	return kernel_rusage(0L /* RUSAGE_SELF */).nvcsw;
 }
 
 static inline uint64_t work(uint64_t n)

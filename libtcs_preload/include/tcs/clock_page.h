@@ -77,7 +77,8 @@ struct tcs_slice {
 	int64_t v_base;       /* virtual ns at the start of the slice */
 	int64_t cpu_base;     /* the process's real CPU ns at that moment */
 	int64_t charged_base; /* virtual CPU ns charged before the slice */
-	int64_t own_base;     /* the page's own_cpu at that moment */
+	int64_t own_base;     /* the page's own_cpu at that moment, less what the
+			       * coordinator left out since (a stop's cost) */
 };
 
 struct tcs_clock_page {
