@@ -280,6 +280,19 @@ void on_budget(Run &run, Lane &lane)
 		// controller on what was missing or too much; bounded).
 		c.lag_ns = std::clamp<int64_t>(c.lag_ns + (c.budget - used) / 4, 0, kMaxLag);
 	}
+	if (used >= c.budget && !held) {
+		// Judged again held, as it will be preempted held: what its slice
+		// leaves out (the stop's cost, the runtime's own CPU, a hook's
+		// tail) grows meanwhile, and one short of its budget by that is
+		// not preempted but given the rest (a preemption short of its
+		// budget leaves it behind the world's step it was to reach).
+		if (!hold_still(run, c)) {
+			died_in_slice(run, c);
+			return;
+		}
+		held = true;
+		used = used_after_hold(run, c);
+	}
 	if (used >= c.budget) {
 		preempt(run, c, held);
 		schedule(run);
