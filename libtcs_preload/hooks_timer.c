@@ -38,6 +38,26 @@ static struct itimerspec tcs_stimer_value(const struct tcs_stimer *t, int64_t v)
 	return out;
 }
 
+/* What is left of slot now, as getitimer and timer_gettime read it. The
+ * time is read before the lock (a read may spin, which must not hold
+ * signals off), so a handler that set the timer between the two (a legacy
+ * loop's re-arm) made its setting from a later time: read again then, or
+ * more is left than was set. */
+static struct itimerspec tcs_stimer_read(int slot)
+{
+	const struct tcs_stimer *t = &tcs_stimers[slot];
+	for (;;) {
+		uint32_t count = __atomic_load_n(&t->set_count, __ATOMIC_RELAXED);
+		int64_t now = tcs_timer_read_vnow();
+		uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_STIMERS]);
+		struct itimerspec v = tcs_stimer_value(t, now);
+		int same = t->set_count == count;
+		tcs_unlock(&tcs_locks[TCS_LOCK_STIMERS], signals);
+		if (same)
+			return v;
+	}
+}
+
 /* Tells the coordinator what slot is set to now; 0 or -errno. A signal
  * handler may set it again while this is under way, its own telling going
  * first: so what goes is the table's latest, again until nothing newer
@@ -128,10 +148,7 @@ TCS_EXPORT int getitimer(__itimer_which_t which, struct itimerval *cur)
 {
 	if (which != ITIMER_REAL || !tcs_active())
 		return tcs_errno_result(tcs_sys2(SYS_getitimer, which, cur));
-	int64_t now = tcs_timer_read_vnow();
-	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_STIMERS]);
-	struct itimerspec v = tcs_stimer_value(&tcs_stimers[0], now);
-	tcs_unlock(&tcs_locks[TCS_LOCK_STIMERS], signals);
+	struct itimerspec v = tcs_stimer_read(0);
 	cur->it_value = tcs_ts_to_tv(v.it_value);
 	cur->it_interval = tcs_ts_to_tv(v.it_interval);
 	return 0;
@@ -226,10 +243,7 @@ TCS_EXPORT int timer_gettime(timer_t id, struct itimerspec *cur)
 		int (*real)(timer_t, struct itimerspec *) = tcs_real()->timer_gettime;
 		return real ? real(id, cur) : tcs_errno_result(-EINVAL);
 	}
-	int64_t now = tcs_timer_read_vnow();
-	uint64_t signals = tcs_lock(&tcs_locks[TCS_LOCK_STIMERS]);
-	*cur = tcs_stimer_value(&tcs_stimers[slot], now);
-	tcs_unlock(&tcs_locks[TCS_LOCK_STIMERS], signals);
+	*cur = tcs_stimer_read(slot);
 	return 0;
 }
 
