@@ -267,6 +267,17 @@ void Controller::leave_out(int64_t ns)
 		tcs_page_write_slice(page_, slice_);
 }
 
+int64_t Controller::cpu_since_told() const
+{
+	if (!page_)
+		return 0;
+	int64_t seen = __atomic_load_n(&page_->v_seen, __ATOMIC_RELAXED);
+	int64_t ahead = v_at_cpu(cpu_now()) - seen;
+	if (ahead <= 0)
+		return 0;
+	return scale == 1.0 ? ahead : (int64_t)((double)ahead / scale);
+}
+
 int64_t Controller::slice_cpu(int64_t cpu) const
 {
 	if (!page_)

@@ -209,6 +209,10 @@ public:
 	// its continuation cost it in the kernel): not charged (negative: some
 	// of what was left out charged after all). While stopped.
 	void leave_out(int64_t ns);
+	// Of the current slice's CPU, how much came after its clock reads last
+	// told it a time (at most, cpu mode; none known elsewhere): a stop's
+	// cost can be no more, as the stop came after that read.
+	int64_t cpu_since_told() const;
 	void set_page_flag(uint32_t flag, bool on);
 	// Signals raised in it by the coordinator (the page's signals_raised).
 	void count_raised_signal();

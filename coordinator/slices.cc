@@ -294,7 +294,7 @@ void on_budget(Run &run, Lane &lane)
 		used = used_after_hold(run, c);
 	}
 	if (used >= c.budget) {
-		preempt(run, c, held);
+		preempt(run, c);
 		schedule(run);
 		return;
 	}
@@ -356,9 +356,12 @@ bool hold_still(Run &run, Controller &c)
 	if (!wait_until_stopped(run, c))
 		return false;
 	// What the stop cost it in the kernel is CPU it never used on the
-	// robot: not charged (stop_cost.h). Its continuation's likewise.
-	if (Lane *lane = run.lanes.of(c))
-		c.leave_out(lane->stop_cost.stop_ns);
+	// robot: not charged (stop_cost.h). Its continuation's likewise. The
+	// cost is a mean: never more than it ran since its clock last told it
+	// a time, or what it does next would be stamped before that time.
+	Lane *lane = run.lanes.of(c);
+	if (lane && lane->stop_cost.stop_ns > 0)
+		c.leave_out(std::min(lane->stop_cost.stop_ns, c.cpu_since_told()));
 	return true;
 }
 
@@ -370,15 +373,8 @@ void let_go(Run &run, Controller &c)
 	c.stopped = false;
 }
 
-void preempt(Run &run, Controller &c, bool held)
+void preempt(Run &run, Controller &c)
 {
-	if (!held) {
-		if (!hold_still(run, c)) {
-			died_in_slice(run, c);
-			return;
-		}
-		used_after_hold(run, c);
-	}
 	run.lanes.leave(c);
 	c.stopped = true;
 	c.state = CtlState::Ready;

@@ -16,8 +16,9 @@ void on_budget(Run &run, Lane &lane);
 // let_go() (SIGCONT).
 bool hold_still(Run &run, Controller &c);
 void let_go(Run &run, Controller &c);
-// Ends c's slice, stopping it unless held already (by hold()).
-void preempt(Run &run, Controller &c, bool held = false);
+// Ends the slice of c, held still (hold_still): judged held, as only then
+// is its CPU clock exact and what its slice leaves out known.
+void preempt(Run &run, Controller &c);
 bool wait_until_stopped(Run &run, Controller &c);
 // cpu: the process's CPU clock at the end; budget and overshoot: of a
 // preempted slice (real CPU).

@@ -48,7 +48,7 @@ struct tcs_call {
 	struct tcs_msg_io io; /* receives into reply: an fd with it lands here */
 };
 
-static __thread struct tcs_call *tcs_calls;
+__thread struct tcs_call *tcs_calls;
 
 /* tcs_roundtrip_hold_on_recheck's request, for the round trip of message
  * tcs_hold_msg only: a handler that runs between the request and that
@@ -201,6 +201,24 @@ static void tcs_settle(struct tcs_call *c)
 static int tcs_rechecks(const struct tcs_call *c)
 {
 	return c->answered && !c->early && c->reply.kind == TCS_WAKE_RECHECK;
+}
+
+void tcs_settle_for_clock(void)
+{
+	struct tcs_call *c = __atomic_load_n(&tcs_calls, __ATOMIC_RELAXED);
+	if (!c)
+		return;
+	if (!c->answered) {
+		uint64_t open = tcs_signals_block();
+		tcs_settle(c);
+		tcs_signals_restore(open);
+	}
+	/* Answered to re-check (a signal was on its way) before its caller
+	 * could block signals: this handler is that signal, and the wait
+	 * ends with it rather than going on (the mailbox's path, where
+	 * signals are open until the answer is taken). */
+	if (tcs_rechecks(c))
+		c->early = TCS_EARLY_SIGNAL;
 }
 
 /* Signals stay blocked: the mask before them for the caller. */

@@ -31,6 +31,18 @@ unsigned tcs_roundtrip(struct tcs_msg *m, struct pollfd *fds, unsigned nfds, con
  * wait notices it (wait.c), not in the gap before it is asked again. */
 void tcs_roundtrip_hold_on_recheck(const struct tcs_msg *m, uint64_t *held, int *holding) TCS_HIDDEN;
 
+/* This thread's round trips under way, the innermost first: set only
+ * while one is (a clock read checks it on its way, spin.h). */
+extern __thread struct tcs_call *tcs_calls TCS_HIDDEN __attribute__((tls_model("initial-exec")));
+
+/* A signal handler reads the clock inside this thread's round trip: the
+ * round trip is ended first (as a handler's own request ends it), so that
+ * the clock reads the time the handler runs at, which only the answer
+ * says (a signal from another controller acts at the sender's time; the
+ * page still holds the time before the wait); one answered to re-check
+ * is ended by the handler all the same. */
+void tcs_settle_for_clock(void) TCS_HIDDEN;
+
 /* In a forked child: the round trips the forking flow was inside (a fork
  * from a signal handler) were its parent's; they end at the fork's
  * virtual time v, as if a signal had interrupted them. */

@@ -7,6 +7,7 @@
 #ifndef TCS_PRELOAD_SPIN_H
 #define TCS_PRELOAD_SPIN_H
 
+#include "roundtrip.h"
 #include "thread_waits.h"
 #include "vclock.h"
 
@@ -16,6 +17,8 @@ int64_t tcs_spin_clock_read(void) TCS_HIDDEN;
 
 static inline int64_t tcs_program_vnow(void)
 {
+	if (__builtin_expect(tcs_calls != NULL, 0))
+		tcs_settle_for_clock();
 	if (tcs_rt.page->mode != TCS_MODE_LOCKSTEP)
 		return tcs_vnow();
 	return tcs_spin_clock_read();
