@@ -13,8 +13,10 @@
  * the last's; round_max_ns, the longest round; tail_kernel_ns,
  * from the last call's start to main's waking; pause_overruns, the
  * expiries rounds that long may have folded into an overrun (see
- * on_expiry). Each CPU span is read just outside the clock reads it goes
- * with, so that all of the span is in it. */
+ * on_expiry); work_stops_before_last, the stops tcs made of the calls'
+ * work before the last call (their cost, counted by the kernel as the
+ * work's CPU, tcs leaves out). Each CPU span is read just outside the
+ * clock reads it goes with, so that all of the span is in it. */
 #include <pthread.h>
 #include <signal.h>
 #include <stdio.h>
@@ -29,6 +31,10 @@ static timer_t timer;
 static long long start, period, work_ns;
 static volatile long calls, expiries;
 static volatile long long first_ns = -1, max_late_ns, last_ns;
+/* Stops tcs made of the function's work (its thread's voluntary switches
+ * while it computed: the work makes no wait), all of them and those
+ * before the last call. */
+static volatile long work_stops, stops_before_last;
 static pthread_t main_thread;
 static volatile int other_thread = 1;
 static volatile long long first_kernel, last_kernel, last_kernel_after, round_max, pause_overruns;
@@ -70,8 +76,11 @@ static void on_expiry(union sigval v)
 	if (first_ns < 0)
 		first_ns = now - start;
 	last_ns = now - start;
+	stops_before_last = work_stops;
 	calls++;
+	long before = kernel_thread_voluntary_switches();
 	compute_ns(CLOCK_THREAD_CPUTIME_ID, work_ns);
+	work_stops += kernel_thread_voluntary_switches() - before;
 }
 
 static void sleep_ns(long long ns)
@@ -117,7 +126,7 @@ int main(int argc, char **argv)
 	printf("calls=%ld\nexpiries=%ld\nfirst_ns=%lld\nlast_ns=%lld\nmax_late_ns=%lld\nafter_delete=%ld\nother_thread=%d\n",
 	       before, expiries, first_ns, last_ns, max_late_ns, calls - before, other_thread);
 	printf("armed_ns=%lld\nwoke_ns=%lld\ndeleted_ns=%lld\ncalls_kernel_ns=%lld\nround_max_ns=%lld\ntail_kernel_ns=%lld\n"
-	       "pause_overruns=%lld\n",
-	       armed, woke, deleted, last_kernel_after - first_kernel, round_max, tail, pause_overruns);
+	       "pause_overruns=%lld\nwork_stops_before_last=%ld\n",
+	       armed, woke, deleted, last_kernel_after - first_kernel, round_max, tail, pause_overruns, stops_before_last);
 	return 0;
 }

@@ -27,8 +27,10 @@
  * with its CPU-time clock at the end (cpu_ns: all it computed, start
  * included), the CPU its loop used (loop_cpu_ns; and by the kernel's clock,
  * around that, loop_kernel_cpu_ns) and the cores it was seen
- * on after each wait (cores_seen, a bit per core), and how often it left its
- * core in the loop (switches).
+ * on after each wait (cores_seen, a bit per core), how often it left its
+ * core in the loop (switches), and the stops tcs made of its work
+ * (work_stops: voluntary switches while it computed, which makes no wait;
+ * the kernel counts a stop's cost as the work's CPU, tcs leaves it out).
  * Any sleep that fails (EINTR included) is counted: there should be none. */
 #include <errno.h>
 #include <sched.h>
@@ -72,17 +74,20 @@ int main(int argc, char **argv)
 	long long round_start = account ? kernel_cpu_ns() : 0, debt = 0, crossed_waits = 0, woke_kernel = 0;
 	long long head_kernel_cpu = account ? (long long)((round_start - loop_kernel_cpu) * scale) : -1;
 	long long asked_kernel = 0, last_wait = -1, least_wait = -1, waits_kernel = 0;
-	long long last_round_start = -1, last_round_kernel = 0;
+	long long last_round_start = -1, last_round_kernel = 0, work_stops = 0;
 	for (;;) {
 		long long top_kernel = account ? kernel_cpu_ns() : 0, top = clock_ns(CLOCK_MONOTONIC) - start;
 		if (top >= duration)
 			break;
 		last_round_start = top;
 		last_round_kernel = top_kernel;
+		long before = account ? kernel_thread_voluntary_switches() : 0;
 		if (cpu_work >= 0)
 			compute_ns(CLOCK_PROCESS_CPUTIME_ID, cpu_work);
 		else
 			work(rounds);
+		if (account)
+			work_stops += kernel_thread_voluntary_switches() - before;
 		loops++;
 		next += period;
 		long long checked = clock_ns(CLOCK_MONOTONIC);
@@ -142,9 +147,9 @@ int main(int argc, char **argv)
 	printf("asked_hz=%s\nloops=%lld\nelapsed_s=%.9f\nrate_hz=%.3f\nmisses=%lld\nsleep_failures=%lld\nloop_cpu_ns=%lld\ncpu_ns=%lld\n"
 	       "loop_kernel_cpu_ns=%lld\ncores_seen=%llu\nswitches=%ld\npaused_rounds=%lld\npause_misses=%lld\ncrossed_waits=%lld\n"
 	       "head_kernel_cpu_ns=%lld\ntail_kernel_cpu_ns=%lld\nlast_wait_kernel_cpu_ns=%lld\nleast_wait_kernel_cpu_ns=%lld\n"
-	       "waits_kernel_cpu_ns=%lld\nlast_round_start_ns=%lld\nlast_round_kernel_cpu_ns=%lld\n",
+	       "waits_kernel_cpu_ns=%lld\nlast_round_start_ns=%lld\nlast_round_kernel_cpu_ns=%lld\nwork_stops=%lld\n",
 	       argv[1], loops, elapsed, loops / elapsed, misses, failures, loop_cpu, clock_ns(CLOCK_PROCESS_CPUTIME_ID), loop_kernel_cpu, cores_seen,
 	       switches, paused_rounds, pause_misses, crossed_waits, head_kernel_cpu, tail_kernel_cpu, last_wait, least_wait,
-	       account ? waits_kernel : -1, last_round_start, last_round_kernel);
+	       account ? waits_kernel : -1, last_round_start, last_round_kernel, work_stops);
 	return 0;
 }

@@ -14,7 +14,8 @@
  *                when main woke, and the CPU of both threads by the
  *                kernel's thread clocks read just before main's clock
  *                read (*_before_wake_ns: the worker's as it last counted
- *                it) and just after (*_after_wake_ns)
+ *                it) and just after (*_after_wake_ns); the stops tcs had
+ *                made of the worker by then (worker_stops_by_wake)
  *                (compute slow-main: main at nice 19, so the worker
  *                finishes before main's turn)
  *   late-sleep   main computes 100 ms beside a worker that computes till
@@ -140,14 +141,17 @@ static int mode_loops(void)
 /* ---- compute ---- */
 static volatile long long worker_done_ns; /* the worker's CPU so far, from c0 */
 static volatile long long worker_start_cpu; /* its CPU at c0 */
+static volatile long worker_stops; /* stops tcs made of it (it makes no wait) */
 
 static void *compute(void *arg)
 {
 	(void)arg;
 	long long c0 = kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID);
+	long s0 = kernel_thread_voluntary_switches();
 	worker_start_cpu = c0; /* its CPU from its creation to here */
 	while (worker_done_ns < 20 * MS) {
 		work(1000);
+		worker_stops = kernel_thread_voluntary_switches() - s0;
 		worker_done_ns = kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID) - c0;
 	}
 	return NULL;
@@ -174,12 +178,14 @@ static int mode_compute(int slow_main)
 	long long worker_before = worker_start_cpu + worker_done_ns;
 	long long main_before = kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID) - t0_main_thread_cpu;
 	long long woke = now();
+	long stops_after = worker_stops; /* (after main's read: no fewer than by then) */
 	long long worker_after = kernel_clock_ns(worker_clock);
 	long long main_after = kernel_clock_ns(CLOCK_THREAD_CPUTIME_ID) - t0_main_thread_cpu;
 	pthread_join(w, NULL);
 	printf("main_woke_ns=%lld end_ns=%lld\n", woke, now());
 	printf("worker_cpu_before_wake_ns=%lld worker_cpu_after_wake_ns=%lld\n", worker_before, worker_after);
 	printf("main_cpu_before_wake_ns=%lld main_cpu_after_wake_ns=%lld\n", main_before, main_after);
+	printf("worker_stops_by_wake=%ld worker_stops=%ld\n", stops_after, worker_stops);
 	return 0;
 }
 

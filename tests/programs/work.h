@@ -81,6 +81,14 @@ static inline long kernel_voluntary_switches(void)
 	return kernel_rusage(0L /* RUSAGE_SELF */).nvcsw;
 }
 
+/* How many times the calling thread gave up its core (RUSAGE_THREAD's
+ * voluntary switches): around computation that makes no wait, the stops
+ * tcs made of it. */
+static inline long kernel_thread_voluntary_switches(void)
+{
+	return kernel_rusage(1L /* RUSAGE_THREAD */).nvcsw;
+}
+
 static inline uint64_t work(uint64_t n)
 {
 	static volatile uint64_t sink;
