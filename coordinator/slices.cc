@@ -176,9 +176,12 @@ void resume(Run &run, Controller &c, int64_t target, int lane)
 	deliver(c); // what its sensors have due by now is in their fds
 	c.mark_due = c.wake_pending && !c.multithreaded(); // (roundtrip.c)
 	c.answer_at_resume = false;
+	// Other threads' waits due by now are answered first: a thread that
+	// spun to their time yields to them once answered, and finds them
+	// answered (spin.c).
+	end_side_waits(run, c);
 	if (c.wake_pending)
 		send_wake(run, c);
-	end_side_waits(run, c); // other threads' waits due by now
 	if (c.stopped)
 		let_go(run, c);
 	c.state = CtlState::Running;

@@ -6,8 +6,50 @@
  * the others are there, and goes on. */
 #include "spin.h"
 
+#include <poll.h>
+
+#include "cpu_estimate.h"
 #include "raw_syscall.h"
+#include "thread_channels.h"
 #include "wait.h"
+
+/* (More threads than this: the rest are not waited for.) */
+#define TCS_MAX_YIELD_CHANNELS 64
+
+/* Threads its wait's end woke (their waits ended at its time too) share
+ * its core at its priority: they run first, as the kernel's wake-up
+ * preemption would let them natively, or a spin for what they do would
+ * outlast them. The coordinator answers them before this thread, but a
+ * wake-up reaches this core later than the answer is written: so it
+ * yields while another thread's answer is still unread, up to 1 ms of real
+ * time (a thread that is not ours to wait for: stopped, or gone). */
+static void tcs_yield_to_woken(void)
+{
+	const int mine = tcs_my_channel();
+	struct pollfd fds[TCS_MAX_YIELD_CHANNELS];
+	int n = 0;
+	if (__atomic_load_n(&tcs_rt.page->threads_started, __ATOMIC_RELAXED) != 0) {
+		int channels[TCS_MAX_YIELD_CHANNELS];
+		int k = tcs_thread_channels(channels, TCS_MAX_YIELD_CHANNELS - 1);
+		for (int i = 0; i < k; i++)
+			if (channels[i] != mine)
+				fds[n++] = (struct pollfd){ channels[i], POLLIN, 0 };
+		if (mine != tcs_rt.channel_fd)
+			fds[n++] = (struct pollfd){ tcs_rt.channel_fd, POLLIN, 0 };
+	}
+	const int64_t until = tcs_kernel_clock(CLOCK_MONOTONIC) + TCS_NS_PER_MS;
+	for (;;) {
+		tcs_sys0(SYS_sched_yield);
+		if (n == 0)
+			return;
+		struct timespec zero = { 0, 0 };
+		int main_unread = mine != tcs_rt.channel_fd &&
+				  (__atomic_load_n(&tcs_rt.page->mailbox.state, __ATOMIC_ACQUIRE) & TCS_MBOX_ANSWER);
+		if ((tcs_sys5(SYS_ppoll, fds, n, &zero, NULL, 0) <= 0 && !main_unread) ||
+		    tcs_kernel_clock(CLOCK_MONOTONIC) >= until)
+			return;
+	}
+}
 
 int64_t tcs_spin_to(int64_t v, int held)
 {
@@ -26,10 +68,7 @@ int64_t tcs_spin_to(int64_t v, int held)
 	(void)tcs_wait(&t, TCS_BLOCK_SPIN, 0, NULL, 0, NULL);
 	if (!held)
 		tcs_wait_leave();
-	/* Threads it woke (their waits ended here too) share its core at its
-	 * priority: they run first, as the kernel's wake-up preemption would
-	 * let them natively, or a spin for what they do would outlast them. */
-	tcs_sys0(SYS_sched_yield);
+	tcs_yield_to_woken();
 	tcs_spun = 1; /* (the wait was the spin's, not the program's) */
 	return tcs_vnow();
 }
