@@ -252,6 +252,7 @@ void Controller::count_raised_signal()
 void Controller::publish_slice(int64_t cpu_base)
 {
 	slice_ = tcs_slice{ v, cpu_base, charged, page_ ? __atomic_load_n(&page_->own_cpu, __ATOMIC_RELAXED) : 0 };
+	left_out_ = 0;
 	if (page_)
 		tcs_page_write_slice(page_, slice_);
 }
@@ -263,6 +264,7 @@ void Controller::leave_out(int64_t ns)
 	// As the runtime's own CPU is (tcs_less_own): the slice's CPU less
 	// what the page's own_cpu has grown by since own_base.
 	slice_.own_base -= ns;
+	left_out_ += ns;
 	if (page_)
 		tcs_page_write_slice(page_, slice_);
 }

@@ -209,6 +209,9 @@ public:
 	// its continuation cost it in the kernel): not charged (negative: some
 	// of what was left out charged after all). While stopped.
 	void leave_out(int64_t ns);
+	// What the current slice has left out so far, net of what was charged
+	// back: no more can be charged back (tcs_less_own never adds).
+	int64_t left_out() const { return left_out_; }
 	// Of the current slice's CPU, how much came after its clock reads last
 	// told it a time (at most, cpu mode; none known elsewhere): a stop's
 	// cost can be no more, as the stop came after that read.
@@ -401,6 +404,7 @@ private:
 				   const RealtimePlan &rt, const std::vector<BoundDevice> &bound);
 	Status take_pid(pid_t p);
 	tcs_clock_page *page_ = nullptr;
+	int64_t left_out_ = 0; // (left_out())
 	tcs_journal *journal_ = nullptr;
 	uint64_t journal_bytes_ = 0, journal_capacity_ = 0;
 	Status make_journal(int page_fd, const ControllerSpec &spec);

@@ -223,12 +223,14 @@ static void died_in_slice(Run &run, Controller &c)
 // Its slice's CPU, held still (hold_still left the stop's cost out). One
 // that had reached its budget by the kernel's count and falls short only
 // by what was left out is charged the rest of it: resumed for a sliver
-// that short, it would only be stopped again.
+// that short, it would only be stopped again. (By what was left out, not
+// by a stop's cost: a stop leaves out less when the program read its clock
+// just before it, and a charge back beyond what was left out is lost.)
 static int64_t used_after_hold(Run &run, Controller &c)
 {
 	int64_t used = c.slice_cpu(c.cpu_now());
 	const Lane *lane = run.lanes.of(c);
-	if (lane && c.budgeted && used < c.budget && used + lane->stop_cost.stop_ns >= c.budget) {
+	if (lane && c.budgeted && used < c.budget && used + c.left_out() >= c.budget) {
 		c.leave_out(used - c.budget);
 		used = c.budget;
 	}
@@ -360,17 +362,24 @@ bool hold_still(Run &run, Controller &c)
 		return false;
 	// What the stop cost it in the kernel is CPU it never used on the
 	// robot: not charged (stop_cost.h). Its continuation's likewise. The
-	// cost is a mean: never more than it ran since its clock last told it
-	// a time, or what it does next would be stamped before that time.
+	// cost is a mean: never more than the slice's CPU so far (a charge
+	// could not be given back past that: tcs_less_own never adds), nor
+	// than it ran since its clock last told it a time, or what it does
+	// next would be stamped before that time. Nor is it left out of a
+	// slice still in its wait's hook: the hook's mark, when it comes,
+	// leaves out all the slice's CPU before it, the stop's included.
 	Lane *lane = run.lanes.of(c);
-	if (lane && lane->stop_cost.stop_ns > 0)
-		c.leave_out(std::min(lane->stop_cost.stop_ns, c.cpu_since_told()));
+	if (lane && lane->stop_cost.stop_ns > 0 && !c.returning_from_wait()) {
+		const int64_t cpu = c.cpu_now();
+		c.leave_out(std::min({ lane->stop_cost.stop_ns, c.cpu_since_told(), c.slice_cpu(cpu) }));
+	}
 	return true;
 }
 
 void let_go(Run &run, Controller &c)
 {
-	if (Lane *lane = run.lanes.of(c))
+	Lane *lane = run.lanes.of(c);
+	if (lane && !c.returning_from_wait()) // (as in hold_still)
 		c.leave_out(lane->stop_cost.continue_ns);
 	kill(c.pid, SIGCONT);
 	c.stopped = false;
