@@ -15,6 +15,7 @@
 #include "slices.h"
 #include "threads.h"
 #include "world_steps.h"
+#include "transitions.h"
 
 namespace tcs {
 
@@ -98,9 +99,8 @@ bool step_aside_if_asleep(Run &run, Controller &c)
 	c.account(cpu, run.cfg.mode);
 	c.publish_slice(cpu);
 	trace_slice_end(run, c, "blocked", cpu);
-	c.asleep = true;
 	c.set_page_flag(TCS_PAGE_ASLEEP, true);
-	c.state = CtlState::Blocked;
+	move(run, c, CtlMove::StepAside);
 	c.wait.deadline = TCS_NEVER;
 	c.wait.recheck = true;
 	c.wait.rechecked_at = run.sim_ns;
@@ -117,7 +117,7 @@ bool step_aside_if_asleep(Run &run, Controller &c)
 // its alarm (coreutils timeout) is woken by the signal as it would be.
 bool still_asleep(Run &run, Controller &c, int64_t at)
 {
-	if (!c.asleep)
+	if (c.state() != CtlState::Asleep)
 		return false;
 	if (c.outside)
 		return true; // not ours to run: its end is all that is awaited
@@ -162,12 +162,10 @@ void wake_from_asleep(Run &run, Controller &c)
 	c.account(cpu, run.cfg.mode);
 	c.v = std::max(c.v, latest_cause(run, c));
 	c.publish_slice(cpu);
-	c.asleep = false;
 	c.answer_at_resume = true;
 	c.set_page_flag(TCS_PAGE_ASLEEP, false);
-	c.state = CtlState::Ready;
+	move(run, c, CtlMove::Awake);
 	c.wait.recheck = false;
-	c.wake_pending = false;
 }
 
 } // namespace tcs

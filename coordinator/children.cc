@@ -26,6 +26,7 @@
 #include "tcs/protocol.h"
 #include "threads.h"
 #include "waits.h"
+#include "transitions.h"
 
 namespace tcs {
 
@@ -57,7 +58,7 @@ void on_child(Run &run, Controller &parent, const ::tcs_msg &m, UniqueFd channel
 		return refuse("pid " + std::to_string(pid) + " is not its child (its parent is " + std::to_string(pp) +
 			      ", not " + std::to_string(parent.pid) + ")");
 	for (auto &o : run.ctls)
-		if (o->pid == pid && o->state != CtlState::Exited)
+		if (o->pid == pid && o->state() != CtlState::Exited)
 			return refuse("pid " + std::to_string(pid) + " is registered already");
 	ControllerSpec spec;
 	spec.cpu_scale = parent.scale;
@@ -77,7 +78,7 @@ void on_child(Run &run, Controller &parent, const ::tcs_msg &m, UniqueFd channel
 	// request came, at the parent's clock as it registered, began 26 us
 	// ahead of the parent's time, under load).
 	int64_t parent_v = parent.v;
-	if (parent.state == CtlState::Running && run.cfg.mode == TCS_MODE_CPU && parent.awaiting.pid != pid) {
+	if (parent.state() == CtlState::Running && run.cfg.mode == TCS_MODE_CPU && parent.awaiting.pid != pid) {
 		int64_t cpu = parent.cpu_now(), claim = parent.fork_claim();
 		if (claim >= 0)
 			cpu = std::min(cpu, claim);
@@ -85,10 +86,9 @@ void on_child(Run &run, Controller &parent, const ::tcs_msg &m, UniqueFd channel
 	}
 	c.v = std::max((m.flags & TCS_CHILD_V_KNOWN) ? m.v : parent_v, run.sim_ns);
 	c.wait.seq = m.seq;
-	c.state = CtlState::Blocked;
+	move(run, c, CtlMove::Block);
 	c.wait.deadline = c.wait.asked = c.v;
 	c.wake_fd = c.page_fd_for_child.release();
-	c.wake_arg = 0;
 	run.ctls.push_back(std::move(*made));
 	Controller *raw = run.ctls.back().get();
 	trace_controller(run, *raw);
@@ -120,7 +120,7 @@ void on_forked(Run &run, Controller &c, const ::tcs_msg &m)
 			// its own): at the time of its CPU clock then, which counted
 			// the parent's hooks too. Not yet run, it starts here instead,
 			// where the spawn's request put its parent.
-			if (o->slices == 0 && o->state == CtlState::Blocked && o->wait.deadline == o->v && o->v > c.v)
+			if (o->slices == 0 && o->state() == CtlState::Blocked && o->wait.deadline == o->v && o->v > c.v)
 				o->v = o->wait.deadline = std::max(c.v, run.sim_ns);
 			reply_now(run, c, 0);
 			return;
@@ -177,7 +177,7 @@ void child_settled(Run &run, Controller &parent)
 	run.loop.remove(parent.awaiting.pidfd.get());
 	parent.awaiting.pidfd.reset();
 	parent.awaiting.pid = 0;
-	if (parent.state == CtlState::Exited)
+	if (parent.state() == CtlState::Exited)
 		return;
 	// The answer goes to the request that asked (a thread's request since
 	// has taken the controller's record of the last one); another thread's
@@ -201,7 +201,7 @@ bool has_real_time_child(Run &run, Controller &c)
 	bool any = false;
 	int64_t now = wall_now();
 	for (const auto &o : run.ctls)
-		if (o->parent_id == c.id && o->outside && o->state != CtlState::Exited)
+		if (o->parent_id == c.id && o->outside && o->state() != CtlState::Exited)
 			any = true;
 	for (pid_t child : proc_children(c.pid)) {
 		if (std::any_of(run.ctls.begin(), run.ctls.end(), [child](const auto &o) { return o->pid == child; }))

@@ -184,7 +184,7 @@ Controller::~Controller()
 {
 	if (wake_fd >= 0)
 		close(wake_fd);
-	if (state != CtlState::Exited && pid > 0) {
+	if (state_ != CtlState::Exited && pid > 0) {
 		kill(pid, SIGKILL); // never leave one behind, stopped or not
 		siginfo_t si;
 		waitid(P_PID, pid, &si, WEXITED);
@@ -269,12 +269,12 @@ void Controller::leave_out(int64_t ns)
 		tcs_page_write_slice(page_, slice_);
 }
 
-int64_t Controller::cpu_since_told() const
+int64_t Controller::cpu_since_told(int64_t cpu) const
 {
 	if (!page_)
 		return 0;
 	int64_t seen = __atomic_load_n(&page_->v_seen, __ATOMIC_RELAXED);
-	int64_t ahead = v_at_cpu(cpu_now()) - seen;
+	int64_t ahead = v_at_cpu(cpu) - seen;
 	if (ahead <= 0)
 		return 0;
 	return scale == 1.0 ? ahead : (int64_t)((double)ahead / scale);
@@ -294,7 +294,7 @@ int64_t Controller::v_at_cpu(int64_t cpu) const
 
 int64_t Controller::v_now(int mode) const
 {
-	if (state != CtlState::Running)
+	if (state_ != CtlState::Running)
 		return v;
 	return mode == TCS_MODE_CPU ? std::max(v, v_at_cpu(cpu_now())) : spun();
 }

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "controller_state.h"
 #include "error.h"
 #include "device.h"
 #include "mailbox.h"
@@ -52,13 +53,6 @@ struct ClockSetup {
 	int64_t real_ns = 0;
 	int64_t tai_ns = 0;
 	SpinCosts spin; // (lockstep's)
-};
-
-enum class CtlState {
-	Ready,   // may run (stopped by SIGSTOP, or woken and not yet resumed)
-	Running, // resumed; the coordinator waits for it to block or use its budget
-	Blocked, // in a hooked wait until `wait.deadline`
-	Exited,
 };
 
 // A device request a controller waits on (TCS_MSG_DEV_SYNC): for the
@@ -176,6 +170,8 @@ struct LoopStats {
 	uint64_t reported_misses = 0; // absolute waits sent though already past
 };
 
+struct Run;
+
 class Controller {
 public:
 	static Result<std::unique_ptr<Controller>> start(int id, const ControllerSpec &spec, int mode,
@@ -212,10 +208,10 @@ public:
 	// What the current slice has left out so far, net of what was charged
 	// back: no more can be charged back (tcs_less_own never adds).
 	int64_t left_out() const { return left_out_; }
-	// Of the current slice's CPU, how much came after its clock reads last
-	// told it a time (at most, cpu mode; none known elsewhere): a stop's
-	// cost can be no more, as the stop came after that read.
-	int64_t cpu_since_told() const;
+	// Of the current slice's CPU up to cpu, how much came after its clock
+	// reads last told it a time (at most, cpu mode; none known elsewhere):
+	// a stop's cost can be no more, as the stop came after that read.
+	int64_t cpu_since_told(int64_t cpu) const;
 	void set_page_flag(uint32_t flag, bool on);
 	// Signals raised in it by the coordinator (the page's signals_raised).
 	void count_raised_signal();
@@ -275,8 +271,9 @@ public:
 	// controllers for as long as it runs); what the report needs stays.
 	void release();
 
-	// Scheduling state.
-	CtlState state = CtlState::Ready;
+	// Scheduling state: its state (written by transitions.cc's move()
+	// alone), and what it waits in.
+	CtlState state() const { return state_; }
 	OwnWait wait; // the request being served, and what ends it when Blocked
 	bool stopped = true;    // held by SIGSTOP
 	bool mark_due = false;  // its slice began with a WAKE, whose hook marks its return
@@ -374,7 +371,6 @@ public:
 	int64_t spin_limit_ = 0;
 	uint64_t random_key_ = 0;
 	uint64_t children_keyed_ = 0;
-	bool asleep = false;        // stepped aside, asleep in the kernel (asleep.cc)
 	bool answer_at_resume = false; // woken from asleep, Ready but not held: answered as resumed
 	// Its lane watchdog's last look at it, running (asleep.cc).
 	struct Look {
@@ -399,6 +395,8 @@ public:
 	} awaiting;
 
 private:
+	friend bool move(Run &run, Controller &c, CtlMove m);
+	CtlState state_ = CtlState::Ready;
 	template <class F> void advance_due(F f);
 	Result<UniqueFd> make_page(const ControllerSpec &spec, int mode, const ClockSetup &clocks,
 				   const RealtimePlan &rt, const std::vector<BoundDevice> &bound);

@@ -254,7 +254,7 @@ Status Coordinator::init()
 	watch(run.kill_timer.fd(), [&run](uint32_t) {
 		run.kill_timer.consume();
 		for (auto &c : run.ctls)
-			if (c->state != CtlState::Exited)
+			if (c->state() != CtlState::Exited)
 				kill(c->pid, SIGKILL);
 	});
 	return st;

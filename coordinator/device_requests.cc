@@ -18,6 +18,7 @@
 #include "waits.h"
 #include "wire_bus.h"
 #include "world_steps.h"
+#include "transitions.h"
 
 namespace tcs {
 
@@ -28,8 +29,7 @@ constexpr size_t kMaxOpens = 1024;
 
 void reply_now(Run &run, Controller &c, int64_t arg)
 {
-	c.wake_arg = arg;
-	c.wake_reason = TCS_WAKE_DEADLINE;
+	owe_answer(c, TCS_WAKE_DEADLINE, arg);
 	answer(run, c);
 }
 
@@ -39,7 +39,7 @@ void reply_now(Run &run, Controller &c, int64_t arg)
 void restart_slice(Run &run, Controller &c, int64_t request_cpu)
 {
 	c.wait.requested_at = c.v;
-	if (c.state != CtlState::Running)
+	if (c.state() != CtlState::Running)
 		return;
 	int64_t at = charge_point(run, c, request_cpu);
 	int64_t used = c.slice_cpu(at);
@@ -113,24 +113,24 @@ void on_dev_open(Run &run, Controller &c, const ::tcs_msg &m)
 
 void on_dev_sync(Run &run, Controller &c, const ::tcs_msg &m)
 {
-	if (c.state == CtlState::Blocked) {
+	if (c.state() == CtlState::Blocked) {
 		drop(run, c, "it made a device request while waiting");
 		return;
 	}
 	restart_slice(run, c, m.cpu);
 	c.wait.seq = m.seq;
-	c.wake_arg = 0;
 	if (m.kind != TCS_SYNC_POLL && (m.arg < 0 || (size_t)m.arg >= c.devices.size())) {
 		reply_now(run, c, -EBADF);
 		return;
 	}
 	if (m.kind == TCS_SYNC_WRITE) {
 		OpenDevice &d = *c.devices[(size_t)m.arg];
+		int64_t result = 0;
 		if (d.wire)
-			c.wake_arg = run.wires.take(*d.wire, d.sock.get(), c.v, run.world.get());
+			result = run.wires.take(*d.wire, d.sock.get(), c.v, run.world.get());
 		else if (d.dev->cfg.kind == TCS_DEVICE_ACTUATOR && !run.devices.take_commands(c, d, false, run.trace))
-			c.wake_arg = -EINVAL;
-		reply_now(run, c, c.wake_arg);
+			result = -EINVAL;
+		reply_now(run, c, result);
 		return;
 	}
 	if ((m.kind == TCS_SYNC_DRAIN || (m.flags & TCS_DEV_DEADLINE)) && !c.devices[(size_t)m.arg]->wire) {
@@ -145,11 +145,11 @@ void on_dev_sync(Run &run, Controller &c, const ::tcs_msg &m)
 			run.lanes.leave(c);
 			trace_slice_end(run, c, "blocked", c.cpu_now());
 		}
-		c.state = CtlState::Ready;
+		move(run, c, CtlMove::Ahead);
 		schedule(run);
 		return;
 	}
-	bool was_running = c.state == CtlState::Running;
+	bool was_running = c.state() == CtlState::Running;
 	if (complete_sync(run, c)) {
 		answer(run, c);
 		return;
@@ -164,14 +164,13 @@ void on_dev_sync(Run &run, Controller &c, const ::tcs_msg &m)
 
 // The controller waits for the next arrival on a wire, or for the wire's
 // next event (which may bring one), or its deadline: Blocked until then.
-static bool wait_for(Controller &c, const DeviceSync &sync, int64_t until)
+static bool wait_for(Run &run, Controller &c, const DeviceSync &sync, int64_t until)
 {
 	c.sync = sync;
-	c.state = CtlState::Blocked;
+	move(run, c, CtlMove::Block);
 	c.wait.deadline = c.wait.asked = until;
 	c.wait.recheck = false;
 	c.wait.devices = false;
-	c.wake_pending = false;
 	return false;
 }
 
@@ -181,8 +180,8 @@ static bool complete_drain(Run &run, Controller &c, const DeviceSync &sync)
 	OpenDevice &d = *c.devices[(size_t)sync.handle];
 	const int64_t at = d.wire && d.wire->bus ? d.wire->bus->drained_at(*d.wire) : 0;
 	if (at > c.v && !run.ending)
-		return wait_for(c, sync, at);
-	c.wake_pending = true;
+		return wait_for(run, c, sync, at);
+	owe_answer(c, TCS_WAKE_DEADLINE, 0);
 	return true;
 }
 
@@ -191,15 +190,14 @@ static bool complete_drain(Run &run, Controller &c, const DeviceSync &sync)
 static bool complete_wire_read(Run &run, Controller &c, const DeviceSync &sync, OpenDevice &d)
 {
 	if (d.gone || !drained(d) || run.ending) {
-		c.wake_pending = true;
+		owe_answer(c, TCS_WAKE_DEADLINE, 0);
 		return true;
 	}
 	if (sync.nonblock || c.v >= sync.deadline) {
-		c.wake_arg = sync.nonblock ? -EAGAIN : 0;
-		c.wake_pending = true;
+		owe_answer(c, TCS_WAKE_DEADLINE, sync.nonblock ? -EAGAIN : 0);
 		return true;
 	}
-	return wait_for(c, sync, std::min(next_record_due(c), sync.deadline));
+	return wait_for(run, c, sync, std::min(next_record_due(c), sync.deadline));
 }
 
 bool raise_timers_in_read(Controller &c, int64_t at)
@@ -221,42 +219,40 @@ bool complete_sync(Run &run, Controller &c)
 	deliver(c);
 	const DeviceSync sync = *c.sync;
 	c.sync.reset();
-	c.wake_arg = 0;
 	if (sync.kind == TCS_SYNC_DRAIN)
 		return complete_drain(run, c, sync);
 	if (sync.kind != TCS_SYNC_READ) {
-		c.wake_pending = true;
+		owe_answer(c, TCS_WAKE_DEADLINE, 0);
 		return true;
 	}
 	OpenDevice &d = *c.devices[(size_t)sync.handle];
 	if (d.wire)
 		return complete_wire_read(run, c, sync, d);
 	if (!drained(d) || d.gone) {
-		c.wake_pending = true;
+		owe_answer(c, TCS_WAKE_DEADLINE, 0);
 		return true;
 	}
 	// A 'latest' sensor answers with the world now; so does a stream once
-	// the run is ending (the world has stopped; its last state stands).
-	if ((d.dev->cfg.latest || (run.ending && d.queue.empty())) && run.world) {
+	// the run is ending (the world has stopped; its last state stands: its
+	// records still queued are of times that will not come).
+	if ((d.dev->cfg.latest || run.ending) && run.world) {
 		std::vector<double> values;
 		for (size_t i : d.dev->signals)
 			run.world->read_sensed(i, values);
 		std::string rec = format_record(d.dev->cfg.format, values);
 		(void)!send(d.sock.get(), rec.data(), rec.size(), MSG_DONTWAIT | MSG_NOSIGNAL);
-		c.wake_pending = true;
+		owe_answer(c, TCS_WAKE_DEADLINE, 0);
 		return true;
 	}
 	if (sync.nonblock || next_record_due(c) == TCS_NEVER) {
-		c.wake_arg = sync.nonblock ? -EAGAIN : 0;
-		c.wake_pending = true;
+		owe_answer(c, TCS_WAKE_DEADLINE, sync.nonblock ? -EAGAIN : 0);
 		return true;
 	}
 	c.sync = sync; // (still waiting, for the record)
-	c.state = CtlState::Blocked;
+	move(run, c, CtlMove::Block);
 	c.wait.deadline = c.wait.asked = d.queue.empty() ? d.next_due : d.queue.front().first;
 	c.wait.recheck = false;
 	c.wait.devices = false;
-	c.wake_pending = false;
 	return false;
 }
 

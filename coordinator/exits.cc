@@ -24,6 +24,7 @@
 #include "threads.h"
 #include "waits.h"
 #include "world_steps.h"
+#include "transitions.h"
 
 namespace tcs {
 
@@ -42,7 +43,7 @@ int64_t exited_cpu(Run &run, const Controller &c)
 
 void on_pidfd(Run &run, Controller &c)
 {
-	if (c.state == CtlState::Exited)
+	if (c.state() == CtlState::Exited)
 		return;
 	if (c.parent_id != 0) {
 		// A child of a controller: its parent reaps it, not us. Its pidfd
@@ -89,7 +90,7 @@ void on_exit(Run &run, Controller &c, int wait_status)
 {
 	run.devices.take_lazy_commands(c, -1, run.trace); // its last commands count
 	journal_ends(run, c);
-	c.state = CtlState::Exited;
+	move(run, c, CtlMove::Exit);
 	c.exit_status = wait_status;
 	// A parent waiting for its children learns of it at the child's
 	// virtual time; one waiting for something else was sent SIGCHLD then
@@ -106,15 +107,15 @@ void on_exit(Run &run, Controller &c, int wait_status)
 		// A thread of a running parent waits for it: answered now, at the
 		// parent's time now (its other threads may compute on without a
 		// budget: nothing else would come to end the wait).
-		if (seen && p->state == CtlState::Running) {
+		if (seen && p->state() == CtlState::Running) {
 			if (run.cfg.mode == TCS_MODE_CPU)
 				p->account(p->cpu_now(), run.cfg.mode);
 			end_side_waits(run, *p);
 		}
-		if (p->state == CtlState::Blocked && p->wait.for_child && !p->sync) {
+		if (p->state() == CtlState::Blocked && p->wait.for_child && !p->sync) {
 			wake(run, *p, std::max(p->v, c.v), TCS_WAKE_RECHECK);
 			seen = true;
-		} else if (p->state == CtlState::Blocked) {
+		} else if (waiting(p->state())) {
 			p->kick(std::max(p->v, c.v));
 		}
 		// Not waiting for it now: its next wait for a child re-checks,
@@ -134,7 +135,7 @@ void on_exit(Run &run, Controller &c, int wait_status)
 	if (c.parent_id == 0 && run.cfg.serve) {
 		// Served: its children go with it, as they do at the end of a run.
 		for (auto &o : run.ctls)
-			if (o->state != CtlState::Exited && descends_from(run, *o, c.id))
+			if (o->state() != CtlState::Exited && descends_from(run, *o, c.id))
 				kill(o->pid, SIGKILL);
 		if (run.cfg.on_controller_end)
 			run.cfg.on_controller_end(report_of(run, c));
@@ -157,12 +158,11 @@ void drop(Run &run, Controller &c, const std::string &why)
 		run.loop.remove(t->fd.get());
 	c.threads.clear();
 	c.side.clear();
-	c.state = CtlState::Blocked;
+	move(run, c, CtlMove::Drop);
 	c.wait.deadline = TCS_NEVER;
 	c.wait.recheck = false;
 	c.wait.devices = false;
 	c.sync.reset();
-	c.wake_pending = false;
 	schedule(run);
 }
 

@@ -10,6 +10,7 @@
 #include "record.h"
 #include "slices.h"
 #include "waits.h"
+#include "transitions.h"
 #include "world_steps.h"
 
 namespace tcs {
@@ -127,7 +128,7 @@ static void say_departure(Run &run, Controller &c, const std::string &what, bool
 
 bool replay_stop(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 {
-	if (!run.replaying || m.kind != TCS_BLOCK_SPIN || c.state != CtlState::Running || c.multithreaded())
+	if (!run.replaying || m.kind != TCS_BLOCK_SPIN || c.state() != CtlState::Running || c.multithreaded())
 		return false;
 	run.lanes.leave(c);
 	int64_t cpu = charge_point(run, c, m.cpu);
@@ -154,7 +155,7 @@ bool replay_stop(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	c.wait.fd = fd;
 	c.wait.tid = tid;
 	c.wait.active = false; // (no wait of the program's)
-	c.wake_arg = 0;
+	move(run, c, CtlMove::Preempt);
 	wake(run, c, at, TCS_WAKE_DEADLINE);
 	schedule(run);
 	return true;

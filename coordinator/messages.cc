@@ -131,7 +131,7 @@ void on_request(Run &run, Controller &c, ThreadChannel *t, const ::tcs_msg &m, U
 
 void on_message(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 {
-	if (c.asleep)
+	if (c.state() == CtlState::Asleep)
 		wake_from_asleep(run, c); // it woke by itself and asks something
 	if (m.type != TCS_MSG_BLOCK && m.type != TCS_MSG_EARLY)
 		c.wait.fd = fd; // a request answered at once, on its thread's channel

@@ -132,7 +132,7 @@ void word_of_controllers(Run &run)
 		return;
 	run.programs.clear();
 	for (const auto &c : run.ctls)
-		if (c->parent_id == 0 && c->state != CtlState::Exited)
+		if (c->parent_id == 0 && c->state() != CtlState::Exited)
 			run.programs.push_back(c->name.substr(c->name.find_last_of('/') + 1));
 	Done d;
 	d.step = Done::kNoStep;

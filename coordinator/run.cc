@@ -31,6 +31,7 @@
 #include "threads.h"
 #include "waits.h"
 #include "world_steps.h"
+#include "transitions.h"
 
 namespace tcs {
 
@@ -89,12 +90,12 @@ ControllerReport report_of(const Run &run, const Controller &c)
 int64_t alive(const Run &run)
 {
 	return std::count_if(run.ctls.begin(), run.ctls.end(),
-			     [](auto &c) { return c->parent_id == 0 && c->state != CtlState::Exited; });
+			     [](auto &c) { return c->parent_id == 0 && c->state() != CtlState::Exited; });
 }
 
 int64_t alive_controllers(const Run &run)
 {
-	return std::count_if(run.ctls.begin(), run.ctls.end(), [](auto &c) { return c->state != CtlState::Exited; });
+	return std::count_if(run.ctls.begin(), run.ctls.end(), [](auto &c) { return c->state() != CtlState::Exited; });
 }
 
 void trace_controller(Run &run, const Controller &c)
@@ -111,7 +112,7 @@ void on_signal(Run &run)
 		if (run.ending && run.end_reason == EndReason::Signal) {
 			// Asked twice: no more grace.
 			for (auto &c : run.ctls)
-				if (c->state != CtlState::Exited)
+				if (c->state() != CtlState::Exited)
 					kill(c->pid, SIGKILL);
 			continue;
 		}
@@ -128,7 +129,7 @@ void on_progress(Run &run)
 	for (auto &c : run.ctls) {
 		if (c->awaiting.pid != 0 && now - c->awaiting.since > kRegistrationWait)
 			child_settled(run, *c);
-		if (c->kill_after != 0 && now > c->kill_after && c->state != CtlState::Exited)
+		if (c->kill_after != 0 && now > c->kill_after && c->state() != CtlState::Exited)
 			kill(c->pid, SIGKILL);
 	}
 	look_for_stuck(run);
@@ -180,17 +181,16 @@ void begin_end(Run &run, EndReason reason, int signo)
 	// ends is not woken: it would run on, until the signal landed, past a
 	// wait the run did not end (a read "timed out", a loop's extra cycle).
 	for (auto &c : run.ctls) {
-		if (c->state == CtlState::Exited)
-			continue;
+		if (c->state() == CtlState::Exited || c->state() == CtlState::Dropped)
+			continue; // (a dropped one is being killed)
 		const bool dies = proc_signal_kills(c->pid, SIGTERM);
 		kill(c->pid, SIGTERM);
-		if (c->state == CtlState::Blocked) {
+		if (waiting(c->state())) {
 			// It waited through to the end: that is where it stands now,
 			// and where its clocks go on from (its page still held the
 			// slice before its wait: a program's last reads went back).
 			c->v = std::max(c->v, std::min(c->wait.deadline, run.sim_ns));
-			c->wake_pending = true;
-			c->wake_reason = TCS_WAKE_DEADLINE;
+			owe_answer(*c, TCS_WAKE_DEADLINE, c->wake_arg);
 			c->publish_slice(c->cpu_at_end >= 0 ? c->cpu_at_end : c->cpu_now());
 			c->cpu_at_end = -1;
 		}
@@ -203,7 +203,7 @@ void begin_end(Run &run, EndReason reason, int signo)
 		}
 		if (c->stopped)
 			let_go(run, *c);
-		c->state = CtlState::Running;
+		move(run, *c, CtlMove::End);
 	}
 	run.kill_timer.arm(kEndGrace);
 }

@@ -58,12 +58,12 @@ bool descends_from(const Run &run, const Controller &o, int root)
 void signal_controller(Run &run, int id, int signo)
 {
 	Controller *c = top_level(run, id);
-	if (!c || c->state == CtlState::Exited)
+	if (!c || c->state() == CtlState::Exited)
 		return;
 	kill(c->pid, signo);
 	// A stopped one gets it when it next runs; a waiting one is looked at
 	// now, where the world is (its handler may end its wait).
-	if (c->state == CtlState::Blocked)
+	if (waiting(c->state()))
 		c->kick(std::max(c->v, run.sim_ns));
 	schedule(run);
 }
@@ -71,7 +71,7 @@ void signal_controller(Run &run, int id, int signo)
 void end_controller(Run &run, int id)
 {
 	Controller *c = top_level(run, id);
-	if (!c || c->state == CtlState::Exited)
+	if (!c || c->state() == CtlState::Exited)
 		return;
 	// One that has not begun (held before its exec) has nothing to tidy.
 	if (!c->attached && c->stopped) {

@@ -29,7 +29,7 @@ void on_timer(Run &run, Controller &c, const ::tcs_msg &m)
 	if (!run.ending)
 		c.raise_due_timers();
 	// (Before the answer: a lockstep spin after it stops at the timer.)
-	if (c.state == CtlState::Running)
+	if (c.state() == CtlState::Running)
 		budget_to_next_timer(run, c);
 	reply_now(run, c, 0);
 }

@@ -46,7 +46,7 @@ void on_kill(Run &run, Controller &c, const ::tcs_msg &m)
 	pid_t sender_pgid = getpgid(c.pid);
 	int64_t at = std::max(c.v, m.v);
 	for (auto &o : run.ctls)
-		if (o.get() != &c && o->state == CtlState::Blocked && reaches(o->pid, m.arg, sender_pgid))
+		if (o.get() != &c && waiting(o->state()) && reaches(o->pid, m.arg, sender_pgid))
 			o->kick(at);
 	if (!c.side.empty() && reaches(c.pid, m.arg, sender_pgid)) {
 		c.recheck_side_waits();

@@ -30,6 +30,7 @@
 #include "threads.h"
 #include "waits.h"
 #include "world_steps.h"
+#include "transitions.h"
 
 namespace tcs {
 
@@ -131,7 +132,7 @@ int64_t charge_point(Run &run, Controller &c, int64_t claimed)
 
 int64_t request_v(Run &run, Controller &c, const ::tcs_msg &m)
 {
-	if (c.state != CtlState::Running)
+	if (c.state() != CtlState::Running)
 		return c.v;
 	if (run.cfg.mode == TCS_MODE_LOCKSTEP)
 		return std::clamp(m.v, c.v, c.spun());
@@ -184,7 +185,7 @@ void resume(Run &run, Controller &c, int64_t target, int lane)
 		send_wake(run, c);
 	if (c.stopped)
 		let_go(run, c);
-	c.state = CtlState::Running;
+	move(run, c, CtlMove::Resume);
 	c.budgeted = false;
 	budget_to(run, c, target);
 	budget_to_next_timer(run, c); // and no further than its own next signal
@@ -371,7 +372,7 @@ bool hold_still(Run &run, Controller &c)
 	Lane *lane = run.lanes.of(c);
 	if (lane && lane->stop_cost.stop_ns > 0 && !c.returning_from_wait()) {
 		const int64_t cpu = c.cpu_now();
-		c.leave_out(std::min({ lane->stop_cost.stop_ns, c.cpu_since_told(), c.slice_cpu(cpu) }));
+		c.leave_out(std::min({ lane->stop_cost.stop_ns, c.cpu_since_told(cpu), c.slice_cpu(cpu) }));
 	}
 	return true;
 }
@@ -389,7 +390,7 @@ void preempt(Run &run, Controller &c)
 {
 	run.lanes.leave(c);
 	c.stopped = true;
-	c.state = CtlState::Ready;
+	move(run, c, CtlMove::Preempt);
 	c.stats.preemptions++;
 	// Read from here, a process's CPU clock is as its threads' counts were
 	// last brought up to date (by a tick of their core, or a switch), and

@@ -42,7 +42,7 @@ void look_for_stuck(Run &run)
 	const int64_t now = clock_ns(CLOCK_MONOTONIC);
 	for (auto &cp : run.ctls) {
 		Controller &c = *cp;
-		if (c.state == CtlState::Exited || !c.dropped.empty())
+		if (c.state() == CtlState::Exited || !c.dropped.empty())
 			continue;
 		Controller::StuckLook &s = c.stuck;
 		const uint64_t n = c.unanswered_waits();

@@ -25,6 +25,7 @@
 #include "tcs/msg_io.h"
 #include "waits.h"
 #include "world_steps.h"
+#include "transitions.h"
 
 namespace tcs {
 
@@ -92,12 +93,12 @@ bool side_wait(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	// Stopped (preempted as this thread began its wait), its threads cannot
 	// be told apart: assume the others run; if they do not, its budget's
 	// check finds them all waiting (block_if_all_waiting).
-	if (c.state == CtlState::Running && runnable_threads(run, c, tid) == 0)
+	if (c.state() == CtlState::Running && runnable_threads(run, c, tid) == 0)
 		return false;
 	// (Its time may be past c.v: a running controller's is settled only as
 	// its slice ends.)
 	c.side.push_back(side_wait_of(m, fd, tid, request_v(run, c, m), run.sim_ns, run.cfg.slack));
-	if (c.state == CtlState::Running) {
+	if (c.state() == CtlState::Running) {
 		budget_to_next_timer(run, c); // (and to the earliest side wait)
 		if (!c.budgeted)
 			arm_watchdog(run, c);
@@ -134,7 +135,7 @@ void hear_threads(Run &run, Controller &c)
 	if (run.hearing || !c.multithreaded())
 		return;
 	run.hearing = true;
-	for (int round = 0; round < 8 && c.state != CtlState::Exited && c.dropped.empty(); round++) {
+	for (int round = 0; round < 8 && c.state() != CtlState::Exited && c.dropped.empty(); round++) {
 		bool any = false;
 		if (c.channel && has_unread_message(c.channel.get())) {
 			on_channel(run, c, nullptr);
@@ -223,9 +224,8 @@ bool set_own_wait_aside(Run &run, Controller &c, int fd)
 	if (!c.wait.active || fd == (c.wait.fd >= 0 ? c.wait.fd : c.channel.get()))
 		return false;
 	demote_wait(run, c);
-	if (c.state == CtlState::Blocked) {
-		c.state = CtlState::Ready;
-		c.wake_pending = false;
+	if (c.state() == CtlState::Blocked) {
+		move(run, c, CtlMove::SetAside);
 	}
 	return true;
 }
@@ -278,19 +278,17 @@ bool wake_threads(Run &run, Controller &c, int64_t at)
 		choose_raiser(run, c, v);
 	if (timer && c.wait.active && !c.sync) {
 		c.v = v;
-		c.wake_arg = (int64_t)c.take_due_timer_signals();
-		wake(run, c, v, TCS_WAKE_SIGNAL);
+		wake(run, c, v, TCS_WAKE_SIGNAL, (int64_t)c.take_due_timer_signals());
 	} else if (own) {
 		bool due = c.wait.deadline <= v;
 		wake(run, c, v, due || c.wait.devices ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK);
 	} else if (!c.sync) {
 		demote_wait(run, c);
 		c.v = v;
-		c.state = CtlState::Ready;
-		c.wake_pending = false;
+		move(run, c, CtlMove::SetAside);
 	} else {
 		c.v = v;
-		c.state = CtlState::Ready; // a device read: complete_sync decides
+		move(run, c, CtlMove::Wake); // a device read: complete_sync decides
 	}
 	c.wait.rechecked_at = run.sim_ns;
 	c.wait.kicked_at = TCS_NEVER;
@@ -352,7 +350,7 @@ bool block_if_all_waiting(Run &run, Controller &c)
 	c.publish_slice(cpu);
 	trace_slice_end(run, c, "blocked", cpu);
 	c.cpu_at_end = cpu;
-	c.state = CtlState::Blocked;
+	move(run, c, CtlMove::Block);
 	c.wait.active = false;
 	demote_wait(run, c);
 	c.others_asleep = proc_thread_count(c.pid) > (int)c.side.size();

@@ -19,19 +19,9 @@
 #include "tcs/protocol.h"
 #include "threads.h"
 #include "world_steps.h"
+#include "transitions.h"
 
 namespace tcs {
-
-void wake(Run &run, Controller &c, int64_t v, uint16_t reason)
-{
-	c.v = std::max(c.v, v);
-	c.state = CtlState::Ready;
-	c.wait.recheck = false;
-	c.wait.kicked_at = TCS_NEVER;
-	c.wait.devices = false;
-	c.wake_pending = true;
-	c.wake_reason = reason;
-}
 
 // Every WAKE goes out here: through c's mailbox if the request came that
 // way and c still spins for it, else on channel fd (with pass_fd, if not
@@ -75,12 +65,10 @@ void send_wake(Run &run, Controller &c)
 
 void answer(Run &run, Controller &c)
 {
-	if (c.state == CtlState::Ready && c.answer_at_resume) {
-		c.wake_pending = true; // (resume sends it)
-		schedule(run);
+	if (c.state() == CtlState::Ready && c.answer_at_resume) {
+		schedule(run); // (resume sends it)
 		return;
 	}
-	c.wake_pending = false;
 	send_wake(run, c);
 }
 
@@ -96,11 +84,10 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		SideWait w = side_wait_of(m, fd, tid, c.v, run.sim_ns, run.cfg.slack);
 		w.wake_reason = TCS_WAKE_EARLY;
 		answer_side(run, c, w);
-		if (c.state == CtlState::Blocked) {
+		if (c.state() == CtlState::Blocked) {
 			// (It was asleep outside the hooks: it runs again.)
 			demote_wait(run, c);
-			c.state = CtlState::Ready;
-			c.wake_pending = false;
+			move(run, c, CtlMove::SetAside);
 			schedule(run);
 		}
 		return;
@@ -111,11 +98,11 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		c.wait.seq = m.seq;
 		if (m.deadline != TCS_NEVER)
 			c.v = std::max(c.v, m.deadline);
-		c.wake_reason = TCS_WAKE_DEADLINE;
+		owe_answer(c, TCS_WAKE_DEADLINE, 0);
 		send_wake(run, c);
 		return;
 	}
-	if (c.state == CtlState::Blocked) {
+	if (c.state() == CtlState::Blocked) {
 		if (c.wait.active && fd == (c.wait.fd >= 0 ? c.wait.fd : c.channel.get())) {
 			drop(run, c, "it asked to wait while already waiting");
 			return;
@@ -144,7 +131,7 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		// ended): answered now, while the controller runs; stopped, it is
 		// answered as it resumes. Its other threads may compute on
 		// without a budget: nothing else would come to end it.
-		if (c.side.back().wake_reason && c.state == CtlState::Running) {
+		if (c.side.back().wake_reason && c.state() == CtlState::Running) {
 			// (At the time its process has reached, as on_early's.)
 			if (run.cfg.mode == TCS_MODE_CPU)
 				c.account(charge_point(run, c, m.cpu), run.cfg.mode);
@@ -154,7 +141,7 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		}
 		return;
 	}
-	if (c.state == CtlState::Running) {
+	if (c.state() == CtlState::Running) {
 		run.lanes.leave(c);
 		// Charged up to the hook's entry (see charge_point).
 		int64_t cpu = charge_point(run, c, m.cpu);
@@ -184,8 +171,7 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	c.wait.for_child = (m.flags & TCS_BLOCK_CHILD) != 0;
 	c.wait.devices = (m.flags & TCS_BLOCK_DEVICES) != 0;
 	c.wait.rechecked_at = run.sim_ns;
-	c.wake_pending = false;
-	c.state = CtlState::Blocked;
+	move(run, c, CtlMove::Block);
 	// Threads asleep outside the hooks: looked at each step (threads.cc).
 	c.others_asleep = c.multithreaded() && proc_thread_count(c.pid) > 1 + (int)c.side.size();
 	child_wait_begins(run, c, m, nullptr);
@@ -199,7 +185,7 @@ void on_early(Run &run, Controller &c, const ::tcs_msg &m, int fd)
 {
 	if (run.ending)
 		return;
-	if (c.state == CtlState::Blocked && c.wait.active && m.seq == c.wait.seq &&
+	if (c.state() == CtlState::Blocked && c.wait.active && m.seq == c.wait.seq &&
 	    fd == (c.wait.fd >= 0 ? c.wait.fd : c.channel.get())) {
 		// A signal another controller sent (told before it was sent)
 		// ends the wait at the sender's time: its handler runs then.
@@ -210,7 +196,7 @@ void on_early(Run &run, Controller &c, const ::tcs_msg &m, int fd)
 		schedule(run);
 		return;
 	}
-	if (c.sync && c.state != CtlState::Running && m.seq == c.wait.seq &&
+	if (c.sync && c.state() != CtlState::Running && m.seq == c.wait.seq &&
 	    fd == (c.wait.fd >= 0 ? c.wait.fd : c.channel.get())) {
 		// A handler ran inside a device read still waiting for its record
 		// (a timer's signal raised in it): the read's wait ends at the
@@ -218,7 +204,6 @@ void on_early(Run &run, Controller &c, const ::tcs_msg &m, int fd)
 		// asks for (a wait) begins then; the read itself goes on after it
 		// (device_requests.c).
 		c.sync.reset();
-		c.wake_arg = 0;
 		wake(run, c, std::max(c.v, run.sim_ns), TCS_WAKE_EARLY);
 		schedule(run);
 		return;
@@ -228,7 +213,7 @@ void on_early(Run &run, Controller &c, const ::tcs_msg &m, int fd)
 		if (w.fd != fd || w.seq != m.seq)
 			continue;
 		w.wake_reason = TCS_WAKE_EARLY;
-		if (c.state == CtlState::Running) {
+		if (c.state() == CtlState::Running) {
 			// Ended by a thread that runs: at that thread's time now (in
 			// cpu mode past the slice's start by what it has computed), so
 			// that what it did is never seen as done before it was.
@@ -237,7 +222,7 @@ void on_early(Run &run, Controller &c, const ::tcs_msg &m, int fd)
 			SideWait done = w;
 			c.side.erase(c.side.begin() + (long)i);
 			answer_side(run, c, done);
-		} else if (c.state == CtlState::Blocked && wake_threads(run, c, std::max(c.v, run.sim_ns))) {
+		} else if (c.state() == CtlState::Blocked && wake_threads(run, c, std::max(c.v, run.sim_ns))) {
 			schedule(run);
 		}
 		return; // (Ready: answered as it resumes)

@@ -8,7 +8,6 @@ namespace tcs {
 
 void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid);
 void on_early(Run &run, Controller &c, const ::tcs_msg &m, int fd);
-void wake(Run &run, Controller &c, int64_t v, uint16_t reason);
 void send_wake(Run &run, Controller &c);
 // c's request answered (its wake_arg and wake_reason set): now, unless c is
 // Ready without being held (woken from asleep), when it goes with its

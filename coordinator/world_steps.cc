@@ -15,6 +15,7 @@
 #include "scheduler.h"
 #include "slices.h"
 #include "tcs/protocol.h"
+#include "transitions.h"
 #include "threads.h"
 #include "waits.h"
 
@@ -83,7 +84,7 @@ void schedule(Run &run)
 			// child registered), it gets one, to where that one needs
 			// the core or the world.
 			for (size_t i = 0; i < run.ctls.size(); i++)
-				if (run.ctls[i]->state == CtlState::Running)
+				if (run.ctls[i]->state() == CtlState::Running)
 					budget_to(run, *run.ctls[i], run_until(run.contenders, i, target, run.cfg.duration_ns));
 			return;
 		case Decision::Idle:
@@ -112,17 +113,17 @@ bool run_best(Run &run, Controller &best, int64_t at, int64_t until)
 	// Asleep outside the hooks, with threads whose waits end now (they
 	// were asleep too, in those waits): it runs again, they first; its
 	// turn passing would leave it first in line at the same time for ever.
-	if (best.asleep && std::any_of(best.side.begin(), best.side.end(),
+	if (best.state() == CtlState::Asleep && std::any_of(best.side.begin(), best.side.end(),
 				       [&](const SideWait &w) { return best.side_due(w, at, run.sim_ns); }))
 		wake_from_asleep(run, best);
-	if (best.asleep && still_asleep(run, best, at)) {
+	if (best.state() == CtlState::Asleep && still_asleep(run, best, at)) {
 		// Looked at: still asleep, its turn passes for this step.
 		best.wait.rechecked_at = run.sim_ns;
 		best.wait.kicked_at = TCS_NEVER;
 		return true;
 	}
 	const int64_t target = run.sim_ns + run.cfg.step_ns;
-	if (best.state == CtlState::Blocked && (!best.side.empty() || best.others_asleep)) {
+	if (best.state() == CtlState::Blocked && (!best.side.empty() || best.others_asleep)) {
 		// Several threads wait: end those due (threads.cc).
 		if (!wake_threads(run, best, at)) {
 			best.wait.rechecked_at = run.sim_ns;
@@ -130,18 +131,17 @@ bool run_best(Run &run, Controller &best, int64_t at, int64_t until)
 				w.rechecked_at = run.sim_ns;
 			return true;
 		}
-	} else if (best.state == CtlState::Blocked && best.next_timer() < best.wait.deadline &&
+	} else if (best.state() == CtlState::Blocked && best.next_timer() < best.wait.deadline &&
 		   raise_timers_in_read(best, at)) {
 		best.wait.rechecked_at = run.sim_ns;
 		return true;
-	} else if (best.state == CtlState::Blocked && best.next_timer() <= at && best.next_timer() < best.wait.deadline) {
+	} else if (best.state() == CtlState::Blocked && best.next_timer() <= at && best.next_timer() < best.wait.deadline) {
 		// A signal timer is due in its wait: send it, and wake it to
 		// re-check (its wait ends with EINTR if a handler ran).
 		best.v = std::max(best.v, at);
-		best.wake_arg = (int64_t)best.take_due_timer_signals();
 		best.wait.rechecked_at = run.sim_ns;
-		wake(run, best, best.v, TCS_WAKE_SIGNAL);
-	} else if (best.state == CtlState::Blocked) {
+		wake(run, best, best.v, TCS_WAKE_SIGNAL, (int64_t)best.take_due_timer_signals());
+	} else if (best.state() == CtlState::Blocked) {
 		bool due = best.wait.deadline < target;
 		best.wait.rechecked_at = run.sim_ns;
 		wake(run, best, due ? std::max(best.v, best.wait.deadline) : at,
@@ -169,28 +169,28 @@ bool run_best(Run &run, Controller &best, int64_t at, int64_t until)
 Contender contender_of(const Run &run, const Controller &c)
 {
 	Contender k;
-	k.exited = c.state == CtlState::Exited;
+	k.exited = c.state() == CtlState::Exited || c.state() == CtlState::Dropped; // (dying)
 	if (k.exited)
 		return k;
-	k.running = c.state == CtlState::Running;
+	k.running = c.state() == CtlState::Running;
 	k.at = next_run_at(run, c);
-	k.rechecks = c.state == CtlState::Blocked &&
+	k.rechecks = waiting(c.state()) &&
 		     (c.wait.recheck || c.others_asleep || std::any_of(c.side.begin(), c.side.end(), [](const SideWait &w) {
 			      return (w.flags & TCS_BLOCK_RECHECK) != 0;
 		      }));
 	const bool for_child = c.wait.for_child || std::any_of(c.side.begin(), c.side.end(), [](const SideWait &w) {
 				       return (w.flags & TCS_BLOCK_CHILD) != 0;
 			       });
-	k.waits_on_running_child = c.state == CtlState::Blocked && for_child &&
+	k.waits_on_running_child = waiting(c.state()) && for_child &&
 				   std::any_of(run.ctls.begin(), run.ctls.end(), [&c](const auto &o) {
-					   return o->parent_id == c.id && o->state == CtlState::Running;
+					   return o->parent_id == c.id && o->state() == CtlState::Running;
 				   });
 	return k;
 }
 
 int64_t next_run_at(const Run &run, const Controller &c)
 {
-	if (c.state == CtlState::Ready || c.state == CtlState::Running)
+	if (c.state() == CtlState::Ready || c.state() == CtlState::Running)
 		return c.v;
 	bool side_recheck = false, side_devices = false;
 	for (const SideWait &w : c.side) {

@@ -137,6 +137,9 @@ def finish(p, timeout, t0):
         raise AssertionError("timed out after %ss: %s\n%s%s" % (timeout, p.args, out[-2000:], err[-2000:]))
     result = Result(p.args, p.returncode, out, err, time.monotonic() - t0)
     assert_nothing_left(p.pid)
+    # The coordinator's transition table (coordinator/controller_state.h)
+    # held for every controller of every run the tests make.
+    check("is not a move it can make" not in err, "no controller made a move its state forbids", result)
     return result
 
 

@@ -1,0 +1,40 @@
+// A controller's moves between states (transitions.h).
+#include "transitions.h"
+
+#include <algorithm>
+
+namespace tcs {
+
+bool move(Run &run, Controller &c, CtlMove m)
+{
+	if (const auto to = after(c.state(), m)) {
+		c.state_ = *to;
+		// Waiting again, or running without an answer: none is owed.
+		if (m == CtlMove::Block || m == CtlMove::SetAside || m == CtlMove::StepAside || m == CtlMove::Awake ||
+		    m == CtlMove::Drop)
+			c.wake_pending = false;
+		return true;
+	}
+	warn_once(run, "controller " + c.name + ": '" + move_name(m) + "' while " + state_name(c.state()) +
+			       " is not a move it can make (a defect of tcs: please report it)");
+	return false;
+}
+
+void owe_answer(Controller &c, uint16_t reason, int64_t result)
+{
+	c.wake_pending = true;
+	c.wake_reason = reason;
+	c.wake_arg = result;
+}
+
+void wake(Run &run, Controller &c, int64_t v, uint16_t reason, int64_t result)
+{
+	c.v = std::max(c.v, v);
+	move(run, c, CtlMove::Wake);
+	c.wait.recheck = false;
+	c.wait.kicked_at = TCS_NEVER;
+	c.wait.devices = false;
+	owe_answer(c, reason, result);
+}
+
+} // namespace tcs

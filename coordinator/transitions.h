@@ -1,0 +1,18 @@
+// The one writer of a controller's state (controller_state.h's table): every
+// change of it is a move made here, checked against the table.
+#pragma once
+
+#include "run.h"
+
+namespace tcs {
+
+// Makes move m of c, if the table allows it from c's state; else says so
+// once (a defect of tcs) and leaves c as it is. True if made.
+bool move(Run &run, Controller &c, CtlMove m);
+// c's request is answered, for `reason` (TCS_WAKE_*) with `result`: its
+// WAKE is owed (sent as it resumes, or now by answer()).
+void owe_answer(Controller &c, uint16_t reason, int64_t result);
+// What c waits in ends at v (at least): it is Ready, its answer owed.
+void wake(Run &run, Controller &c, int64_t v, uint16_t reason, int64_t result = 0);
+
+} // namespace tcs
