@@ -88,7 +88,7 @@ void on_child(Run &run, Controller &parent, const ::tcs_msg &m, UniqueFd channel
 	c.wait.seq = m.seq;
 	move(run, c, CtlMove::Block);
 	c.wait.deadline = c.wait.asked = c.v;
-	c.wake_fd = c.page_fd_for_child.release();
+	c.wait.pass_fd = c.page_fd_for_child.release();
 	run.ctls.push_back(std::move(*made));
 	Controller *raw = run.ctls.back().get();
 	trace_controller(run, *raw);
@@ -226,7 +226,7 @@ bool has_real_time_child(Run &run, Controller &c)
 // for it just before, and the exit came between its look and its wait), it
 // re-checks at once, at the child's end if that is later (what it finds
 // then must not have ended in its future).
-void child_wait_begins(Run &run, Controller &c, const ::tcs_msg &m, SideWait *side)
+void child_wait_begins(Run &run, Controller &c, const ::tcs_msg &m, Request *side)
 {
 	if (!(m.flags & TCS_BLOCK_CHILD))
 		return;
@@ -242,7 +242,7 @@ void child_wait_begins(Run &run, Controller &c, const ::tcs_msg &m, SideWait *si
 		return;
 	c.child_ended = false;
 	if (side)
-		side->wake_reason = TCS_WAKE_RECHECK;
+		side->reason = TCS_WAKE_RECHECK;
 	else
 		wake(run, c, std::max(c.v, c.child_ended_at), TCS_WAKE_RECHECK);
 }

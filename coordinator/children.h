@@ -11,6 +11,6 @@ void on_forked(Run &run, Controller &c, const ::tcs_msg &m);
 void on_exec_look(Run &run);
 void child_settled(Run &run, Controller &parent);
 bool has_real_time_child(Run &run, Controller &c);
-void child_wait_begins(Run &run, Controller &c, const ::tcs_msg &m, SideWait *side);
+void child_wait_begins(Run &run, Controller &c, const ::tcs_msg &m, Request *side);
 
 } // namespace tcs

@@ -182,8 +182,8 @@ Result<std::unique_ptr<Controller>> Controller::adopt(int id, const Controller &
 
 Controller::~Controller()
 {
-	if (wake_fd >= 0)
-		close(wake_fd);
+	if (wait.pass_fd >= 0)
+		close(wait.pass_fd);
 	if (state_ != CtlState::Exited && pid > 0) {
 		kill(pid, SIGKILL); // never leave one behind, stopped or not
 		siginfo_t si;
@@ -200,31 +200,18 @@ int64_t Controller::cpu_now() const
 	return tcs_ts_to_ns(&ts);
 }
 
-SideWait Controller::own_wait() const
+Request Controller::own_wait() const
 {
-	SideWait w;
+	Request w = wait;
 	w.fd = wait.fd >= 0 ? wait.fd : channel.get();
-	w.tid = wait.tid;
-	w.seq = wait.seq;
-	w.deadline = wait.deadline;
-	w.asked = wait.asked;
-	w.flags = wait.flags;
-	w.kind = wait.kind;
-	w.requested_at = wait.requested_at;
-	w.rechecked_at = wait.rechecked_at;
+	if (!wait.owed) // (an answer owed to it goes with it)
+		w.reason = 0, w.result = 0;
 	return w;
 }
 
-void Controller::take_wait(const SideWait &w)
+void Controller::take_wait(const Request &w)
 {
-	wait.fd = w.fd;
-	wait.tid = w.tid;
-	wait.seq = w.seq;
-	wait.deadline = w.deadline;
-	wait.asked = w.asked;
-	wait.flags = w.flags;
-	wait.kind = w.kind;
-	wait.requested_at = w.requested_at;
+	static_cast<Request &>(wait) = w;
 	wait.active = true;
 }
 
@@ -460,9 +447,9 @@ void Controller::kick(int64_t at)
 
 void Controller::recheck_side_waits()
 {
-	for (SideWait &w : side)
-		if (w.wake_reason == 0)
-			w.wake_reason = TCS_WAKE_RECHECK;
+	for (Request &w : side)
+		if (w.reason == 0)
+			w.reason = TCS_WAKE_RECHECK;
 }
 
 ChannelState &Controller::channel_state(int fd)
@@ -476,14 +463,14 @@ ChannelState &Controller::channel_state(int fd)
 int64_t Controller::side_next() const
 {
 	int64_t next = TCS_NEVER;
-	for (const SideWait &w : side)
+	for (const Request &w : side)
 		next = std::min(next, w.deadline);
 	return next;
 }
 
-bool Controller::side_due(const SideWait &w, int64_t at, int64_t sim_ns) const
+bool Controller::side_due(const Request &w, int64_t at, int64_t sim_ns) const
 {
-	return w.wake_reason != 0 || w.deadline <= at || ((w.flags & TCS_BLOCK_RECHECK) && w.rechecked_at < sim_ns) ||
+	return w.reason != 0 || w.deadline <= at || ((w.flags & TCS_BLOCK_RECHECK) && w.rechecked_at < sim_ns) ||
 	       ((w.flags & TCS_BLOCK_DEVICES) && next_record_due(*this) <= at);
 }
 

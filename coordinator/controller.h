@@ -87,22 +87,27 @@ struct ThreadChannel {
 	ChannelState state;
 };
 
-// A thread's wait that is not the controller's own: another thread ran on
+// A request of one of the controller's threads that the coordinator holds
+// unanswered: where its answer goes, what it asked, when it ends by itself,
+// and once it is to end, why and with what result. A thread's wait beside
+// the controller's own is one (Controller::side): another thread ran on
 // when it began, or the controller waits in another thread's wait. It ends
 // at its deadline (or a re-check, or an EARLY), when the controller is
 // resumed there; the controller's virtual time passes only while no thread
 // can run (scheduler.cc).
-struct SideWait {
-	int fd = -1; // the channel to answer on
-	pid_t tid = 0; // the thread waiting
+struct Request {
+	int fd = -1;      // the channel it came on, and its answer goes on
+	pid_t tid = 0;    // the thread that sent it
 	uint32_t seq = 0;
-	int64_t deadline = TCS_NEVER; // when it ends by its timeout
+	const char *kind = ""; // the trace's name for it (block_kind_name)
+	uint16_t flags = 0;    // its TCS_BLOCK_* flags, as asked
+	int64_t requested_at = 0; // the virtual time it was asked at (its WAKE says)
 	int64_t asked = TCS_NEVER;    // the deadline asked for (deadline less its slack)
-	uint16_t flags = 0; // TCS_BLOCK_*
-	const char *kind = "";
-	int64_t requested_at = 0;
-	int64_t rechecked_at = 0;
-	uint16_t wake_reason = 0; // set when it is to end
+	int64_t deadline = TCS_NEVER; // when its timeout ends it
+	int64_t rechecked_at = 0;     // the world's time at its last re-check
+	uint16_t reason = 0; // TCS_WAKE_*: set when it is to end
+	int64_t result = 0;  // what its WAKE carries (arg)
+	bool absolute() const { return (flags & TCS_BLOCK_ABSOLUTE) != 0; } // a periodic loop's
 };
 
 // The trace's name for a wait of kind TCS_BLOCK_*.
@@ -122,12 +127,11 @@ inline int64_t timeout_end(const ::tcs_msg &m, bool slack)
 	return slack ? tcs_ns_add(m.deadline, std::min(m.slack, kMostSlack)) : m.deadline;
 }
 
-// A thread's BLOCK m on channel fd, waiting beside the controller, asked at
-// virtual time v and last looked at when the world was at `now`; slack as
-// timeout_end's.
-inline SideWait side_wait_of(const ::tcs_msg &m, int fd, pid_t tid, int64_t v, int64_t now, bool slack)
+// A thread's BLOCK m on channel fd, asked at virtual time v and last
+// looked at when the world was at `now`; slack as timeout_end's.
+inline Request request_of(const ::tcs_msg &m, int fd, pid_t tid, int64_t v, int64_t now, bool slack)
 {
-	SideWait w;
+	Request w;
 	w.fd = fd;
 	w.tid = tid;
 	w.seq = m.seq;
@@ -140,24 +144,18 @@ inline SideWait side_wait_of(const ::tcs_msg &m, int fd, pid_t tid, int64_t v, i
 	return w;
 }
 
-// The controller's own request being served (a BLOCK, or a device request
-// answered later) and, while it is Blocked, what ends its wait. A thread's
-// wait beside it is a SideWait (own_wait() and take_wait() convert).
-struct OwnWait {
+// The controller's own request being served (a BLOCK, or any request
+// answered later: a device read's, a fork's) and, while it is Blocked, what
+// ends its wait. A thread's wait beside it is a plain Request (own_wait()
+// and take_wait() convert).
+struct OwnWait : Request {
+	OwnWait() { deadline = asked = 0, rechecked_at = -1, fd = -1; } // (fd -1: the main channel)
 	bool active = false;      // a BLOCK is being served (for the trace)
-	uint32_t seq = 0;         // the request being served
-	int fd = -1;              // the channel it came on (-1: the main one)
-	pid_t tid = 0;            // the thread that sent it
-	uint16_t flags = 0;       // its TCS_BLOCK_* flags
-	const char *kind = "";    // the trace's name for it
-	int64_t requested_at = 0; // the virtual time it was asked at (its WAKE says)
-	bool absolute = false;    // an absolute deadline (a periodic loop's)
-	int64_t deadline = 0;     // when Blocked: when its timeout ends it
-	int64_t asked = 0;        // the deadline asked for (deadline less its slack)
+	bool owed = false;        // its answer is to be sent (reason and result say what)
+	int pass_fd = -1;         // an fd its answer passes (owned until sent)
 	bool recheck = false;     // Blocked with per-step re-checks
 	bool for_child = false;   // Blocked in wait/waitpid: a child's end wakes it
 	bool devices = false;     // Blocked, and a record due on a sensor ends it
-	int64_t rechecked_at = -1;     // the world's time at its last re-check
 	int64_t kicked_at = TCS_NEVER; // signalled by another controller then
 };
 
@@ -217,8 +215,8 @@ public:
 	void count_raised_signal();
 	uint64_t raised_signals() const { return signals_raised_; }
 	// Its own wait (wait.active) as a side wait, and a side wait made its own.
-	SideWait own_wait() const;
-	void take_wait(const SideWait &w);
+	Request own_wait() const;
+	void take_wait(const Request &w);
 	const tcs_slice &slice() const { return slice_; }
 	// Real CPU the current slice has used up to cpu (the runtime's own cost
 	// excluded: its hooks' and its CPU-clock reads').
@@ -299,7 +297,7 @@ public:
 	// own, and whether it is blocked with threads asleep outside the hooks.
 	ChannelState main_state;
 	std::vector<std::unique_ptr<ThreadChannel>> threads;
-	std::vector<SideWait> side;
+	std::vector<Request> side;
 	bool others_asleep = false;
 	// Threads seen without a channel: when first seen (wall ns).
 	std::map<pid_t, int64_t> thread_first_seen;
@@ -312,20 +310,16 @@ public:
 	// The earliest deadline of its threads' waits beside its own.
 	int64_t side_next() const;
 	// A thread's wait w ends by virtual time `at` (the world at sim_ns).
-	bool side_due(const SideWait &w, int64_t at, int64_t sim_ns) const;
+	bool side_due(const Request &w, int64_t at, int64_t sim_ns) const;
 	bool child_ended = false;     // a child ended while it was not waiting for one
 	int64_t child_ended_at = 0;   // the latest such child's virtual time at its end
 	bool outside = false;         // its program runs without the preload: real time
 	// Children seen running outside tcs: when first seen (wall ns; -1: said).
 	std::map<pid_t, int64_t> unregistered_children;
-	bool wake_pending = false; // Ready after a wait: WAKE still to send
-	uint16_t wake_reason = 0;
 	// Devices: what this controller has open (handle = index), and a
 	// device request it is waiting on (for the world, or for a record).
 	std::vector<std::unique_ptr<OpenDevice>> devices;
 	std::optional<DeviceSync> sync;
-	int64_t wake_arg = 0;       // the result the next WAKE carries
-	int wake_fd = -1;           // an fd the next WAKE passes (owned until sent)
 
 	std::array<SignalTimer, TCS_MAX_TIMERS> timers;
 	// The earliest expiry (TCS_NEVER: none), kept as timers change: the

@@ -107,7 +107,7 @@ void on_dev_open(Run &run, Controller &c, const ::tcs_msg &m)
 		c.devices.push_back(std::move(d));
 	else
 		c.devices[slot] = std::move(d);
-	c.wake_fd = sv[1];
+	c.wait.pass_fd = sv[1];
 	reply_now(run, c, (int64_t)slot);
 }
 

@@ -99,9 +99,9 @@ void on_exit(Run &run, Controller &c, int wait_status)
 		if (p->id != c.parent_id)
 			continue;
 		bool seen = false;
-		for (SideWait &w : p->side)
+		for (Request &w : p->side)
 			if (w.flags & TCS_BLOCK_CHILD) {
-				w.wake_reason = TCS_WAKE_RECHECK;
+				w.reason = TCS_WAKE_RECHECK;
 				seen = true;
 			}
 		// A thread of a running parent waits for it: answered now, at the

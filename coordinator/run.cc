@@ -190,14 +190,14 @@ void begin_end(Run &run, EndReason reason, int signo)
 			// and where its clocks go on from (its page still held the
 			// slice before its wait: a program's last reads went back).
 			c->v = std::max(c->v, std::min(c->wait.deadline, run.sim_ns));
-			owe_answer(*c, TCS_WAKE_DEADLINE, c->wake_arg);
+			owe_answer(*c, TCS_WAKE_DEADLINE, c->wait.result);
 			c->publish_slice(c->cpu_at_end >= 0 ? c->cpu_at_end : c->cpu_now());
 			c->cpu_at_end = -1;
 		}
 		if (!dies) {
 			if (c->sync)
 				complete_sync(run, *c); // the world has stopped: a read gets its last state
-			if (c->wake_pending)
+			if (c->wait.owed)
 				send_wake(run, *c);
 			end_all_side_waits(run, *c);
 		}

@@ -75,7 +75,7 @@ void thread_gone(Run &run, Controller &c, ThreadChannel *t)
 {
 	int fd = t->fd.get();
 	run.loop.remove(fd);
-	c.side.erase(std::remove_if(c.side.begin(), c.side.end(), [fd](const SideWait &w) { return w.fd == fd; }),
+	c.side.erase(std::remove_if(c.side.begin(), c.side.end(), [fd](const Request &w) { return w.fd == fd; }),
 		     c.side.end());
 	if (c.wait.fd == fd) {
 		c.wait.fd = -1;
@@ -97,7 +97,7 @@ bool side_wait(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		return false;
 	// (Its time may be past c.v: a running controller's is settled only as
 	// its slice ends.)
-	c.side.push_back(side_wait_of(m, fd, tid, request_v(run, c, m), run.sim_ns, run.cfg.slack));
+	c.side.push_back(request_of(m, fd, tid, request_v(run, c, m), run.sim_ns, run.cfg.slack));
 	if (c.state() == CtlState::Running) {
 		budget_to_next_timer(run, c); // (and to the earliest side wait)
 		if (!c.budgeted)
@@ -174,7 +174,7 @@ int runnable_threads(Run &run, Controller &c, pid_t also)
 	waiting.push_back(also);
 	if (c.wait.active)
 		waiting.push_back(c.wait.tid);
-	for (const SideWait &w : c.side)
+	for (const Request &w : c.side)
 		waiting.push_back(w.tid);
 	int64_t now = -1;
 	int runnable = 0;
@@ -212,6 +212,7 @@ void demote_wait(Run &, Controller &c)
 	if (c.wait.active) {
 		c.side.push_back(c.own_wait());
 		c.wait.active = false;
+		c.wait.owed = false; // (it went with it)
 	}
 	c.wait.deadline = TCS_NEVER;
 	c.wait.recheck = false;
@@ -238,12 +239,12 @@ bool set_own_wait_aside(Run &run, Controller &c, int fd)
 static void choose_raiser(Run &run, Controller &c, int64_t at)
 {
 	pid_t tid = c.due_timer_thread(at);
-	auto target = std::find_if(c.side.begin(), c.side.end(), [&](const SideWait &w) { return tid > 0 && w.tid == tid; });
+	auto target = std::find_if(c.side.begin(), c.side.end(), [&](const Request &w) { return tid > 0 && w.tid == tid; });
 	if (target == c.side.end() && (c.wait.active || c.side.empty()))
 		return;
 	if (target == c.side.end())
 		target = c.side.begin();
-	SideWait raiser = *target;
+	Request raiser = *target;
 	c.side.erase(target);
 	demote_wait(run, c);
 	c.take_wait(raiser);
@@ -262,7 +263,7 @@ bool wake_threads(Run &run, Controller &c, int64_t at)
 	bool own = c.wait.active && !c.sync &&
 		   (c.wait.deadline <= v || c.wait.kicked_at <= v || (c.wait.recheck && c.wait.rechecked_at < run.sim_ns) ||
 		    (c.wait.devices && next_record_due(c) <= v));
-	bool side = std::any_of(c.side.begin(), c.side.end(), [&](const SideWait &w) { return c.side_due(w, v, run.sim_ns); });
+	bool side = std::any_of(c.side.begin(), c.side.end(), [&](const Request &w) { return c.side_due(w, v, run.sim_ns); });
 	// Its own record due though no request of its own is held (its last
 	// was answered, its threads waited on): it runs, or it would be first
 	// in line at that time for ever.
@@ -295,15 +296,16 @@ bool wake_threads(Run &run, Controller &c, int64_t at)
 	return true;
 }
 
-void answer_side(Run &run, Controller &c, const SideWait &w)
+void answer_side(Run &run, Controller &c, const Request &w)
 {
 	c.channel_state(w.fd).unanswered = 0;
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_WAKE, w.seq);
-	m.kind = w.wake_reason;
+	m.kind = w.reason;
 	m.v = c.v;
+	m.arg = w.result;
 	send_answer(run, c, w.fd, m, -1);
 	if (run.trace.is_open())
-		run.trace.wait(c.id, w.kind, w.requested_at, w.asked, c.v, (w.flags & TCS_BLOCK_ABSOLUTE) != 0);
+		run.trace.wait(c.id, w.kind, w.requested_at, w.asked, c.v, w.absolute());
 }
 
 // Ends the side waits due at c's time (as it is resumed, its sensors'
@@ -311,18 +313,18 @@ void answer_side(Run &run, Controller &c, const SideWait &w)
 void end_side_waits(Run &run, Controller &c)
 {
 	for (size_t i = 0; i < c.side.size();) {
-		SideWait &w = c.side[i];
+		Request &w = c.side[i];
 		if (!c.side_due(w, c.v, run.sim_ns)) {
 			if (w.flags & TCS_BLOCK_RECHECK)
 				w.rechecked_at = run.sim_ns;
 			i++;
 			continue;
 		}
-		if (w.wake_reason == 0)
-			w.wake_reason = w.deadline <= c.v || (w.flags & TCS_BLOCK_DEVICES) ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK;
+		if (w.reason == 0)
+			w.reason = w.deadline <= c.v || (w.flags & TCS_BLOCK_DEVICES) ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK;
 		if (w.deadline != TCS_NEVER && w.deadline <= c.v)
-			w.wake_reason = TCS_WAKE_DEADLINE;
-		SideWait done = w;
+			w.reason = TCS_WAKE_DEADLINE;
+		Request done = w;
 		c.side.erase(c.side.begin() + (long)i);
 		answer_side(run, c, done);
 	}
@@ -331,8 +333,8 @@ void end_side_waits(Run &run, Controller &c)
 // At the end of the run every wait ends at once.
 void end_all_side_waits(Run &run, Controller &c)
 {
-	for (SideWait &w : c.side) {
-		w.wake_reason = TCS_WAKE_DEADLINE;
+	for (Request &w : c.side) {
+		w.reason = TCS_WAKE_DEADLINE;
 		answer_side(run, c, w);
 	}
 	c.side.clear();

@@ -19,7 +19,7 @@ void demote_wait(Run &run, Controller &c);
 bool set_own_wait_aside(Run &run, Controller &c, int fd);
 bool wake_threads(Run &run, Controller &c, int64_t at);
 void end_side_waits(Run &run, Controller &c);
-void answer_side(Run &run, Controller &c, const SideWait &w);
+void answer_side(Run &run, Controller &c, const Request &w);
 bool block_if_all_waiting(Run &run, Controller &c);
 void end_all_side_waits(Run &run, Controller &c);
 int runnable_threads(Run &run, Controller &c, pid_t also);

@@ -12,7 +12,7 @@ bool move(Run &run, Controller &c, CtlMove m)
 		// Waiting again, or running without an answer: none is owed.
 		if (m == CtlMove::Block || m == CtlMove::SetAside || m == CtlMove::StepAside || m == CtlMove::Awake ||
 		    m == CtlMove::Drop)
-			c.wake_pending = false;
+			c.wait.owed = false;
 		return true;
 	}
 	warn_once(run, "controller " + c.name + ": '" + move_name(m) + "' while " + state_name(c.state()) +
@@ -22,9 +22,9 @@ bool move(Run &run, Controller &c, CtlMove m)
 
 void owe_answer(Controller &c, uint16_t reason, int64_t result)
 {
-	c.wake_pending = true;
-	c.wake_reason = reason;
-	c.wake_arg = result;
+	c.wait.owed = true;
+	c.wait.reason = reason;
+	c.wait.result = result;
 }
 
 void wake(Run &run, Controller &c, int64_t v, uint16_t reason, int64_t result)

@@ -45,22 +45,22 @@ void send_wake(Run &run, Controller &c)
 	int fd = c.wait.fd >= 0 ? c.wait.fd : c.channel.get();
 	c.channel_state(fd).unanswered = 0;
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_WAKE, c.wait.seq);
-	m.kind = c.wake_reason;
+	m.kind = c.wait.reason;
 	m.flags = TCS_WAKE_STARTS_SLICE;
 	m.v = c.v;
-	m.arg = c.wake_arg;
+	m.arg = c.wait.result;
 	m.deadline = c.wait.requested_at; // (what a recording controller journals: tcs/journal.h)
 	if (&c != run.ctls.front().get() || ++run.first_wakes != run.cfg.realtime.lose_wake)
-		send_answer(run, c, fd, m, c.wake_fd);
-	if (c.wake_fd >= 0) {
-		close(c.wake_fd);
-		c.wake_fd = -1;
+		send_answer(run, c, fd, m, c.wait.pass_fd);
+	if (c.wait.pass_fd >= 0) {
+		close(c.wait.pass_fd);
+		c.wait.pass_fd = -1;
 	}
 	if (c.wait.active && run.trace.is_open())
-		run.trace.wait(c.id, c.wait.kind, c.wait.requested_at, c.wait.asked, c.v, c.wait.absolute);
+		run.trace.wait(c.id, c.wait.kind, c.wait.requested_at, c.wait.asked, c.v, c.wait.absolute());
 	c.wait.active = false;
-	c.wake_arg = 0;
-	c.wake_pending = false;
+	c.wait.result = 0;
+	c.wait.owed = false;
 }
 
 void answer(Run &run, Controller &c)
@@ -81,8 +81,8 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		// Another thread ended this wait before it began.
 		st.early_ahead = 0;
 		c.stats.count_wait(m);
-		SideWait w = side_wait_of(m, fd, tid, c.v, run.sim_ns, run.cfg.slack);
-		w.wake_reason = TCS_WAKE_EARLY;
+		Request w = request_of(m, fd, tid, c.v, run.sim_ns, run.cfg.slack);
+		w.reason = TCS_WAKE_EARLY;
 		answer_side(run, c, w);
 		if (c.state() == CtlState::Blocked) {
 			// (It was asleep outside the hooks: it runs again.)
@@ -108,9 +108,9 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 			return;
 		}
 		// A thread that was asleep outside the hooks woke and waits now.
-		c.side.push_back(side_wait_of(m, fd, tid, c.v, run.sim_ns, run.cfg.slack));
+		c.side.push_back(request_of(m, fd, tid, c.v, run.sim_ns, run.cfg.slack));
 		if (c.missed_raised_signal(m))
-			c.side.back().wake_reason = TCS_WAKE_RECHECK;
+			c.side.back().reason = TCS_WAKE_RECHECK;
 		child_wait_begins(run, c, m, &c.side.back());
 		c.stats.count_wait(m);
 		hear_threads(run, c);
@@ -126,16 +126,16 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 				c.stats.reported_misses++;
 		}
 		if (c.missed_raised_signal(m))
-			c.side.back().wake_reason = TCS_WAKE_RECHECK;
+			c.side.back().reason = TCS_WAKE_RECHECK;
 		// Ended as it began (a signal raised unseen, a child already
 		// ended): answered now, while the controller runs; stopped, it is
 		// answered as it resumes. Its other threads may compute on
 		// without a budget: nothing else would come to end it.
-		if (c.side.back().wake_reason && c.state() == CtlState::Running) {
+		if (c.side.back().reason && c.state() == CtlState::Running) {
 			// (At the time its process has reached, as on_early's.)
 			if (run.cfg.mode == TCS_MODE_CPU)
 				c.account(charge_point(run, c, m.cpu), run.cfg.mode);
-			SideWait w = c.side.back();
+			Request w = c.side.back();
 			c.side.pop_back();
 			answer_side(run, c, w);
 		}
@@ -157,20 +157,11 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		if (m.deadline <= c.v)
 			c.stats.reported_misses++; // TCS_PAGE_REPORT_MISSES
 	}
-	c.wait.seq = m.seq;
-	c.wait.fd = fd;
-	c.wait.tid = tid;
-	c.wait.flags = m.flags;
-	c.wait.deadline = timeout_end(m, run.cfg.slack);
-	c.wait.asked = m.deadline;
+	static_cast<Request &>(c.wait) = request_of(m, fd, tid, c.v, run.sim_ns, run.cfg.slack);
 	c.wait.active = true;
-	c.wait.kind = block_kind_name(m.kind);
-	c.wait.requested_at = c.v;
-	c.wait.absolute = (m.flags & TCS_BLOCK_ABSOLUTE) != 0;
 	c.wait.recheck = (m.flags & TCS_BLOCK_RECHECK) != 0;
 	c.wait.for_child = (m.flags & TCS_BLOCK_CHILD) != 0;
 	c.wait.devices = (m.flags & TCS_BLOCK_DEVICES) != 0;
-	c.wait.rechecked_at = run.sim_ns;
 	move(run, c, CtlMove::Block);
 	// Threads asleep outside the hooks: looked at each step (threads.cc).
 	c.others_asleep = c.multithreaded() && proc_thread_count(c.pid) > 1 + (int)c.side.size();
@@ -209,17 +200,17 @@ void on_early(Run &run, Controller &c, const ::tcs_msg &m, int fd)
 		return;
 	}
 	for (size_t i = 0; i < c.side.size(); i++) {
-		SideWait &w = c.side[i];
+		Request &w = c.side[i];
 		if (w.fd != fd || w.seq != m.seq)
 			continue;
-		w.wake_reason = TCS_WAKE_EARLY;
+		w.reason = TCS_WAKE_EARLY;
 		if (c.state() == CtlState::Running) {
 			// Ended by a thread that runs: at that thread's time now (in
 			// cpu mode past the slice's start by what it has computed), so
 			// that what it did is never seen as done before it was.
 			if (run.cfg.mode == TCS_MODE_CPU)
 				c.account(charge_point(run, c, m.cpu), run.cfg.mode);
-			SideWait done = w;
+			Request done = w;
 			c.side.erase(c.side.begin() + (long)i);
 			answer_side(run, c, done);
 		} else if (c.state() == CtlState::Blocked && wake_threads(run, c, std::max(c.v, run.sim_ns))) {

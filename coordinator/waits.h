@@ -9,7 +9,7 @@ namespace tcs {
 void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid);
 void on_early(Run &run, Controller &c, const ::tcs_msg &m, int fd);
 void send_wake(Run &run, Controller &c);
-// c's request answered (its wake_arg and wake_reason set): now, unless c is
+// c's request answered (owe_answer): now, unless c is
 // Ready without being held (woken from asleep), when it goes with its
 // resume.
 void answer(Run &run, Controller &c);

@@ -114,7 +114,7 @@ bool run_best(Run &run, Controller &best, int64_t at, int64_t until)
 	// were asleep too, in those waits): it runs again, they first; its
 	// turn passing would leave it first in line at the same time for ever.
 	if (best.state() == CtlState::Asleep && std::any_of(best.side.begin(), best.side.end(),
-				       [&](const SideWait &w) { return best.side_due(w, at, run.sim_ns); }))
+				       [&](const Request &w) { return best.side_due(w, at, run.sim_ns); }))
 		wake_from_asleep(run, best);
 	if (best.state() == CtlState::Asleep && still_asleep(run, best, at)) {
 		// Looked at: still asleep, its turn passes for this step.
@@ -127,7 +127,7 @@ bool run_best(Run &run, Controller &best, int64_t at, int64_t until)
 		// Several threads wait: end those due (threads.cc).
 		if (!wake_threads(run, best, at)) {
 			best.wait.rechecked_at = run.sim_ns;
-			for (SideWait &w : best.side)
+			for (Request &w : best.side)
 				w.rechecked_at = run.sim_ns;
 			return true;
 		}
@@ -155,7 +155,7 @@ bool run_best(Run &run, Controller &best, int64_t at, int64_t until)
 		// (What they then compute before they wait again is not charged:
 		// the controller is Blocked on the read until it resumes.)
 		if (std::any_of(best.side.begin(), best.side.end(),
-				[&](const SideWait &w) { return best.side_due(w, best.v, run.sim_ns); })) {
+				[&](const Request &w) { return best.side_due(w, best.v, run.sim_ns); })) {
 			best.publish_slice(best.cpu_at_end >= 0 ? best.cpu_at_end : best.cpu_now()); // (their clocks)
 			end_side_waits(run, best);
 		}
@@ -175,10 +175,10 @@ Contender contender_of(const Run &run, const Controller &c)
 	k.running = c.state() == CtlState::Running;
 	k.at = next_run_at(run, c);
 	k.rechecks = waiting(c.state()) &&
-		     (c.wait.recheck || c.others_asleep || std::any_of(c.side.begin(), c.side.end(), [](const SideWait &w) {
+		     (c.wait.recheck || c.others_asleep || std::any_of(c.side.begin(), c.side.end(), [](const Request &w) {
 			      return (w.flags & TCS_BLOCK_RECHECK) != 0;
 		      }));
-	const bool for_child = c.wait.for_child || std::any_of(c.side.begin(), c.side.end(), [](const SideWait &w) {
+	const bool for_child = c.wait.for_child || std::any_of(c.side.begin(), c.side.end(), [](const Request &w) {
 				       return (w.flags & TCS_BLOCK_CHILD) != 0;
 			       });
 	k.waits_on_running_child = waiting(c.state()) && for_child &&
@@ -193,10 +193,10 @@ int64_t next_run_at(const Run &run, const Controller &c)
 	if (c.state() == CtlState::Ready || c.state() == CtlState::Running)
 		return c.v;
 	bool side_recheck = false, side_devices = false;
-	for (const SideWait &w : c.side) {
+	for (const Request &w : c.side) {
 		side_recheck |= (w.flags & TCS_BLOCK_RECHECK) && w.rechecked_at < run.sim_ns;
 		side_devices |= (w.flags & TCS_BLOCK_DEVICES) != 0;
-		if (w.wake_reason)
+		if (w.reason)
 			return c.v;
 	}
 	if (((c.wait.recheck || c.others_asleep) && c.wait.rechecked_at < run.sim_ns) || side_recheck)
