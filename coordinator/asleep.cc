@@ -24,7 +24,7 @@ void arm_watchdog(Run &run, Controller &c)
 	// Only worth it when someone else may be waiting for the core, or
 	// when its threads may all be waiting.
 	Lane *lane = run.lanes.of(c);
-	if (!lane || (alive_controllers(run) < 2 && c.side.empty()))
+	if (!lane || (alive_controllers(run) < 2 && c.side_waits.empty()))
 		return;
 	// A lane's watchdog ticks while it has controllers to look at, rather
 	// than being armed and disarmed with each slice (two system calls a
@@ -57,21 +57,21 @@ void on_watchdog(Run &run, Lane &lane)
 // The watchdog's look at a running controller; true if it stepped aside.
 bool look_at(Run &run, Controller &c)
 {
-	if (c.look.slice != c.slices) {
+	if (c.watchdog_look.slice != c.slices) {
 		// A slice begun since the last tick: look from its start.
-		c.look.slice = c.slices;
-		c.look.cpu = c.slice().cpu_base; // read as it began: no system call
-		c.look.asleep_times = 0;
+		c.watchdog_look.slice = c.slices;
+		c.watchdog_look.cpu = c.slice().cpu_base; // read as it began: no system call
+		c.watchdog_look.asleep_times = 0;
 		return false;
 	}
 	int64_t cpu = c.cpu_now();
 	// Asleep twice in a row, and not in a request of ours (waiting for its
 	// child to register after a fork, it is asleep in our hands). (One
 	// queued behind others on its core is runnable, not asleep.)
-	bool asleep = cpu - c.look.cpu <= kWatchdog / 100 && c.awaiting.pid == 0 && proc_all_threads_asleep(c.pid);
-	c.look.asleep_times = asleep ? c.look.asleep_times + 1 : 0;
-	c.look.cpu = cpu;
-	return c.look.asleep_times >= 2 && (block_if_all_waiting(run, c) || step_aside_if_asleep(run, c));
+	bool asleep = cpu - c.watchdog_look.cpu <= kWatchdog / 100 && c.new_child.pid == 0 && proc_all_threads_asleep(c.pid);
+	c.watchdog_look.asleep_times = asleep ? c.watchdog_look.asleep_times + 1 : 0;
+	c.watchdog_look.cpu = cpu;
+	return c.watchdog_look.asleep_times >= 2 && (block_if_all_waiting(run, c) || step_aside_if_asleep(run, c));
 }
 
 // The running controller, found making no progress: if every thread of it
@@ -82,19 +82,19 @@ bool step_aside_if_asleep(Run &run, Controller &c)
 	// (Not with a request unread: stepped aside, the world's time would
 	// pass over it uncharged, and a replay, which has no such stop,
 	// charged those milliseconds as CPU.)
-	if (alive_controllers(run) < 2 || c.awaiting.pid != 0 || !proc_all_threads_asleep(c.pid) || request_unread(c))
+	if (alive_controllers(run) < 2 || c.new_child.pid != 0 || !proc_all_threads_asleep(c.pid) || request_unread(c))
 		return false;
-	if (!c.outside && !proc_maps_library(c.pid, "libtcs_preload")) {
+	if (!c.runs_unhooked && !proc_maps_library(c.pid, "libtcs_preload")) {
 		// It has exec'd a program that runs without tcs's hooks: from
 		// now on it is the world's, in real time, till it ends.
-		c.outside = true;
+		c.runs_unhooked = true;
 		warn_once(run, "process " + std::to_string(c.pid) + " (" + proc_name(c.pid, c.name) +
 			  ") runs in real time: it started a program without tcs's preload (a static program, or "
 			  "LD_PRELOAD removed from its environment)");
 	}
 	run.devices.take_lazy_commands(c, -1, run.trace); // written before it fell asleep, at its time then
 	int64_t cpu = c.cpu_now();
-	c.look.asleep_times = 0;
+	c.watchdog_look.asleep_times = 0;
 	run.lanes.leave(c);
 	c.account(cpu, run.cfg.mode);
 	c.publish_slice(cpu);
@@ -119,7 +119,7 @@ bool still_asleep(Run &run, Controller &c, int64_t at)
 {
 	if (c.state() != CtlState::Asleep)
 		return false;
-	if (c.outside)
+	if (c.runs_unhooked)
 		return true; // not ours to run: its end is all that is awaited
 	if (c.next_timer() <= at) {
 		c.v = std::max(c.v, at);
@@ -162,7 +162,7 @@ void wake_from_asleep(Run &run, Controller &c)
 	c.account(cpu, run.cfg.mode);
 	c.v = std::max(c.v, latest_cause(run, c));
 	c.publish_slice(cpu);
-	c.answer_at_resume = true;
+	c.woke_unheld = true;
 	c.set_page_flag(TCS_PAGE_ASLEEP, false);
 	move(run, c, CtlMove::Awake);
 	c.wait.recheck = false;

@@ -43,7 +43,7 @@ void on_child(Run &run, Controller &parent, const ::tcs_msg &m, UniqueFd channel
 	pid_t pid = (pid_t)m.arg;
 	auto refuse = [&](const std::string &why) {
 		warn_once(run, "a child of " + parent.name + " runs in real time: " + why);
-		if (parent.awaiting.pid == pid)
+		if (parent.new_child.pid == pid)
 			child_settled(run, parent);
 		if (channel) {
 			struct tcs_msg w = tcs_msg_make(TCS_MSG_WAKE, m.seq);
@@ -78,7 +78,7 @@ void on_child(Run &run, Controller &parent, const ::tcs_msg &m, UniqueFd channel
 	// request came, at the parent's clock as it registered, began 26 us
 	// ahead of the parent's time, under load).
 	int64_t parent_v = parent.v;
-	if (parent.state() == CtlState::Running && run.cfg.mode == TCS_MODE_CPU && parent.awaiting.pid != pid) {
+	if (parent.state() == CtlState::Running && run.cfg.mode == TCS_MODE_CPU && parent.new_child.pid != pid) {
 		int64_t cpu = parent.cpu_now(), claim = parent.fork_claim();
 		if (claim >= 0)
 			cpu = std::min(cpu, claim);
@@ -98,7 +98,7 @@ void on_child(Run &run, Controller &parent, const ::tcs_msg &m, UniqueFd channel
 	}
 	if (auto s = run.loop.add(raw->pidfd.get(), [&run, raw](uint32_t) { on_pidfd(run, *raw); }); !s)
 		run.fatal = s;
-	if (parent.awaiting.pid == pid)
+	if (parent.new_child.pid == pid)
 		child_settled(run, parent);
 	// Someone new waits for a core: is one that has it asleep? And a
 	// free core is its at once (those running may compute on for ever
@@ -138,16 +138,16 @@ void on_forked(Run &run, Controller &c, const ::tcs_msg &m)
 		reply_now(run, c, 0);
 		return;
 	}
-	c.awaiting.pid = pid;
-	c.awaiting.seq = m.seq;
-	c.awaiting.fd = c.wait.fd;
-	c.awaiting.since = wall_now();
-	c.awaiting.exec = will == WillLoad::Unknown;
-	if (c.awaiting.exec)
+	c.new_child.pid = pid;
+	c.new_child.seq = m.seq;
+	c.new_child.fd = c.wait.fd;
+	c.new_child.since = wall_now();
+	c.new_child.exec = will == WillLoad::Unknown;
+	if (c.new_child.exec)
 		run.exec_timer.arm(kExecLook, kExecLook);
-	c.awaiting.pidfd = std::move(fd);
+	c.new_child.pidfd = std::move(fd);
 	Controller *raw = &c;
-	if (auto s = run.loop.add(c.awaiting.pidfd.get(), [&run, raw](uint32_t) { child_settled(run, *raw); }); !s)
+	if (auto s = run.loop.add(c.new_child.pidfd.get(), [&run, raw](uint32_t) { child_settled(run, *raw); }); !s)
 		run.fatal = s;
 }
 
@@ -158,13 +158,13 @@ void on_exec_look(Run &run)
 	run.exec_timer.consume();
 	bool again = false;
 	for (auto &c : run.ctls) {
-		if (c->awaiting.pid == 0 || !c->awaiting.exec)
+		if (c->new_child.pid == 0 || !c->new_child.exec)
 			continue;
-		WillLoad will = proc_will_load(c->awaiting.pid, "libtcs_preload");
-		c->awaiting.exec = will == WillLoad::Unknown;
+		WillLoad will = proc_will_load(c->new_child.pid, "libtcs_preload");
+		c->new_child.exec = will == WillLoad::Unknown;
 		if (will == WillLoad::No)
 			child_settled(run, *c);
-		again = again || c->awaiting.exec;
+		again = again || c->new_child.exec;
 	}
 	if (!again)
 		run.exec_timer.disarm();
@@ -172,19 +172,19 @@ void on_exec_look(Run &run)
 
 void child_settled(Run &run, Controller &parent)
 {
-	if (parent.awaiting.pid == 0)
+	if (parent.new_child.pid == 0)
 		return;
-	run.loop.remove(parent.awaiting.pidfd.get());
-	parent.awaiting.pidfd.reset();
-	parent.awaiting.pid = 0;
+	run.loop.remove(parent.new_child.pidfd.get());
+	parent.new_child.pidfd.reset();
+	parent.new_child.pid = 0;
 	if (parent.state() == CtlState::Exited)
 		return;
 	// The answer goes to the request that asked (a thread's request since
 	// has taken the controller's record of the last one); another thread's
 	// wait that is the controller's own now keeps its record.
-	const bool aside = set_own_wait_aside(run, parent, parent.awaiting.fd >= 0 ? parent.awaiting.fd : parent.channel.get());
-	parent.wait.seq = parent.awaiting.seq;
-	parent.wait.fd = parent.awaiting.fd;
+	const bool aside = set_own_wait_aside(run, parent, parent.new_child.fd >= 0 ? parent.new_child.fd : parent.channel.get());
+	parent.wait.seq = parent.new_child.seq;
+	parent.wait.fd = parent.new_child.fd;
 	reply_now(run, parent, 0);
 	if (aside)
 		schedule(run);
@@ -201,7 +201,7 @@ bool has_real_time_child(Run &run, Controller &c)
 	bool any = false;
 	int64_t now = wall_now();
 	for (const auto &o : run.ctls)
-		if (o->parent_id == c.id && o->outside && o->state() != CtlState::Exited)
+		if (o->parent_id == c.id && o->runs_unhooked && o->state() != CtlState::Exited)
 			any = true;
 	for (pid_t child : proc_children(c.pid)) {
 		if (std::any_of(run.ctls.begin(), run.ctls.end(), [child](const auto &o) { return o->pid == child; }))

@@ -338,7 +338,7 @@ int64_t Controller::fork_claim() const
 
 bool Controller::returning_from_wait() const
 {
-	return mark_due && page_ && __atomic_load_n(&page_->exit_cpu, __ATOMIC_RELAXED) < slice_.cpu_base;
+	return hook_marks_return && page_ && __atomic_load_n(&page_->exit_cpu, __ATOMIC_RELAXED) < slice_.cpu_base;
 }
 
 uint64_t Controller::take_lazy_handles()
@@ -387,7 +387,7 @@ void Controller::release()
 	final_past_deadlines_ = past_deadlines();
 	channel.reset();
 	pidfd.reset();
-	awaiting.pidfd.reset();
+	new_child.pidfd.reset();
 	page_fd_for_child.reset();
 	threads.clear();
 	devices.clear();
@@ -439,15 +439,15 @@ bool Controller::missed_raised_signal(const ::tcs_msg &m) const
 	return (m.flags & TCS_BLOCK_SIGMASK) && (uint64_t)m.arg != signals_raised_;
 }
 
-void Controller::kick(int64_t at)
+void Controller::note_signal(int64_t at)
 {
-	wait.kicked_at = std::min(wait.kicked_at, at);
+	wait.signalled_at = std::min(wait.signalled_at, at);
 	recheck_side_waits();
 }
 
 void Controller::recheck_side_waits()
 {
-	for (Request &w : side)
+	for (Request &w : side_waits)
 		if (w.reason == 0)
 			w.reason = TCS_WAKE_RECHECK;
 }
@@ -463,7 +463,7 @@ ChannelState &Controller::channel_state(int fd)
 int64_t Controller::side_next() const
 {
 	int64_t next = TCS_NEVER;
-	for (const Request &w : side)
+	for (const Request &w : side_waits)
 		next = std::min(next, w.deadline);
 	return next;
 }

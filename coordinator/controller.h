@@ -77,7 +77,7 @@ struct SignalTimer {
 // or a thread's (protocol.h, Threads).
 struct ChannelState {
 	int unanswered = 0;   // messages since the last WAKE sent on it
-	uint32_t early_ahead = 0; // an EARLY whose BLOCK has not come yet
+	uint32_t early_before_block = 0; // an EARLY whose BLOCK has not come yet
 };
 
 // A thread other than the main one: its own channel.
@@ -156,7 +156,7 @@ struct OwnWait : Request {
 	bool recheck = false;     // Blocked with per-step re-checks
 	bool for_child = false;   // Blocked in wait/waitpid: a child's end wakes it
 	bool devices = false;     // Blocked, and a record due on a sensor ends it
-	int64_t kicked_at = TCS_NEVER; // signalled by another controller then
+	int64_t signalled_at = TCS_NEVER; // signalled by another controller then
 };
 
 struct LoopStats {
@@ -274,7 +274,7 @@ public:
 	CtlState state() const { return state_; }
 	OwnWait wait; // the request being served, and what ends it when Blocked
 	bool stopped = true;    // held by SIGSTOP
-	bool mark_due = false;  // its slice began with a WAKE, whose hook marks its return
+	bool hook_marks_return = false;  // its slice began with a WAKE, whose hook marks its return
 	bool attached = false;  // the preload said HELLO
 	int64_t hello_nonce = 0; // the current image's HELLO
 	int64_t v = 0;          // virtual time (exact whenever not Running)
@@ -297,7 +297,7 @@ public:
 	// own, and whether it is blocked with threads asleep outside the hooks.
 	ChannelState main_state;
 	std::vector<std::unique_ptr<ThreadChannel>> threads;
-	std::vector<Request> side;
+	std::vector<Request> side_waits;
 	bool others_asleep = false;
 	// Threads seen without a channel: when first seen (wall ns).
 	std::map<pid_t, int64_t> thread_first_seen;
@@ -313,7 +313,7 @@ public:
 	bool side_due(const Request &w, int64_t at, int64_t sim_ns) const;
 	bool child_ended = false;     // a child ended while it was not waiting for one
 	int64_t child_ended_at = 0;   // the latest such child's virtual time at its end
-	bool outside = false;         // its program runs without the preload: real time
+	bool runs_unhooked = false;   // its program runs without the preload: real time
 	// Children seen running outside tcs: when first seen (wall ns; -1: said).
 	std::map<pid_t, int64_t> unregistered_children;
 	// Devices: what this controller has open (handle = index), and a
@@ -342,7 +342,7 @@ public:
 	bool missed_raised_signal(const ::tcs_msg &m) const;
 	// Blocked, it has been sent a signal at virtual time `at`: its waits
 	// are re-checked then (an asleep one is looked at then).
-	void kick(int64_t at);
+	void note_signal(int64_t at);
 	// Its threads' waits beside its own are to end, to re-check (a signal
 	// may be theirs).
 	void recheck_side_waits();
@@ -365,13 +365,13 @@ public:
 	int64_t spin_limit_ = 0;
 	uint64_t random_key_ = 0;
 	uint64_t children_keyed_ = 0;
-	bool answer_at_resume = false; // woken from asleep, Ready but not held: answered as resumed
+	bool woke_unheld = false; // woken from asleep, Ready but not held: answered as resumed
 	// Its lane watchdog's last look at it, running (asleep.cc).
 	struct Look {
 		int64_t cpu = 0;      // its CPU then
 		uint64_t slice = 0;   // the slice it was in
 		int asleep_times = 0; // looks in a row that found it asleep
-	} look;
+	} watchdog_look;
 	// The stuck watchdog's last look at it (stuck.cc).
 	struct StuckLook {
 		uint64_t unanswered = 0; // the page's count then
@@ -386,7 +386,7 @@ public:
 		bool exec = false;  // its exec not yet done: looked at
 		uint32_t seq = 0;   // the parent's request to answer then, and
 		int fd = -1;        // its channel (another thread's request may come meanwhile)
-	} awaiting;
+	} new_child;
 
 private:
 	friend bool move(Run &run, Controller &c, CtlMove m);

@@ -84,21 +84,21 @@ static Status take_record_settings(Run &run)
 	return Ok{};
 }
 
-Status Coordinator::init()
+// The event loop and its timers.
+static Status init_loop(Run &run)
 {
-	Run &run = *run_;
-	if (run.cfg.step_ns <= 0)
-		return Error{ "the simulation step must be positive" };
-	if (auto s = take_record_settings(run); !s)
-		return s;
 	if (auto s = run.loop.init(); !s)
 		return s;
 	for (Timer *t : { &run.progress_timer, &run.kill_timer, &run.idle_timer, &run.continue_timer, &run.exit_timer,
 			  &run.exec_timer })
 		if (auto s = t->init(); !s)
 			return s;
+	return Ok{};
+}
 
-	// Signals arrive as events; controllers get a clean mask (spawn.cc).
+// Signals arrive as events; controllers get a clean mask (spawn.cc).
+static Status take_signals(Run &run)
+{
 	sigset_t mask;
 	sigemptyset(&mask);
 	for (int s : { SIGINT, SIGTERM, SIGHUP, SIGQUIT })
@@ -109,7 +109,13 @@ Status Coordinator::init()
 	if (!run.signal_fd)
 		return errno_error("signalfd");
 	signal(SIGPIPE, SIG_IGN);
+	return Ok{};
+}
 
+// The cores: the realtime plan, mailbox polling, and the lanes controllers
+// run in (with, in cpu mode, what a stop costs on them).
+static Status set_up_lanes(Run &run)
+{
 	run.rt = setup_realtime(run.cfg.realtime);
 	if (!run.rt.warning.empty())
 		warn_once(run, run.rt.warning);
@@ -130,26 +136,32 @@ Status Coordinator::init()
 	}
 	auto on_budget_of = [&run](Lane &l) { on_budget(run, l); };
 	auto on_watchdog_of = [&run](Lane &l) { on_watchdog(run, l); };
-	if (auto s = run.lanes.init(lanes, run.loop, on_budget_of, on_watchdog_of); !s)
-		return s;
+	return run.lanes.init(lanes, run.loop, on_budget_of, on_watchdog_of);
+}
 
-	if (!run.cfg.models.empty()) {
-		auto w = SimWorld::create(run.cfg.models, run.cfg.step_ns);
-		if (!w)
-			return w.error();
-		run.world = std::move(*w);
-		// Sensor noise repeats with --seed (a key no controller has: theirs
-		// are 1, 2, ...), and is the machine's randomness without.
-		// A replay's, the record's.
-		uint64_t key = run.cfg.replay ? run.cfg.replay->sensor_key : 0;
-		if (key == 0 && run.cfg.seed)
-			key = tcs_random_key(*run.cfg.seed, 0);
-		if (key == 0 && getrandom(&key, sizeof key, 0) != (ssize_t)sizeof key)
-			key = (uint64_t)clock_ns(CLOCK_MONOTONIC);
-		run.sensor_key = key ? key : 1;
-		if (auto s = run.world->sense(run.cfg.sensors, run.sensor_key); !s)
-			return s;
-	}
+// The world, if the run has one, and its sensors' noise key: repeated with
+// --seed (a key no controller has: theirs are 1, 2, ...), the record's in a
+// replay, the machine's randomness otherwise.
+static Status make_world(Run &run)
+{
+	if (run.cfg.models.empty())
+		return Ok{};
+	auto w = SimWorld::create(run.cfg.models, run.cfg.step_ns);
+	if (!w)
+		return w.error();
+	run.world = std::move(*w);
+	uint64_t key = run.cfg.replay ? run.cfg.replay->sensor_key : 0;
+	if (key == 0 && run.cfg.seed)
+		key = tcs_random_key(*run.cfg.seed, 0);
+	if (key == 0 && getrandom(&key, sizeof key, 0) != (ssize_t)sizeof key)
+		key = (uint64_t)clock_ns(CLOCK_MONOTONIC);
+	run.sensor_key = key ? key : 1;
+	return run.world->sense(run.cfg.sensors, run.sensor_key);
+}
+
+// The scenario's devices and wires, bound to the world.
+static Status bind_devices(Run &run)
+{
 	auto warn = [&run](const std::string &w) { warn_once(run, w); };
 	if (run.cfg.replay)
 		run.devices.on_command = [&run](Controller &c, const std::string &path, const std::vector<double> *values) {
@@ -158,10 +170,14 @@ Status Coordinator::init()
 	if (auto s = run.devices.bind(run.cfg.devices, run.world.get(), warn); !s)
 		return s;
 	run.cfg.wires.noise_key = run.sensor_key ? run.sensor_key : 1;
-	if (auto s = run.wires.bind(run.cfg.wires, run.world.get(), warn); !s)
-		return s;
-	// With an epoch the monotonic clocks start at a fixed value too, so
-	// that a run repeats their values, not only their differences.
+	return run.wires.bind(run.cfg.wires, run.world.get(), warn);
+}
+
+// Where the controllers' clocks start: now, or with an epoch fixed values
+// (the monotonic clocks too, so that a run repeats their values, not only
+// their differences), or the record's.
+static Status set_clocks(Run &run)
+{
 	run.clocks.mono_ns = run.cfg.epoch_ns ? kFixedMonotonicOrigin : clock_ns(CLOCK_MONOTONIC);
 	run.clocks.real_ns = run.cfg.epoch_ns ? *run.cfg.epoch_ns : clock_ns(CLOCK_REALTIME);
 	// TAI - UTC is a whole number of seconds; two reads differ by a few ns.
@@ -174,51 +190,75 @@ Status Coordinator::init()
 		run.clocks.tai_ns = run.cfg.replay->tai_origin_ns;
 		run.clocks.spin = kNominalSpinCosts; // (not taken: the record says what spins cost)
 	}
-	if (!run.cfg.trace_path.empty()) {
-		// The coordinator's core is its own where it polls: it writes there.
-		TraceWriting how{ .by_caller = run.poller.enabled(), .avoid_cpu = run.rt.cpu };
-		if (auto s = run.trace.open(run.cfg.trace_path, how, !run.cfg.record_path.empty(),
-					    run.wires.trace_topics(), run.clocks.real_ns);
-		    !s)
-			return s;
-		run.wires.trace_to(run.trace);
-		if (how.by_caller)
-			run.poller.set_idle_work([&run] { return run.trace.pump(); });
-		// The joint states each step records: scalar positions and velocities.
-		std::vector<std::string> names;
-		for (size_t i = 0; run.world && i < run.world->signal_count(); i++) {
-			const tcs_sim_signal_info &sig = run.world->signal(i);
-			std::string name = sig.name;
-			bool joint = sig.width == 1 && (name.size() > 9 && (name.rfind(".position") == name.size() - 9 ||
-									     name.rfind(".velocity") == name.size() - 9));
-			if (joint) {
-				run.joint_signals.push_back(i);
-				names.push_back(name);
-			}
-		}
-		run.trace.set_joint_names(std::move(names));
-	}
+	return Ok{};
+}
 
-	if (!run.cfg.record_path.empty()) {
-		Record r;
-		r.cpu_scale = run.cfg.record_scale;
-		r.step_ns = run.cfg.step_ns;
-		r.mono_origin_ns = run.clocks.mono_ns;
-		r.real_origin_ns = run.clocks.real_ns;
-		r.tai_origin_ns = run.clocks.tai_ns;
-		r.seed = run.cfg.seed;
-		r.sensor_key = run.sensor_key;
-		r.slack = run.cfg.slack;
-		r.duration_ns = run.cfg.duration_ns;
-		r.program = run.cfg.record_program;
-		r.devices = run.cfg.record_devices;
-		run.trace.record_run(record_run_json(r));
+// The trace, if asked for, and the joint states each step records there
+// (scalar positions and velocities).
+static Status open_trace(Run &run)
+{
+	if (run.cfg.trace_path.empty())
+		return Ok{};
+	// The coordinator's core is its own where it polls: it writes there.
+	TraceWriting how{ .by_caller = run.poller.enabled(), .avoid_cpu = run.rt.cpu };
+	if (auto s = run.trace.open(run.cfg.trace_path, how, !run.cfg.record_path.empty(), run.wires.trace_topics(),
+				    run.clocks.real_ns);
+	    !s)
+		return s;
+	run.wires.trace_to(run.trace);
+	if (how.by_caller)
+		run.poller.set_idle_work([&run] { return run.trace.pump(); });
+	std::vector<std::string> names;
+	for (size_t i = 0; run.world && i < run.world->signal_count(); i++) {
+		const tcs_sim_signal_info &sig = run.world->signal(i);
+		std::string name = sig.name;
+		bool joint = sig.width == 1 && (name.size() > 9 && (name.rfind(".position") == name.size() - 9 ||
+								     name.rfind(".velocity") == name.size() - 9));
+		if (joint) {
+			run.joint_signals.push_back(i);
+			names.push_back(name);
+		}
 	}
+	run.trace.set_joint_names(std::move(names));
+	return Ok{};
+}
+
+// --record: what a replay needs to set the run up again, into the trace.
+static Status write_record_settings(Run &run)
+{
+	if (run.cfg.record_path.empty())
+		return Ok{};
+	Record r;
+	r.cpu_scale = run.cfg.record_scale;
+	r.step_ns = run.cfg.step_ns;
+	r.mono_origin_ns = run.clocks.mono_ns;
+	r.real_origin_ns = run.clocks.real_ns;
+	r.tai_origin_ns = run.clocks.tai_ns;
+	r.seed = run.cfg.seed;
+	r.sensor_key = run.sensor_key;
+	r.slack = run.cfg.slack;
+	r.duration_ns = run.cfg.duration_ns;
+	r.program = run.cfg.record_program;
+	r.devices = run.cfg.record_devices;
+	run.trace.record_run(record_run_json(r));
+	return Ok{};
+}
+
+// Lockstep: what a spin's clock read and wait cost, which spinning charges
+// (given, nominal with an epoch so that a run repeats, else measured).
+static Status take_spin_costs(Run &run)
+{
 	if (run.cfg.mode == TCS_MODE_LOCKSTEP && !run.cfg.replay)
 		run.clocks.spin = run.cfg.spin_costs ? *run.cfg.spin_costs
 				  : run.cfg.epoch_ns   ? kNominalSpinCosts
 						       : measure_spin_costs();
+	return Ok{};
+}
 
+// What the event loop hears besides controllers: signals, the step peers,
+// the run's timers.
+static Status watch_events(Run &run)
+{
 	// The coordinator shares the running controller's core: each time it
 	// wakes, that controller's CPU-time estimates (cpu_estimate.c) are off.
 	run.loop.set_on_wake([&run] {
@@ -258,6 +298,22 @@ Status Coordinator::init()
 				kill(c->pid, SIGKILL);
 	});
 	return st;
+}
+
+// A run set up, step by step, in this order: each step uses what those
+// before it made (the lanes' cores for the trace's writer, the world for
+// the devices, the clocks for the record).
+Status Coordinator::init()
+{
+	Run &run = *run_;
+	if (run.cfg.step_ns <= 0)
+		return Error{ "the simulation step must be positive" };
+	for (Status (*step)(Run &) : { take_record_settings, init_loop, take_signals, set_up_lanes, make_world,
+				       bind_devices, set_clocks, open_trace, write_record_settings, take_spin_costs,
+				       watch_events })
+		if (auto s = step(run); !s)
+			return s;
+	return Ok{};
 }
 
 Coordinator::~Coordinator()

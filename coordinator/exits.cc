@@ -99,7 +99,7 @@ void on_exit(Run &run, Controller &c, int wait_status)
 		if (p->id != c.parent_id)
 			continue;
 		bool seen = false;
-		for (Request &w : p->side)
+		for (Request &w : p->side_waits)
 			if (w.flags & TCS_BLOCK_CHILD) {
 				w.reason = TCS_WAKE_RECHECK;
 				seen = true;
@@ -116,7 +116,7 @@ void on_exit(Run &run, Controller &c, int wait_status)
 			wake(run, *p, std::max(p->v, c.v), TCS_WAKE_RECHECK);
 			seen = true;
 		} else if (waiting(p->state())) {
-			p->kick(std::max(p->v, c.v));
+			p->note_signal(std::max(p->v, c.v));
 		}
 		// Not waiting for it now: its next wait for a child re-checks,
 		// no earlier than the child's end.
@@ -128,7 +128,7 @@ void on_exit(Run &run, Controller &c, int wait_status)
 	for (auto &t : c.threads)
 		run.loop.remove(t->fd.get());
 	c.threads.clear();
-	c.side.clear();
+	c.side_waits.clear();
 	run.loop.remove(c.pidfd.get());
 	run.lanes.leave(c);
 	c.ended_by_tcs = run.ending;
@@ -157,7 +157,7 @@ void drop(Run &run, Controller &c, const std::string &why)
 	for (auto &t : c.threads)
 		run.loop.remove(t->fd.get());
 	c.threads.clear();
-	c.side.clear();
+	c.side_waits.clear();
 	move(run, c, CtlMove::Drop);
 	c.wait.deadline = TCS_NEVER;
 	c.wait.recheck = false;

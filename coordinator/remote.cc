@@ -53,7 +53,7 @@ bool agents_answered(const Run &run)
 // agents, none: a DDS write per step would slow the world for nobody.
 void grant_now(Run &run)
 {
-	if (!run.cfg.step_host || !run.world || run.held || run.agents.empty())
+	if (!run.cfg.step_host || !run.world || run.world_held || run.agents.empty())
 		return;
 	run.agents.grant(*run.cfg.step_host, *run.world, (uint64_t)run.steps, run.sim_ns);
 }

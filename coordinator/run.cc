@@ -127,7 +127,7 @@ void on_progress(Run &run)
 	// (its program, say, hangs in a constructor before ours runs).
 	int64_t now = wall_now();
 	for (auto &c : run.ctls) {
-		if (c->awaiting.pid != 0 && now - c->awaiting.since > kRegistrationWait)
+		if (c->new_child.pid != 0 && now - c->new_child.since > kRegistrationWait)
 			child_settled(run, *c);
 		if (c->kill_after != 0 && now > c->kill_after && c->state() != CtlState::Exited)
 			kill(c->pid, SIGKILL);

@@ -91,7 +91,7 @@ struct Run {
 	std::vector<double> trace_joints; // a step's joint states for the trace (reused)
 	std::vector<std::string> warned;
 	std::vector<Contender> contenders; // (kept: schedule() runs on every request)
-	bool hearing = false; // hear_threads: schedule() waits for the last
+	bool hearing_threads = false; // hear_threads: schedule() waits for the last
 
 	// --replay: lockstep, with each controller's time from its journal,
 	// until one departs from the record (journals.cc: then cpu mode).
@@ -102,7 +102,7 @@ struct Run {
 	uint64_t first_wakes = 0; // answers to the first controller's waits (TCS_FAULT_LOSE_WAKE)
 	uint64_t sensor_key = 0; // the sensor models' noise stream (SimWorld::sense)
 	bool ending = false;
-	bool held = false;
+	bool world_held = false; // hold_world: no step until let go
 	Agents agents; // host: the agents taking part
 	// Agent: answered, and the next grant not here yet (at first: none yet).
 	bool awaiting_grant = false;

@@ -31,7 +31,7 @@ Result<AttachedController> attach(Run &run, const ControllerSpec &spec)
 
 void hold_world(Run &run, bool on)
 {
-	run.held = on;
+	run.world_held = on;
 	if (!on) {
 		grant_now(run); // agents start with the world
 		schedule(run);
@@ -64,7 +64,7 @@ void signal_controller(Run &run, int id, int signo)
 	// A stopped one gets it when it next runs; a waiting one is looked at
 	// now, where the world is (its handler may end its wait).
 	if (waiting(c->state()))
-		c->kick(std::max(c->v, run.sim_ns));
+		c->note_signal(std::max(c->v, run.sim_ns));
 	schedule(run);
 }
 

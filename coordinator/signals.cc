@@ -47,8 +47,8 @@ void on_kill(Run &run, Controller &c, const ::tcs_msg &m)
 	int64_t at = std::max(c.v, m.v);
 	for (auto &o : run.ctls)
 		if (o.get() != &c && waiting(o->state()) && reaches(o->pid, m.arg, sender_pgid))
-			o->kick(at);
-	if (!c.side.empty() && reaches(c.pid, m.arg, sender_pgid)) {
+			o->note_signal(at);
+	if (!c.side_waits.empty() && reaches(c.pid, m.arg, sender_pgid)) {
 		c.recheck_side_waits();
 		end_side_waits(run, c);
 	}

@@ -145,7 +145,7 @@ int64_t request_v(Run &run, Controller &c, const ::tcs_msg &m)
 int64_t spin_limit(const Run &run, const Controller &c)
 {
 	int64_t limit = std::min(tcs_ns_add(c.v - c.v % run.cfg.step_ns, run.cfg.step_ns), c.next_timer());
-	for (const Request &w : c.side)
+	for (const Request &w : c.side_waits)
 		if (w.deadline > c.v)
 			limit = std::min(limit, w.deadline);
 	return limit;
@@ -175,8 +175,8 @@ void resume(Run &run, Controller &c, int64_t target, int lane)
 	}
 	run.wires.advance(c.v, run.sim_ns, run.world.get());
 	deliver(c); // what its sensors have due by now is in their fds
-	c.mark_due = c.wait.owed && !c.multithreaded(); // (roundtrip.c)
-	c.answer_at_resume = false;
+	c.hook_marks_return = c.wait.owed && !c.multithreaded(); // (roundtrip.c)
+	c.woke_unheld = false;
 	// Other threads' waits due by now are answered first: a thread that
 	// spun to their time yields to them once answered, and finds them
 	// answered (spin.c).

@@ -31,8 +31,8 @@ constexpr int64_t kStillWaiting = 2 * TCS_NS_PER_S + TCS_NS_PER_S / 2;
 // has one of its unread: then whoever waits, waits for it.
 static bool holds_request(const Controller &c)
 {
-	return c.wait.active || !c.side.empty() || c.sync || c.wait.owed || c.answer_at_resume ||
-	       c.awaiting.pid != 0 || request_unread(c);
+	return c.wait.active || !c.side_waits.empty() || c.sync || c.wait.owed || c.woke_unheld ||
+	       c.new_child.pid != 0 || request_unread(c);
 }
 
 void look_for_stuck(Run &run)

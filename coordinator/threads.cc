@@ -75,8 +75,8 @@ void thread_gone(Run &run, Controller &c, ThreadChannel *t)
 {
 	int fd = t->fd.get();
 	run.loop.remove(fd);
-	c.side.erase(std::remove_if(c.side.begin(), c.side.end(), [fd](const Request &w) { return w.fd == fd; }),
-		     c.side.end());
+	c.side_waits.erase(std::remove_if(c.side_waits.begin(), c.side_waits.end(), [fd](const Request &w) { return w.fd == fd; }),
+		     c.side_waits.end());
 	if (c.wait.fd == fd) {
 		c.wait.fd = -1;
 		c.wait.active = false;
@@ -97,7 +97,7 @@ bool side_wait(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		return false;
 	// (Its time may be past c.v: a running controller's is settled only as
 	// its slice ends.)
-	c.side.push_back(request_of(m, fd, tid, request_v(run, c, m), run.sim_ns, run.cfg.slack));
+	c.side_waits.push_back(request_of(m, fd, tid, request_v(run, c, m), run.sim_ns, run.cfg.slack));
 	if (c.state() == CtlState::Running) {
 		budget_to_next_timer(run, c); // (and to the earliest side wait)
 		if (!c.budgeted)
@@ -132,9 +132,9 @@ bool request_unread(const Controller &c)
 // waits for the last of them (schedule() then decides once).
 void hear_threads(Run &run, Controller &c)
 {
-	if (run.hearing || !c.multithreaded())
+	if (run.hearing_threads || !c.multithreaded())
 		return;
-	run.hearing = true;
+	run.hearing_threads = true;
 	for (int round = 0; round < 8 && c.state() != CtlState::Exited && c.dropped.empty(); round++) {
 		bool any = false;
 		if (c.channel && has_unread_message(c.channel.get())) {
@@ -151,7 +151,7 @@ void hear_threads(Run &run, Controller &c)
 		if (!any)
 			break;
 	}
-	run.hearing = false;
+	run.hearing_threads = false;
 }
 
 // How many threads of c could run now, leaving out `also` and those that
@@ -170,11 +170,11 @@ void hear_threads(Run &run, Controller &c)
 int runnable_threads(Run &run, Controller &c, pid_t also)
 {
 	std::vector<pid_t> waiting;
-	waiting.reserve(c.side.size() + 2);
+	waiting.reserve(c.side_waits.size() + 2);
 	waiting.push_back(also);
 	if (c.wait.active)
 		waiting.push_back(c.wait.tid);
-	for (const Request &w : c.side)
+	for (const Request &w : c.side_waits)
 		waiting.push_back(w.tid);
 	int64_t now = -1;
 	int runnable = 0;
@@ -207,10 +207,10 @@ int runnable_threads(Run &run, Controller &c, pid_t also)
 
 // The controller's own wait becomes a side wait: it goes on waiting while
 // other threads run.
-void demote_wait(Run &, Controller &c)
+void own_wait_beside(Run &, Controller &c)
 {
 	if (c.wait.active) {
-		c.side.push_back(c.own_wait());
+		c.side_waits.push_back(c.own_wait());
 		c.wait.active = false;
 		c.wait.owed = false; // (it went with it)
 	}
@@ -224,7 +224,7 @@ bool set_own_wait_aside(Run &run, Controller &c, int fd)
 {
 	if (!c.wait.active || fd == (c.wait.fd >= 0 ? c.wait.fd : c.channel.get()))
 		return false;
-	demote_wait(run, c);
+	own_wait_beside(run, c);
 	if (c.state() == CtlState::Blocked) {
 		move(run, c, CtlMove::SetAside);
 	}
@@ -239,14 +239,14 @@ bool set_own_wait_aside(Run &run, Controller &c, int fd)
 static void choose_raiser(Run &run, Controller &c, int64_t at)
 {
 	pid_t tid = c.due_timer_thread(at);
-	auto target = std::find_if(c.side.begin(), c.side.end(), [&](const Request &w) { return tid > 0 && w.tid == tid; });
-	if (target == c.side.end() && (c.wait.active || c.side.empty()))
+	auto target = std::find_if(c.side_waits.begin(), c.side_waits.end(), [&](const Request &w) { return tid > 0 && w.tid == tid; });
+	if (target == c.side_waits.end() && (c.wait.active || c.side_waits.empty()))
 		return;
-	if (target == c.side.end())
-		target = c.side.begin();
+	if (target == c.side_waits.end())
+		target = c.side_waits.begin();
 	Request raiser = *target;
-	c.side.erase(target);
-	demote_wait(run, c);
+	c.side_waits.erase(target);
+	own_wait_beside(run, c);
 	c.take_wait(raiser);
 }
 
@@ -261,9 +261,9 @@ bool wake_threads(Run &run, Controller &c, int64_t at)
 	if (timer && raise_timers_in_read(c, v))
 		timer = false;
 	bool own = c.wait.active && !c.sync &&
-		   (c.wait.deadline <= v || c.wait.kicked_at <= v || (c.wait.recheck && c.wait.rechecked_at < run.sim_ns) ||
+		   (c.wait.deadline <= v || c.wait.signalled_at <= v || (c.wait.recheck && c.wait.rechecked_at < run.sim_ns) ||
 		    (c.wait.devices && next_record_due(c) <= v));
-	bool side = std::any_of(c.side.begin(), c.side.end(), [&](const Request &w) { return c.side_due(w, v, run.sim_ns); });
+	bool side = std::any_of(c.side_waits.begin(), c.side_waits.end(), [&](const Request &w) { return c.side_due(w, v, run.sim_ns); });
 	// Its own record due though no request of its own is held (its last
 	// was answered, its threads waited on): it runs, or it would be first
 	// in line at that time for ever.
@@ -271,7 +271,7 @@ bool wake_threads(Run &run, Controller &c, int64_t at)
 	// A device read waiting for its record, which is due (complete_sync).
 	bool read_due = c.sync && c.wait.deadline <= v;
 	if (!woke_alone && !timer && !own && !side && !stale && !read_due) {
-		c.wait.kicked_at = TCS_NEVER; // (the thread it reached was asleep: looked at each step)
+		c.wait.signalled_at = TCS_NEVER; // (the thread it reached was asleep: looked at each step)
 		return false;
 	}
 	c.others_asleep = false;
@@ -284,7 +284,7 @@ bool wake_threads(Run &run, Controller &c, int64_t at)
 		bool due = c.wait.deadline <= v;
 		wake(run, c, v, due || c.wait.devices ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK);
 	} else if (!c.sync) {
-		demote_wait(run, c);
+		own_wait_beside(run, c);
 		c.v = v;
 		move(run, c, CtlMove::SetAside);
 	} else {
@@ -292,7 +292,7 @@ bool wake_threads(Run &run, Controller &c, int64_t at)
 		move(run, c, CtlMove::Wake); // a device read: complete_sync decides
 	}
 	c.wait.rechecked_at = run.sim_ns;
-	c.wait.kicked_at = TCS_NEVER;
+	c.wait.signalled_at = TCS_NEVER;
 	return true;
 }
 
@@ -312,8 +312,8 @@ void answer_side(Run &run, Controller &c, const Request &w)
 // records delivered).
 void end_side_waits(Run &run, Controller &c)
 {
-	for (size_t i = 0; i < c.side.size();) {
-		Request &w = c.side[i];
+	for (size_t i = 0; i < c.side_waits.size();) {
+		Request &w = c.side_waits[i];
 		if (!c.side_due(w, c.v, run.sim_ns)) {
 			if (w.flags & TCS_BLOCK_RECHECK)
 				w.rechecked_at = run.sim_ns;
@@ -325,7 +325,7 @@ void end_side_waits(Run &run, Controller &c)
 		if (w.deadline != TCS_NEVER && w.deadline <= c.v)
 			w.reason = TCS_WAKE_DEADLINE;
 		Request done = w;
-		c.side.erase(c.side.begin() + (long)i);
+		c.side_waits.erase(c.side_waits.begin() + (long)i);
 		answer_side(run, c, done);
 	}
 }
@@ -333,18 +333,18 @@ void end_side_waits(Run &run, Controller &c)
 // At the end of the run every wait ends at once.
 void end_all_side_waits(Run &run, Controller &c)
 {
-	for (Request &w : c.side) {
+	for (Request &w : c.side_waits) {
 		w.reason = TCS_WAKE_DEADLINE;
 		answer_side(run, c, w);
 	}
-	c.side.clear();
+	c.side_waits.clear();
 }
 
 // A running controller with waiting threads, found making no progress: if
 // none of its threads can run, it is Blocked beside their waits.
 bool block_if_all_waiting(Run &run, Controller &c)
 {
-	if (c.side.empty() || c.awaiting.pid != 0 || runnable_threads(run, c, 0) > 0)
+	if (c.side_waits.empty() || c.new_child.pid != 0 || runnable_threads(run, c, 0) > 0)
 		return false;
 	int64_t cpu = c.cpu_now();
 	run.lanes.leave(c);
@@ -354,8 +354,8 @@ bool block_if_all_waiting(Run &run, Controller &c)
 	c.cpu_at_end = cpu;
 	move(run, c, CtlMove::Block);
 	c.wait.active = false;
-	demote_wait(run, c);
-	c.others_asleep = proc_thread_count(c.pid) > (int)c.side.size();
+	own_wait_beside(run, c);
+	c.others_asleep = proc_thread_count(c.pid) > (int)c.side_waits.size();
 	c.wait.rechecked_at = run.sim_ns;
 	schedule(run);
 	return true;

@@ -10,7 +10,7 @@ void hear_threads(Run &run, Controller &c);
 void on_thread(Run &run, Controller &c, const ::tcs_msg &m, UniqueFd channel);
 void thread_gone(Run &run, Controller &c, ThreadChannel *t);
 bool side_wait(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid);
-void demote_wait(Run &run, Controller &c);
+void own_wait_beside(Run &run, Controller &c);
 // A request that takes the controller's record of its last request (to be
 // answered on channel fd) while another thread's wait is its own: that
 // wait becomes a side wait, keeping its channel and sequence, and the

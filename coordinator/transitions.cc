@@ -32,7 +32,7 @@ void wake(Run &run, Controller &c, int64_t v, uint16_t reason, int64_t result)
 	c.v = std::max(c.v, v);
 	move(run, c, CtlMove::Wake);
 	c.wait.recheck = false;
-	c.wait.kicked_at = TCS_NEVER;
+	c.wait.signalled_at = TCS_NEVER;
 	c.wait.devices = false;
 	owe_answer(c, reason, result);
 }

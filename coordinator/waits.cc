@@ -65,7 +65,7 @@ void send_wake(Run &run, Controller &c)
 
 void answer(Run &run, Controller &c)
 {
-	if (c.state() == CtlState::Ready && c.answer_at_resume) {
+	if (c.state() == CtlState::Ready && c.woke_unheld) {
 		schedule(run); // (resume sends it)
 		return;
 	}
@@ -77,16 +77,16 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	if (replay_stop(run, c, m, fd, tid))
 		return;
 	ChannelState &st = c.channel_state(fd);
-	if (!run.ending && st.early_ahead != 0 && st.early_ahead == m.seq) {
+	if (!run.ending && st.early_before_block != 0 && st.early_before_block == m.seq) {
 		// Another thread ended this wait before it began.
-		st.early_ahead = 0;
+		st.early_before_block = 0;
 		c.stats.count_wait(m);
 		Request w = request_of(m, fd, tid, c.v, run.sim_ns, run.cfg.slack);
 		w.reason = TCS_WAKE_EARLY;
 		answer_side(run, c, w);
 		if (c.state() == CtlState::Blocked) {
 			// (It was asleep outside the hooks: it runs again.)
-			demote_wait(run, c);
+			own_wait_beside(run, c);
 			move(run, c, CtlMove::SetAside);
 			schedule(run);
 		}
@@ -108,35 +108,35 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 			return;
 		}
 		// A thread that was asleep outside the hooks woke and waits now.
-		c.side.push_back(request_of(m, fd, tid, c.v, run.sim_ns, run.cfg.slack));
+		c.side_waits.push_back(request_of(m, fd, tid, c.v, run.sim_ns, run.cfg.slack));
 		if (c.missed_raised_signal(m))
-			c.side.back().reason = TCS_WAKE_RECHECK;
-		child_wait_begins(run, c, m, &c.side.back());
+			c.side_waits.back().reason = TCS_WAKE_RECHECK;
+		child_wait_begins(run, c, m, &c.side_waits.back());
 		c.stats.count_wait(m);
 		hear_threads(run, c);
 		schedule(run);
 		return;
 	}
 	if (c.multithreaded() && side_wait(run, c, m, fd, tid)) {
-		child_wait_begins(run, c, m, &c.side.back());
+		child_wait_begins(run, c, m, &c.side_waits.back());
 		c.stats.count_wait(m);
 		if (m.flags & TCS_BLOCK_ABSOLUTE) {
 			c.stats.absolute_waits++;
-			if (m.deadline <= c.side.back().requested_at)
+			if (m.deadline <= c.side_waits.back().requested_at)
 				c.stats.reported_misses++;
 		}
 		if (c.missed_raised_signal(m))
-			c.side.back().reason = TCS_WAKE_RECHECK;
+			c.side_waits.back().reason = TCS_WAKE_RECHECK;
 		// Ended as it began (a signal raised unseen, a child already
 		// ended): answered now, while the controller runs; stopped, it is
 		// answered as it resumes. Its other threads may compute on
 		// without a budget: nothing else would come to end it.
-		if (c.side.back().reason && c.state() == CtlState::Running) {
+		if (c.side_waits.back().reason && c.state() == CtlState::Running) {
 			// (At the time its process has reached, as on_early's.)
 			if (run.cfg.mode == TCS_MODE_CPU)
 				c.account(charge_point(run, c, m.cpu), run.cfg.mode);
-			Request w = c.side.back();
-			c.side.pop_back();
+			Request w = c.side_waits.back();
+			c.side_waits.pop_back();
 			answer_side(run, c, w);
 		}
 		return;
@@ -164,7 +164,7 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	c.wait.devices = (m.flags & TCS_BLOCK_DEVICES) != 0;
 	move(run, c, CtlMove::Block);
 	// Threads asleep outside the hooks: looked at each step (threads.cc).
-	c.others_asleep = c.multithreaded() && proc_thread_count(c.pid) > 1 + (int)c.side.size();
+	c.others_asleep = c.multithreaded() && proc_thread_count(c.pid) > 1 + (int)c.side_waits.size();
 	child_wait_begins(run, c, m, nullptr);
 	if (c.missed_raised_signal(m))
 		wake(run, c, c.v, TCS_WAKE_RECHECK);
@@ -181,8 +181,8 @@ void on_early(Run &run, Controller &c, const ::tcs_msg &m, int fd)
 		// A signal another controller sent (told before it was sent)
 		// ends the wait at the sender's time: its handler runs then.
 		int64_t at = std::max(c.v, run.sim_ns);
-		if (m.kind == TCS_EARLY_SIGNAL && c.wait.kicked_at != TCS_NEVER)
-			at = std::max(at, c.wait.kicked_at);
+		if (m.kind == TCS_EARLY_SIGNAL && c.wait.signalled_at != TCS_NEVER)
+			at = std::max(at, c.wait.signalled_at);
 		wake(run, c, at, TCS_WAKE_EARLY);
 		schedule(run);
 		return;
@@ -199,8 +199,8 @@ void on_early(Run &run, Controller &c, const ::tcs_msg &m, int fd)
 		schedule(run);
 		return;
 	}
-	for (size_t i = 0; i < c.side.size(); i++) {
-		Request &w = c.side[i];
+	for (size_t i = 0; i < c.side_waits.size(); i++) {
+		Request &w = c.side_waits[i];
 		if (w.fd != fd || w.seq != m.seq)
 			continue;
 		w.reason = TCS_WAKE_EARLY;
@@ -211,7 +211,7 @@ void on_early(Run &run, Controller &c, const ::tcs_msg &m, int fd)
 			if (run.cfg.mode == TCS_MODE_CPU)
 				c.account(charge_point(run, c, m.cpu), run.cfg.mode);
 			Request done = w;
-			c.side.erase(c.side.begin() + (long)i);
+			c.side_waits.erase(c.side_waits.begin() + (long)i);
 			answer_side(run, c, done);
 		} else if (c.state() == CtlState::Blocked && wake_threads(run, c, std::max(c.v, run.sim_ns))) {
 			schedule(run);
@@ -223,9 +223,9 @@ void on_early(Run &run, Controller &c, const ::tcs_msg &m, int fd)
 	// (One such is not counted against a flood: a thread may be woken
 	// just as its wait returns without asking.)
 	ChannelState &st = c.channel_state(fd);
-	if (st.early_ahead == 0)
+	if (st.early_before_block == 0)
 		st.unanswered = std::max(0, st.unanswered - 1);
-	st.early_ahead = m.seq;
+	st.early_before_block = m.seq;
 }
 
 } // namespace tcs

@@ -34,7 +34,7 @@ constexpr int64_t kIdleCatchUp = 50 * TCS_NS_PER_MS;
 
 void schedule(Run &run)
 {
-	if (run.ending || run.held || run.awaiting_grant || !run.fatal || run.hearing)
+	if (run.ending || run.world_held || run.awaiting_grant || !run.fatal || run.hearing_threads)
 		return;
 	const bool barrier = !run.agents.empty() || run.cfg.step_agent;
 	// The same turn chosen again and again with nothing changed is a
@@ -113,21 +113,21 @@ bool run_best(Run &run, Controller &best, int64_t at, int64_t until)
 	// Asleep outside the hooks, with threads whose waits end now (they
 	// were asleep too, in those waits): it runs again, they first; its
 	// turn passing would leave it first in line at the same time for ever.
-	if (best.state() == CtlState::Asleep && std::any_of(best.side.begin(), best.side.end(),
+	if (best.state() == CtlState::Asleep && std::any_of(best.side_waits.begin(), best.side_waits.end(),
 				       [&](const Request &w) { return best.side_due(w, at, run.sim_ns); }))
 		wake_from_asleep(run, best);
 	if (best.state() == CtlState::Asleep && still_asleep(run, best, at)) {
 		// Looked at: still asleep, its turn passes for this step.
 		best.wait.rechecked_at = run.sim_ns;
-		best.wait.kicked_at = TCS_NEVER;
+		best.wait.signalled_at = TCS_NEVER;
 		return true;
 	}
 	const int64_t target = run.sim_ns + run.cfg.step_ns;
-	if (best.state() == CtlState::Blocked && (!best.side.empty() || best.others_asleep)) {
+	if (best.state() == CtlState::Blocked && (!best.side_waits.empty() || best.others_asleep)) {
 		// Several threads wait: end those due (threads.cc).
 		if (!wake_threads(run, best, at)) {
 			best.wait.rechecked_at = run.sim_ns;
-			for (Request &w : best.side)
+			for (Request &w : best.side_waits)
 				w.rechecked_at = run.sim_ns;
 			return true;
 		}
@@ -154,7 +154,7 @@ bool run_best(Run &run, Controller &best, int64_t at, int64_t until)
 		// for it (and the scheduler would choose them again and again).
 		// (What they then compute before they wait again is not charged:
 		// the controller is Blocked on the read until it resumes.)
-		if (std::any_of(best.side.begin(), best.side.end(),
+		if (std::any_of(best.side_waits.begin(), best.side_waits.end(),
 				[&](const Request &w) { return best.side_due(w, best.v, run.sim_ns); })) {
 			best.publish_slice(best.cpu_at_end >= 0 ? best.cpu_at_end : best.cpu_now()); // (their clocks)
 			end_side_waits(run, best);
@@ -175,10 +175,10 @@ Contender contender_of(const Run &run, const Controller &c)
 	k.running = c.state() == CtlState::Running;
 	k.at = next_run_at(run, c);
 	k.rechecks = waiting(c.state()) &&
-		     (c.wait.recheck || c.others_asleep || std::any_of(c.side.begin(), c.side.end(), [](const Request &w) {
+		     (c.wait.recheck || c.others_asleep || std::any_of(c.side_waits.begin(), c.side_waits.end(), [](const Request &w) {
 			      return (w.flags & TCS_BLOCK_RECHECK) != 0;
 		      }));
-	const bool for_child = c.wait.for_child || std::any_of(c.side.begin(), c.side.end(), [](const Request &w) {
+	const bool for_child = c.wait.for_child || std::any_of(c.side_waits.begin(), c.side_waits.end(), [](const Request &w) {
 				       return (w.flags & TCS_BLOCK_CHILD) != 0;
 			       });
 	k.waits_on_running_child = waiting(c.state()) && for_child &&
@@ -193,7 +193,7 @@ int64_t next_run_at(const Run &run, const Controller &c)
 	if (c.state() == CtlState::Ready || c.state() == CtlState::Running)
 		return c.v;
 	bool side_recheck = false, side_devices = false;
-	for (const Request &w : c.side) {
+	for (const Request &w : c.side_waits) {
 		side_recheck |= (w.flags & TCS_BLOCK_RECHECK) && w.rechecked_at < run.sim_ns;
 		side_devices |= (w.flags & TCS_BLOCK_DEVICES) != 0;
 		if (w.reason)
@@ -201,7 +201,7 @@ int64_t next_run_at(const Run &run, const Controller &c)
 	}
 	if (((c.wait.recheck || c.others_asleep) && c.wait.rechecked_at < run.sim_ns) || side_recheck)
 		return std::max(c.v, run.sim_ns);
-	int64_t until = std::min({ c.wait.deadline, c.next_timer(), c.side_next(), c.wait.kicked_at });
+	int64_t until = std::min({ c.wait.deadline, c.next_timer(), c.side_next(), c.wait.signalled_at });
 	// A read waiting on a wire waits for arrivals too: another
 	// controller's CAN frame is put on its way after the read began, so
 	// the deadline the read was given cannot know it.
@@ -279,7 +279,7 @@ void arm_idle_step(Run &run)
 void on_idle(Run &run)
 {
 	run.idle_timer.consume();
-	if (run.lanes.any_running() || run.ending || run.held)
+	if (run.lanes.any_running() || run.ending || run.world_held)
 		return;
 	if (advance_to(run, run.sim_ns + run.cfg.step_ns))
 		schedule(run);
