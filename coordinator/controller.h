@@ -16,7 +16,7 @@
 #include "controller_state.h"
 #include "error.h"
 #include "device.h"
-#include "mailbox.h"
+#include "mailbox_serve.h"
 #include "realtime.h"
 #include "spin_costs.h"
 #include "tcs/clock_page.h"
@@ -256,7 +256,7 @@ public:
 	// Seconds its threads have waited in round trips for an answer (page).
 	uint64_t unanswered_waits() const;
 	// --record, --replay: its journal (null: none), and how many entries
-	// it holds; recording, the next entry to drain (journals.cc).
+	// it holds; recording, the next entry to drain (record_replay.cc).
 	tcs_journal *journal() const { return journal_; }
 	uint64_t journal_capacity() const { return journal_capacity_; }
 	uint64_t journal_tail = 0;

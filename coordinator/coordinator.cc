@@ -14,7 +14,7 @@
 #include "children.h"
 #include "clock_ns.h"
 #include "exits.h"
-#include "journals.h"
+#include "record_replay.h"
 #include "messages.h"
 #include "record.h"
 #include "remote.h"

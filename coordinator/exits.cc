@@ -2,7 +2,7 @@
 // its main one), its exit accounted (its CPU to the last), or tcs dropping
 // it for what it sent.
 #include "exits.h"
-#include "journals.h"
+#include "record_replay.h"
 
 #include <signal.h>
 #include <sys/signalfd.h>
@@ -28,11 +28,10 @@
 
 namespace tcs {
 
-// The CPU clock of a controller that has just ended. The kernel's sum over
-// its threads waits for a thread still on its way out, which our wake-up
-// may have preempted on our core: at SCHED_FIFO we would spin in that
-// clock_gettime forever (seen with every multi-threaded controller), so we
-// step down to let it finish.
+// The CPU clock of a controller that has just ended, read at normal
+// priority: the kernel's sum over its threads waits for a thread still on
+// its way out, which our wake-up may have preempted on our core, and at
+// SCHED_FIFO it would never get to finish.
 int64_t exited_cpu(Run &run, const Controller &c)
 {
 	coordinator_fifo(run.rt, false);

@@ -18,7 +18,7 @@
 #include "clock_ns.h"
 #include "device_requests.h"
 #include "exits.h"
-#include "journals.h"
+#include "record_replay.h"
 #include "proc_info.h"
 #include "signal_timers.h"
 #include "signals.h"
@@ -36,11 +36,9 @@ constexpr int kMaxUnanswered = 4;
 } // namespace
 
 // One message per call: the loop is level-triggered, so a channel with more
-// comes back after the others had their turn. Drained in a loop, a channel
-// whose thread always had its next request there by the time the last was
-// answered (the coordinator paused in a system call, under load) kept the
-// coordinator from ever going back to epoll, and another thread's wait went
-// unread for hundreds of virtual ms.
+// comes back after the others had their turn. No channel may keep the
+// coordinator from the others: a thread can always have its next request
+// there by the time the last is answered.
 void on_channel(Run &run, Controller &c, ThreadChannel *t)
 {
 	const int fd = t ? t->fd.get() : c.channel.get();

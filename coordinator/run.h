@@ -94,7 +94,7 @@ struct Run {
 	bool hearing_threads = false; // hear_threads: schedule() waits for the last
 
 	// --replay: lockstep, with each controller's time from its journal,
-	// until one departs from the record (journals.cc: then cpu mode).
+	// until one departs from the record (record_replay.cc: then cpu mode).
 	bool replaying = false;
 
 	int64_t sim_ns = 0;    // S: the simulation clock

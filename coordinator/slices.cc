@@ -23,7 +23,7 @@
 #include "asleep.h"
 #include "clock_ns.h"
 #include "exits.h"
-#include "journals.h"
+#include "record_replay.h"
 #include "proc_info.h"
 #include "signal_timers.h"
 #include "tcs/protocol.h"

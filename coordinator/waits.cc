@@ -12,7 +12,7 @@
 #include "children.h"
 #include "clock_ns.h"
 #include "exits.h"
-#include "journals.h"
+#include "record_replay.h"
 #include "proc_info.h"
 #include "slices.h"
 #include "tcs/msg_io.h"

@@ -13,7 +13,7 @@
 
 #include "child.h"
 #include "fd_table.h"
-#include "journal.h"
+#include "journal_write.h"
 #include "raw_syscall.h"
 #include "report.h"
 #include "roundtrip.h"

@@ -128,16 +128,13 @@ int64_t tcs_process_cpu_resync(int own)
 	/* The kernel read the clock about halfway through the call: the CPU
 	 * at its end is later by half of what the call took. The whole call
 	 * is the runtime's own (unless the coordinator ran meanwhile, which
-	 * the stale gen makes the next read redo), but no more than a reading
-	 * costs, the least one seen: the ticks are wall time, and a pause of
-	 * this core within the call (the host running another vCPU, an
-	 * interrupt not charged to us) is not CPU of ours. Taken as ours it
-	 * would make the program's CPU go back, seen from the coordinator on
-	 * another core, which saw its CPU before the credit (a preemption's
-	 * overshoot came out negative in 1 of 15 runs). A call the
-	 * coordinator ran within (gen moved: it was stopped, or shared its
-	 * core) is no sample: one stopped by a preemption for 600 us, among a
-	 * program's first readings, put its clock 300 us ahead. */
+	 * the stale gen makes the next read redo), but credited as such no
+	 * more than the least a reading costs: the ticks are wall time, and a
+	 * pause of this core within the call (the host running another vCPU,
+	 * an interrupt not charged to us) is not CPU of ours, and the
+	 * program's CPU must never go back as the coordinator sees it. A call
+	 * the coordinator ran within (gen moved: it was stopped, or shared
+	 * its core) is no sample of a reading's cost. */
 	int64_t took = tcs_ticks_ns(p, after - before);
 	const int undisturbed = __atomic_load_n(&p->gen, __ATOMIC_ACQUIRE) == gen;
 	if (undisturbed)

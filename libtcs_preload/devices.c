@@ -65,7 +65,7 @@ static long tcs_got_record(long got)
 	return got;
 }
 
-/* Recording or replaying (journal.h): how much each read took, and whether
+/* Recording or replaying (journal_write.h): how much each read took, and whether
  * it asked first, are journalled, so that a replay reads as much, after
  * the same requests, whatever the coordinator had put in its fd by then. */
 static long tcs_device_read_live(int fd, const struct tcs_fd *e, void *buf, size_t n);

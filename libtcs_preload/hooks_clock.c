@@ -42,7 +42,7 @@ static int64_t tcs_thread_cpu_scaled(clockid_t id)
 }
 
 /* What the program's clock reads say, virtual time and CPU time: journalled
- * when recording, the record's when replaying (journal.h). */
+ * when recording, the record's when replaying (journal_write.h). */
 static int64_t tcs_journalled(unsigned kind, int64_t (*live)(void))
 {
 	int64_t v;

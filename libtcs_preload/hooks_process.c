@@ -154,11 +154,10 @@ static long tcs_wait_child(idtype_t type, id_t id, siginfo_t *info, int options,
 		tcs_sys0(SYS_sched_yield);
 		/* Woken when a child ends, at its virtual time (a child in real
 		 * time, outside tcs, is looked for at each step: the coordinator's
-		 * re-check). No time-out of our own: one that came first would
-		 * find a child ended here that has not ended yet in virtual time
-		 * (seen: a child computing while its parent waits, ended 160 us
-		 * past the time-out). A stop or continue is no news of the
-		 * coordinator's: waits for those look every 100 ms. */
+		 * re-check). No time-out of our own: one could find a child ended
+		 * in the kernel that has not ended yet in virtual time. A stop or
+		 * continue is no news of the coordinator's: waits for those look
+		 * every 100 ms. */
 		int changes = options & (WUNTRACED | WCONTINUED);
 		struct tcs_wait_time t = { changes ? 100 * TCS_NS_PER_MS : TCS_NEVER, changes != 0, 0, 0, 0, 0 };
 		long w = tcs_wait(&t, TCS_BLOCK_POLL, TCS_BLOCK_CHILD, NULL, 0, NULL);

@@ -1,7 +1,7 @@
 /* Replaying a journal (replay.h): the record's next entry taken for each
  * call the program makes, the record's times reached by waits of tcs's own
  * (tcs_spin_to, tcs_wait), the first call that comes out otherwise told as
- * the departure. Above the waits it makes; the journal itself (journal.c)
+ * the departure. Above the waits it makes; the journal itself (journal_write.c)
  * is below them. */
 #include "replay.h"
 

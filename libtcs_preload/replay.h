@@ -4,7 +4,7 @@
 #ifndef TCS_PRELOAD_REPLAY_H
 #define TCS_PRELOAD_REPLAY_H
 
-#include "journal.h"
+#include "journal_write.h"
 #include "runtime.h"
 
 /* Replaying, and not departed: *out is the record's next entry, which must

@@ -24,9 +24,9 @@
 #include <sys/socket.h>
 
 #include "cpu_estimate.h"
-#include "journal.h"
+#include "journal_write.h"
 #include "lazy_writes.h"
-#include "mailbox.h"
+#include "mailbox_post.h"
 #include "raw_syscall.h"
 #include "report.h"
 #include "roundtrip.h"

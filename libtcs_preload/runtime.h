@@ -37,7 +37,7 @@ struct tcs_runtime {
 	int page_fd;
 	struct tcs_clock_page *page;
 	const struct tcs_device_table *devices; /* beside the page, constant */
-	struct tcs_journal *journal; /* --record, --replay: after them (journal.h) */
+	struct tcs_journal *journal; /* --record, --replay: after them (tcs/journal.h) */
 	uint32_t next_seq;
 };
 

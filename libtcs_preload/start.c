@@ -12,7 +12,7 @@
 
 #include "child.h"
 #include "cpu_estimate.h"
-#include "journal.h"
+#include "journal_write.h"
 #include "raw_syscall.h"
 #include "real.h"
 #include "replay.h"

@@ -3,7 +3,7 @@
  * any context, signal handlers included: no locks. */
 #include "vclock.h"
 
-#include "journal.h"
+#include "journal_write.h"
 
 
 /* Until start-up fills them: nothing to catch up with, no journal. */

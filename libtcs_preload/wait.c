@@ -6,7 +6,7 @@
  * Hooks nest: a signal handler that runs inside one (its wait, or the
  * timer signals it raises) enters its own, whose request settles the
  * interrupted one first (roundtrip.c). */
-#include "journal.h"
+#include "journal_write.h"
 #include "raw_syscall.h"
 #include "roundtrip.h"
 #include "signal_mask.h"

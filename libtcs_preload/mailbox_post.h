@@ -1,6 +1,6 @@
-/* The mailbox hand-off, the controller's side (mailbox.c, tcs/mailbox.h). */
-#ifndef TCS_PRELOAD_MAILBOX_H
-#define TCS_PRELOAD_MAILBOX_H
+/* The mailbox hand-off, the controller's side (mailbox_post.c, tcs/mailbox.h). */
+#ifndef TCS_PRELOAD_MAILBOX_POST_H
+#define TCS_PRELOAD_MAILBOX_POST_H
 
 #include "runtime.h"
 

@@ -1,5 +1,5 @@
 // Mailbox: the coordinator's half of the hand-off in tcs/mailbox.h.
-#include "mailbox.h"
+#include "mailbox_serve.h"
 
 #include <cstring>
 

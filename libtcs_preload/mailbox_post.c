@@ -15,7 +15,7 @@
  *
  * With other controllers queued behind it on its core (TCS_PAGE_QUEUED,
  * lockstep), it parks at once: its answer comes only once they have run. */
-#include "mailbox.h"
+#include "mailbox_post.h"
 #include "real.h"
 
 int tcs_mailbox_fits(const struct tcs_msg *m, int channel)

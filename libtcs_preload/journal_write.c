@@ -1,10 +1,10 @@
-/* The controller's journal (journal.h): appended to while recording; the
+/* The controller's journal (journal_write.h): appended to while recording; the
  * cursor and the departure replaying are replay.c's, which waits where
  * this file never does. Runs in any context, signal handlers included: no
  * locks; a slot is claimed with one compare-and-swap. */
 #include <sys/mman.h>
 
-#include "journal.h"
+#include "journal_write.h"
 #include "raw_syscall.h"
 #include "report.h"
 

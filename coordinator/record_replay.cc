@@ -1,7 +1,7 @@
-// Journals (journals.h). Everything in a journal was written by the
+// Journals (record_replay.h). Everything in a journal was written by the
 // controller: each entry is read once, its kind checked, and the ring's
 // positions are bounded by what the coordinator itself has taken.
-#include "journals.h"
+#include "record_replay.h"
 
 #include <algorithm>
 #include <cinttypes>

@@ -1,10 +1,10 @@
-/* The controller's journal (journal.c; the layout is tcs/journal.h):
+/* The controller's journal (journal_write.c; the layout is tcs/journal.h):
  * recording, what the program read and asked is appended; replaying, it is
  * taken from the record instead (replay.h), until the program departs from
  * it. What is here never waits: the round trips and waits below which
  * replaying stands note into it. */
-#ifndef TCS_PRELOAD_JOURNAL_H
-#define TCS_PRELOAD_JOURNAL_H
+#ifndef TCS_PRELOAD_JOURNAL_WRITE_H
+#define TCS_PRELOAD_JOURNAL_WRITE_H
 
 #include "runtime.h"
 #include "tcs/journal.h"
