@@ -338,15 +338,16 @@ bool wait_until_stopped(Run &run, Controller &c)
 	}
 	// A child of a controller is its parent's to wait for: waitid cannot
 	// see it stop (it fails with ECHILD, and the controller was taken for
-	// dead and left stopped). So look, letting go of the core meanwhile.
+	// dead and left stopped), and nothing tells of its stop but /proc. So
+	// look, between waits on its pidfd (its end ends them at once) that
+	// let go of the core meanwhile.
 	for (int i = 0; i < kStopLooks; i++) {
 		struct pollfd ended = { c.pidfd.get(), POLLIN, 0 };
-		if (poll(&ended, 1, 0) > 0)
+		const struct timespec look_again = { 0, i == 0 ? 0 : 20 * TCS_NS_PER_US };
+		if (ppoll(&ended, 1, &look_again, nullptr) > 0)
 			return false;
 		if (proc_all_threads_stopped(c.pid))
 			return true;
-		struct timespec pause = { 0, 20 * TCS_NS_PER_US };
-		nanosleep(&pause, nullptr);
 	}
 	return true; // (asleep uninterruptibly for a second: it stops on waking)
 }
