@@ -162,42 +162,73 @@ void on_dev_sync(Run &run, Controller &c, const ::tcs_msg &m)
 	schedule(run);
 }
 
-// The controller waits for the next arrival on a wire, or for the wire's
-// next event (which may bring one), or its deadline: Blocked until then.
-static bool wait_for(Run &run, Controller &c, const DeviceSync &sync, int64_t until)
+namespace {
+// What a device request comes to once the world has reached it: answered,
+// with its result, or waiting until `until` at the latest.
+struct SyncOutcome {
+	bool answered = true;
+	int64_t result = 0;
+	int64_t until = TCS_NEVER;
+};
+SyncOutcome answered(int64_t result = 0)
 {
-	c.sync = sync;
-	move(run, c, CtlMove::Block);
-	c.wait.deadline = c.wait.asked = until;
-	c.wait.recheck = false;
-	c.wait.devices = false;
-	return false;
+	return { true, result, TCS_NEVER };
 }
+SyncOutcome waits_until(int64_t until)
+{
+	return { false, 0, until };
+}
+} // namespace
 
 // tcdrain(): done once what it wrote has left on the wire.
-static bool complete_drain(Run &run, Controller &c, const DeviceSync &sync)
+static SyncOutcome drain(Run &run, Controller &c, const DeviceSync &sync)
 {
 	OpenDevice &d = *c.devices[(size_t)sync.handle];
 	const int64_t at = d.wire && d.wire->bus ? d.wire->bus->drained_at(*d.wire) : 0;
-	if (at > c.v && !run.ending)
-		return wait_for(run, c, sync, at);
-	owe_answer(c, TCS_WAKE_DEADLINE, 0);
-	return true;
+	return at > c.v && !run.ending ? waits_until(at) : answered();
 }
 
 // A wire's read: done when something is in its fd, or it may not wait, or
-// its deadline has come (it reads nothing then).
-static bool complete_wire_read(Run &run, Controller &c, const DeviceSync &sync, OpenDevice &d)
+// its deadline has come (it reads nothing then); else it waits for the next
+// arrival, or the wire's next event (which may bring one), or its deadline.
+static SyncOutcome wire_read(Run &run, Controller &c, const DeviceSync &sync, OpenDevice &d)
 {
-	if (d.gone || !drained(d) || run.ending) {
-		owe_answer(c, TCS_WAKE_DEADLINE, 0);
-		return true;
+	if (d.gone || !drained(d) || run.ending)
+		return answered();
+	if (sync.nonblock || c.v >= sync.deadline)
+		return answered(sync.nonblock ? -EAGAIN : 0);
+	return waits_until(std::min(next_record_due(c), sync.deadline));
+}
+
+// A sensor's read: done when a record is in its fd; a 'latest' sensor
+// answers with the world now, and so does a stream once the run is ending
+// (the world has stopped; its last state stands: its records still queued
+// are of times that will not come). Else it waits for its next record.
+static SyncOutcome sensor_read(Run &run, Controller &c, const DeviceSync &sync, OpenDevice &d)
+{
+	if (!drained(d) || d.gone)
+		return answered();
+	if ((d.dev->cfg.latest || run.ending) && run.world) {
+		std::vector<double> values;
+		for (size_t i : d.dev->signals)
+			run.world->read_sensed(i, values);
+		std::string rec = format_record(d.dev->cfg.format, values);
+		(void)!send(d.sock.get(), rec.data(), rec.size(), MSG_DONTWAIT | MSG_NOSIGNAL);
+		return answered();
 	}
-	if (sync.nonblock || c.v >= sync.deadline) {
-		owe_answer(c, TCS_WAKE_DEADLINE, sync.nonblock ? -EAGAIN : 0);
-		return true;
-	}
-	return wait_for(run, c, sync, std::min(next_record_due(c), sync.deadline));
+	if (sync.nonblock || next_record_due(c) == TCS_NEVER)
+		return answered(sync.nonblock ? -EAGAIN : 0);
+	return waits_until(d.queue.empty() ? d.next_due : d.queue.front().first);
+}
+
+static SyncOutcome serve_sync(Run &run, Controller &c, const DeviceSync &sync)
+{
+	if (sync.kind == TCS_SYNC_DRAIN)
+		return drain(run, c, sync);
+	if (sync.kind != TCS_SYNC_READ)
+		return answered();
+	OpenDevice &d = *c.devices[(size_t)sync.handle];
+	return d.wire ? wire_read(run, c, sync, d) : sensor_read(run, c, sync, d);
 }
 
 bool raise_timers_in_read(Controller &c, int64_t at)
@@ -212,45 +243,22 @@ bool raise_timers_in_read(Controller &c, int64_t at)
 }
 
 // The world is at or past the controller's step: do what it asked. False
-// when it must wait for the next record (then it is Blocked until then).
+// when it must wait (then it is Blocked until its record, its wire's next
+// event, or its deadline).
 bool complete_sync(Run &run, Controller &c)
 {
 	run.wires.advance(c.v, run.sim_ns, run.world.get());
 	deliver(c);
 	const DeviceSync sync = *c.sync;
 	c.sync.reset();
-	if (sync.kind == TCS_SYNC_DRAIN)
-		return complete_drain(run, c, sync);
-	if (sync.kind != TCS_SYNC_READ) {
-		owe_answer(c, TCS_WAKE_DEADLINE, 0);
+	const SyncOutcome out = serve_sync(run, c, sync);
+	if (out.answered) {
+		owe_answer(c, TCS_WAKE_DEADLINE, out.result);
 		return true;
 	}
-	OpenDevice &d = *c.devices[(size_t)sync.handle];
-	if (d.wire)
-		return complete_wire_read(run, c, sync, d);
-	if (!drained(d) || d.gone) {
-		owe_answer(c, TCS_WAKE_DEADLINE, 0);
-		return true;
-	}
-	// A 'latest' sensor answers with the world now; so does a stream once
-	// the run is ending (the world has stopped; its last state stands: its
-	// records still queued are of times that will not come).
-	if ((d.dev->cfg.latest || run.ending) && run.world) {
-		std::vector<double> values;
-		for (size_t i : d.dev->signals)
-			run.world->read_sensed(i, values);
-		std::string rec = format_record(d.dev->cfg.format, values);
-		(void)!send(d.sock.get(), rec.data(), rec.size(), MSG_DONTWAIT | MSG_NOSIGNAL);
-		owe_answer(c, TCS_WAKE_DEADLINE, 0);
-		return true;
-	}
-	if (sync.nonblock || next_record_due(c) == TCS_NEVER) {
-		owe_answer(c, TCS_WAKE_DEADLINE, sync.nonblock ? -EAGAIN : 0);
-		return true;
-	}
-	c.sync = sync; // (still waiting, for the record)
+	c.sync = sync;
 	move(run, c, CtlMove::Block);
-	c.wait.deadline = c.wait.asked = d.queue.empty() ? d.next_due : d.queue.front().first;
+	c.wait.deadline = c.wait.asked = out.until;
 	c.wait.recheck = false;
 	c.wait.devices = false;
 	return false;
