@@ -122,7 +122,7 @@ bool still_asleep(Run &run, Controller &c, int64_t at)
 	if (c.runs_unhooked)
 		return true; // not ours to run: its end is all that is awaited
 	if (c.next_timer() <= at) {
-		c.v = std::max(c.v, at);
+		advance(c, at);
 		if (!run.ending)
 			c.raise_due_timers();
 	}
@@ -160,7 +160,7 @@ void wake_from_asleep(Run &run, Controller &c)
 {
 	int64_t cpu = c.cpu_now();
 	c.account(cpu, run.cfg.mode);
-	c.v = std::max(c.v, latest_cause(run, c));
+	advance(c, latest_cause(run, c));
 	c.publish_slice(cpu);
 	c.woke_unheld = true;
 	c.set_page_flag(TCS_PAGE_ASLEEP, false);

@@ -71,23 +71,23 @@ void on_child(Run &run, Controller &parent, const ::tcs_msg &m, UniqueFd channel
 	Controller &c = **made;
 	// It starts where its parent was at the fork (or is now, if it does not
 	// know), never behind the world. A parent waiting for this very child
-	// (its request restarted its slice) is exactly at parent.v; one still
+	// (its request restarted its slice) is exactly at parent.v(); one still
 	// running is settled by that request when it comes (on_forked).
 	// Still running, its request's claim bounds where it is: past it, what
 	// its CPU clock counts is the hook's (a child that had run before the
 	// request came, at the parent's clock as it registered, began 26 us
 	// ahead of the parent's time, under load).
-	int64_t parent_v = parent.v;
+	int64_t parent_v = parent.v();
 	if (parent.state() == CtlState::Running && run.cfg.mode == TCS_MODE_CPU && parent.new_child.pid != pid) {
 		int64_t cpu = parent.cpu_now(), claim = parent.fork_claim();
 		if (claim >= 0)
 			cpu = std::min(cpu, claim);
 		parent_v = std::max(parent_v, parent.v_at_cpu(cpu));
 	}
-	c.v = std::max((m.flags & TCS_CHILD_V_KNOWN) ? m.v : parent_v, run.sim_ns);
+	place_at(c, std::max((m.flags & TCS_CHILD_V_KNOWN) ? m.v : parent_v, run.sim_ns));
 	c.wait.seq = m.seq;
 	move(run, c, CtlMove::Block);
-	c.wait.deadline = c.wait.asked = c.v;
+	c.wait.deadline = c.wait.asked = c.v();
 	c.wait.pass_fd = c.page_fd_for_child.release();
 	run.ctls.push_back(std::move(*made));
 	Controller *raw = run.ctls.back().get();
@@ -120,8 +120,10 @@ void on_forked(Run &run, Controller &c, const ::tcs_msg &m)
 			// its own): at the time of its CPU clock then, which counted
 			// the parent's hooks too. Not yet run, it starts here instead,
 			// where the spawn's request put its parent.
-			if (o->slices == 0 && o->state() == CtlState::Blocked && o->wait.deadline == o->v && o->v > c.v)
-				o->v = o->wait.deadline = std::max(c.v, run.sim_ns);
+			if (o->slices == 0 && o->state() == CtlState::Blocked && o->wait.deadline == o->v() && o->v() > c.v()) {
+				place_at(*o, std::max(c.v(), run.sim_ns));
+				o->wait.deadline = o->v();
+			}
 			reply_now(run, c, 0);
 			return;
 		}
@@ -244,7 +246,7 @@ void child_wait_begins(Run &run, Controller &c, const ::tcs_msg &m, Request *sid
 	if (side)
 		side->reason = TCS_WAKE_RECHECK;
 	else
-		wake(run, c, std::max(c.v, c.child_ended_at), TCS_WAKE_RECHECK);
+		wake(run, c, std::max(c.v(), c.child_ended_at), TCS_WAKE_RECHECK);
 }
 
 } // namespace tcs

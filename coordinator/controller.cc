@@ -238,7 +238,7 @@ void Controller::count_raised_signal()
 
 void Controller::publish_slice(int64_t cpu_base)
 {
-	slice_ = tcs_slice{ v, cpu_base, charged, page_ ? __atomic_load_n(&page_->own_cpu, __ATOMIC_RELAXED) : 0 };
+	slice_ = tcs_slice{ v_, cpu_base, charged, page_ ? __atomic_load_n(&page_->own_cpu, __ATOMIC_RELAXED) : 0 };
 	left_out_ = 0;
 	if (page_)
 		tcs_page_write_slice(page_, slice_);
@@ -282,8 +282,8 @@ int64_t Controller::v_at_cpu(int64_t cpu) const
 int64_t Controller::v_now(int mode) const
 {
 	if (state_ != CtlState::Running)
-		return v;
-	return mode == TCS_MODE_CPU ? std::max(v, v_at_cpu(cpu_now())) : spun();
+		return v_;
+	return mode == TCS_MODE_CPU ? std::max(v_, v_at_cpu(cpu_now())) : spun();
 }
 
 int64_t Controller::v_told(int mode) const
@@ -302,13 +302,13 @@ void Controller::account(int64_t cpu, int mode)
 {
 	int64_t used = tcs_scale_cpu(slice_cpu(cpu), scale);
 	if (mode == TCS_MODE_CPU)
-		v = std::max(v, tcs_ns_add(slice_.v_base, used));
+		v_ = std::max(v_, tcs_ns_add(slice_.v_base, used));
 	else
-		v = spun();
+		v_ = spun();
 	// Replaying, the record's charges are what moved it: its virtual time
 	// in the slice, as in cpu mode (not this machine's CPU).
 	if (page_ && (__atomic_load_n(&page_->flags, __ATOMIC_RELAXED) & TCS_PAGE_REPLAY))
-		used = std::max<int64_t>(v - slice_.v_base, 0);
+		used = std::max<int64_t>(v_ - slice_.v_base, 0);
 	charged = std::max(charged, tcs_ns_add(slice_.charged_base, used));
 }
 
@@ -326,8 +326,8 @@ uint64_t Controller::next_child_random_key()
 
 int64_t Controller::spun() const
 {
-	int64_t at = page_ ? __atomic_load_n(&page_->spin_v, __ATOMIC_ACQUIRE) : v;
-	return std::max(v, std::min(at, spin_limit_));
+	int64_t at = page_ ? __atomic_load_n(&page_->spin_v, __ATOMIC_ACQUIRE) : v_;
+	return std::max(v_, std::min(at, spin_limit_));
 }
 
 int64_t Controller::fork_claim() const
@@ -400,10 +400,10 @@ void Controller::release()
 template <class F> void Controller::advance_due(F f)
 {
 	for (SignalTimer &t : timers) {
-		if (t.next == TCS_NEVER || t.next > v)
+		if (t.next == TCS_NEVER || t.next > v_)
 			continue;
 		f(t);
-		t.next = t.interval > 0 ? t.next + ((v - t.next) / t.interval + 1) * t.interval : TCS_NEVER;
+		t.next = t.interval > 0 ? t.next + ((v_ - t.next) / t.interval + 1) * t.interval : TCS_NEVER;
 	}
 	timers_changed();
 }

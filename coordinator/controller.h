@@ -277,7 +277,9 @@ public:
 	bool hook_marks_return = false;  // its slice began with a WAKE, whose hook marks its return
 	bool attached = false;  // the preload said HELLO
 	int64_t hello_nonce = 0; // the current image's HELLO
-	int64_t v = 0;          // virtual time (exact whenever not Running)
+	// Its virtual time (exact whenever not Running): moved by account() as
+	// a slice closes and by transitions.cc alone otherwise.
+	int64_t v() const { return v_; }
 	int64_t charged = 0;    // virtual CPU charged
 	int64_t budget = 0;     // real CPU this slice may use (cpu mode)
 	// Where the current scheduling slice began, for the trace (a device
@@ -390,7 +392,10 @@ public:
 
 private:
 	friend bool move(Run &run, Controller &c, CtlMove m);
+	friend void advance(Controller &c, int64_t at);
+	friend void place_at(Controller &c, int64_t at);
 	CtlState state_ = CtlState::Ready;
+	int64_t v_ = 0;
 	template <class F> void advance_due(F f);
 	Result<UniqueFd> make_page(const ControllerSpec &spec, int mode, const ClockSetup &clocks,
 				   const RealtimePlan &rt, const std::vector<BoundDevice> &bound);

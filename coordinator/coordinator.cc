@@ -356,7 +356,7 @@ Result<RunReport> Coordinator::run()
 	r.virtual_ns = run.sim_ns;
 	if (run.end_reason == EndReason::AllExited)
 		for (auto &c : run.ctls)
-			r.virtual_ns = std::max(r.virtual_ns, c->v);
+			r.virtual_ns = std::max(r.virtual_ns, c->v());
 	r.wall_ns = clock_ns(CLOCK_MONOTONIC) - run.wall_start;
 	r.steps = run.steps;
 	r.step_wall_min = run.step_walls.min();

@@ -38,13 +38,13 @@ void reply_now(Run &run, Controller &c, int64_t arg)
 // request (its budget less what it has used), as after any wait.
 void restart_slice(Run &run, Controller &c, int64_t request_cpu)
 {
-	c.wait.requested_at = c.v;
+	c.wait.requested_at = c.v();
 	if (c.state() != CtlState::Running)
 		return;
 	int64_t at = charge_point(run, c, request_cpu);
 	int64_t used = c.slice_cpu(at);
 	c.account(at, run.cfg.mode);
-	c.wait.requested_at = c.v;
+	c.wait.requested_at = c.v();
 	c.publish_slice(at);
 	start_slice_clock(run, c);
 	c.budget = std::max<int64_t>(c.budget - used, 1);
@@ -100,7 +100,7 @@ void on_dev_open(Run &run, Controller &c, const ::tcs_msg &m)
 	fcntl(sv[0], F_SETFL, fl | O_NONBLOCK);
 	if (dev.cfg.kind == TCS_DEVICE_SENSOR && !dev.cfg.latest && dev.cfg.period_ns > 0) {
 		// A stream runs at its rate from the start of the run, whoever reads.
-		d->next_due = (std::max(c.v, run.sim_ns) + dev.cfg.period_ns - 1) / dev.cfg.period_ns * dev.cfg.period_ns;
+		d->next_due = (std::max(c.v(), run.sim_ns) + dev.cfg.period_ns - 1) / dev.cfg.period_ns * dev.cfg.period_ns;
 		run.devices.make_records(*d, run.sim_ns + run.cfg.step_ns, run.world.get());
 	}
 	if (slot == c.devices.size())
@@ -127,7 +127,7 @@ void on_dev_sync(Run &run, Controller &c, const ::tcs_msg &m)
 		OpenDevice &d = *c.devices[(size_t)m.arg];
 		int64_t result = 0;
 		if (d.wire)
-			result = run.wires.take(*d.wire, d.sock.get(), c.v, run.world.get());
+			result = run.wires.take(*d.wire, d.sock.get(), c.v(), run.world.get());
 		else if (d.dev->cfg.kind == TCS_DEVICE_ACTUATOR && !run.devices.take_commands(c, d, false, run.trace))
 			result = -EINVAL;
 		reply_now(run, c, result);
@@ -139,7 +139,7 @@ void on_dev_sync(Run &run, Controller &c, const ::tcs_msg &m)
 	}
 	c.sync = DeviceSync{ m.kind, m.arg, (m.flags & TCS_DEV_NONBLOCK) != 0,
 			     (m.flags & TCS_DEV_DEADLINE) ? m.deadline : TCS_NEVER };
-	if (!run.ending && c.v >= run.sim_ns + run.cfg.step_ns) {
+	if (!run.ending && c.v() >= run.sim_ns + run.cfg.step_ns) {
 		// It is ahead of the world: it waits until the world catches up.
 		if (c.lane >= 0) {
 			run.lanes.leave(c);
@@ -185,7 +185,7 @@ static SyncOutcome drain(Run &run, Controller &c, const DeviceSync &sync)
 {
 	OpenDevice &d = *c.devices[(size_t)sync.handle];
 	const int64_t at = d.wire && d.wire->bus ? d.wire->bus->drained_at(*d.wire) : 0;
-	return at > c.v && !run.ending ? waits_until(at) : answered();
+	return at > c.v() && !run.ending ? waits_until(at) : answered();
 }
 
 // A wire's read: done when something is in its fd, or it may not wait, or
@@ -195,7 +195,7 @@ static SyncOutcome wire_read(Run &run, Controller &c, const DeviceSync &sync, Op
 {
 	if (d.gone || !drained(d) || run.ending)
 		return answered();
-	if (sync.nonblock || c.v >= sync.deadline)
+	if (sync.nonblock || c.v() >= sync.deadline)
 		return answered(sync.nonblock ? -EAGAIN : 0);
 	return waits_until(std::min(next_record_due(c), sync.deadline));
 }
@@ -235,7 +235,7 @@ bool raise_timers_in_read(Controller &c, int64_t at)
 {
 	if (!c.sync || c.next_timer() > at)
 		return false;
-	c.v = std::max(c.v, at);
+	advance(c, at);
 	// Its handlers run now, inside the read: their clocks read this time.
 	c.publish_slice(c.cpu_at_end >= 0 ? c.cpu_at_end : c.cpu_now());
 	c.raise_due_timers();
@@ -247,7 +247,7 @@ bool raise_timers_in_read(Controller &c, int64_t at)
 // event, or its deadline).
 bool complete_sync(Run &run, Controller &c)
 {
-	run.wires.advance(c.v, run.sim_ns, run.world.get());
+	run.wires.advance(c.v(), run.sim_ns, run.world.get());
 	deliver(c);
 	const DeviceSync sync = *c.sync;
 	c.sync.reset();

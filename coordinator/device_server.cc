@@ -137,12 +137,12 @@ void deliver(Controller &c)
 {
 	for (auto &d : c.devices) {
 		if (d->wire) {
-			deliver_wire(*d, c.v);
+			deliver_wire(*d, c.v());
 			continue;
 		}
-		if (d->gone || d->queue.empty() || d->queue.front().first > c.v || !drained(*d))
+		if (d->gone || d->queue.empty() || d->queue.front().first > c.v() || !drained(*d))
 			continue;
-		while (!d->gone && !d->queue.empty() && d->queue.front().first <= c.v) {
+		while (!d->gone && !d->queue.empty() && d->queue.front().first <= c.v()) {
 			const std::string &rec = d->queue.front().second;
 			ssize_t n = send(d->sock.get(), rec.data(), rec.size(), MSG_DONTWAIT | MSG_NOSIGNAL);
 			if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK))
@@ -183,7 +183,7 @@ int64_t next_record_due(const Controller &c)
 		// poll of other fds from a handler that interrupted that read
 		// would be woken for it again and again at the same time.
 		int64_t at = d->queue.front().first;
-		if (at > c.v || drained(*d))
+		if (at > c.v() || drained(*d))
 			due = std::min(due, at);
 	}
 	return due;
@@ -208,14 +208,14 @@ bool DeviceServer::take_commands(Controller &c, OpenDevice &d, bool written_lazi
 			for (double &v : values)
 				v = std::clamp(v, -*dev.cfg.limit, *dev.cfg.limit);
 		if (trace.is_open())
-			trace.command(c.id, dev.cfg.path, c.v, values, false);
+			trace.command(c.id, dev.cfg.path, c.v(), values, false);
 		if (on_command)
 			on_command(c, dev.cfg.path, &values);
-		commands_.emplace_back(c.v, &dev, std::move(values));
+		commands_.emplace_back(c.v(), &dev, std::move(values));
 	}
 	if (!ok) {
 		if (trace.is_open())
-			trace.command(c.id, dev.cfg.path, c.v, {}, true);
+			trace.command(c.id, dev.cfg.path, c.v(), {}, true);
 		if (on_command)
 			on_command(c, dev.cfg.path, nullptr);
 		dev.malformed++;

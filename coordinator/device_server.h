@@ -36,7 +36,7 @@ public:
 	// A stream's records due before `until`, made from the world as it is.
 	void make_records(OpenDevice &d, int64_t until, const SimWorld *world);
 	void fill_streams(const std::vector<std::unique_ptr<Controller>> &ctls, int64_t until, const SimWorld *world);
-	// The records c wrote to d, stamped c.v; false if one was malformed.
+	// The records c wrote to d, stamped c.v(); false if one was malformed.
 	bool take_commands(Controller &c, OpenDevice &d, bool written_lazily, Trace &trace);
 	// Those written without a round trip (lockstep), before c's time moves;
 	// but for handle `except`, whose request will take them.

@@ -112,16 +112,16 @@ void on_exit(Run &run, Controller &c, int wait_status)
 			end_side_waits(run, *p);
 		}
 		if (p->state() == CtlState::Blocked && p->wait.for_child && !p->sync) {
-			wake(run, *p, std::max(p->v, c.v), TCS_WAKE_RECHECK);
+			wake(run, *p, std::max(p->v(), c.v()), TCS_WAKE_RECHECK);
 			seen = true;
 		} else if (waiting(p->state())) {
-			p->note_signal(std::max(p->v, c.v));
+			p->note_signal(std::max(p->v(), c.v()));
 		}
 		// Not waiting for it now: its next wait for a child re-checks,
 		// no earlier than the child's end.
 		p->child_ended = !seen;
 		if (!seen)
-			p->child_ended_at = std::max(p->child_ended_at, c.v);
+			p->child_ended_at = std::max(p->child_ended_at, c.v());
 	}
 	run.loop.remove(c.channel.get());
 	for (auto &t : c.threads)

@@ -28,7 +28,7 @@ void journal_stop(Run &run, Controller &c, int64_t overshoot)
 	drain_journal(run, c);
 	tcs_journal_entry stop = {};
 	stop.kind = TCS_J_STOP;
-	stop.value = c.v;
+	stop.value = c.v();
 	stop.arg = overshoot;
 	c.journal_batch.push_back(stop);
 }
@@ -78,7 +78,7 @@ void drain_journal(Run &run, Controller &c, bool flush)
 	if (!c.journal_lost && __atomic_load_n(&j->lost, __ATOMIC_RELAXED) != 0) {
 		c.journal_lost = true; // (said once)
 		warn_once(run, "record: '" + c.name + "' read its clocks more often between two stops than its journal holds; "
-			  "the record is incomplete from " + std::to_string(c.v / 1e9) + " s, where a replay departs");
+			  "the record is incomplete from " + std::to_string(c.v() / 1e9) + " s, where a replay departs");
 	}
 	// (Not with a stop last: what it drains next may go before it.)
 	bool full = c.journal_batch.size() >= kBatch && c.journal_batch.back().kind != TCS_J_STOP;
@@ -135,9 +135,9 @@ bool replay_stop(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	c.account(cpu, run.cfg.mode);
 	// Where the record's stop was: no further than the world's next step
 	// or its next timer (the controller's word, held to that).
-	int64_t at = std::clamp(m.deadline, c.v, std::max(c.v, c.spin_limit()));
-	c.charged += at - c.v;
-	c.v = at;
+	int64_t at = std::clamp(m.deadline, c.v(), std::max(c.v(), c.spin_limit()));
+	c.charged += at - c.v();
+	advance(c, at);
 	c.stats.preemptions++;
 	// The preload took the record's stop it waits for: the one before its
 	// cursor (its word, checked against the stop it asked for).
@@ -184,10 +184,10 @@ void replay_exit(Run &run, Controller &c)
 	if (at >= n)
 		return;
 	const tcs_journal_entry e = tcs_journal_entries(j)[at];
-	if (e.kind != TCS_J_EXIT || e.value <= c.v)
+	if (e.kind != TCS_J_EXIT || e.value <= c.v())
 		return;
-	c.charged += e.value - c.v;
-	c.v = e.value;
+	c.charged += e.value - c.v();
+	place_at(c, e.value);
 }
 
 static std::string values_text(const std::vector<double> *values)
@@ -211,17 +211,17 @@ void replay_command(Run &run, Controller &c, const std::string &path, const std:
 	size_t i = c.commands_replayed++;
 	const RecordedCommand *r =
 		all != run.cfg.replay->commands.end() && i < all->second.size() ? &all->second[i] : nullptr;
-	if (r && r->path == path && r->v == c.v && r->malformed == !values && (!values || r->values == *values))
+	if (r && r->path == path && r->v == c.v() && r->malformed == !values && (!values || r->values == *values))
 		return;
 	char at[64];
-	snprintf(at, sizeof at, "at %.9f s: ", (double)c.v / 1e9);
+	snprintf(at, sizeof at, "at %.9f s: ", (double)c.v() / 1e9);
 	std::string what = std::string(at) + "command " + values_text(values) + " to " + path;
 	if (!r)
 		what += " past the record's last command";
 	else
 		what += " where the record has " + values_text(r->malformed ? nullptr : &r->values) +
 			(r->path != path ? " to " + r->path : "") +
-			(r->v != c.v ? " at " + std::to_string(r->v / 1e9) + " s" : "");
+			(r->v != c.v() ? " at " + std::to_string(r->v / 1e9) + " s" : "");
 	say_departure(run, c, what);
 }
 
@@ -253,7 +253,7 @@ void journal_ends(Run &run, Controller &c)
 		drain_journal(run, c);
 		tcs_journal_entry end = {};
 		end.kind = TCS_J_EXIT;
-		end.value = c.v;
+		end.value = c.v();
 		c.journal_batch.push_back(end);
 		drain_journal(run, c, true);
 		return;
@@ -263,7 +263,7 @@ void journal_ends(Run &run, Controller &c)
 	if (!c.departed && !run.ending && at < n) {
 		char what[96];
 		snprintf(what, sizeof what, "at %.9f s: it ended with %" PRIu64 " of the record's entries not reached",
-			 (double)c.v / 1e9, n - at);
+			 (double)c.v() / 1e9, n - at);
 		say_departure(run, c, what, true);
 	}
 }

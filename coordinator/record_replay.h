@@ -10,7 +10,7 @@ namespace tcs {
 // Recording: what c journalled since the last time goes into the record
 // (kept in batches; flush: now).
 void drain_journal(Run &run, Controller &c, bool flush = false);
-// Recording: c was preempted (its slice ends at c.v, overshoot ns of real
+// Recording: c was preempted (its slice ends at c.v(), overshoot ns of real
 // CPU past its budget): the stop goes into the record after what it
 // journalled before.
 void journal_stop(Run &run, Controller &c, int64_t overshoot);

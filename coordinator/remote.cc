@@ -91,7 +91,7 @@ void on_step_agent(Run &run)
 			// Joined late: controllers that have waited for the world
 			// start where it is.
 			for (auto &c : run.ctls)
-				c->v = std::max(c->v, run.sim_ns);
+				advance(*c, run.sim_ns);
 			run.granted = true;
 			if (run.cfg.on_info)
 				run.cfg.on_info("joined the world at " + std::to_string(run.sim_ns) + " ns");

@@ -72,7 +72,7 @@ ControllerReport report_of(const Run &run, const Controller &c)
 	cr.name = c.name;
 	cr.wait_status = c.exit_status;
 	cr.attached = c.attached;
-	cr.virtual_ns = c.v;
+	cr.virtual_ns = c.v();
 	cr.charged_ns = c.charged;
 	cr.waits = c.stats.waits + c.quick_waits();
 	cr.spin_stops = c.stats.spin_stops;
@@ -189,7 +189,7 @@ void begin_end(Run &run, EndReason reason, int signo)
 			// It waited through to the end: that is where it stands now,
 			// and where its clocks go on from (its page still held the
 			// slice before its wait: a program's last reads went back).
-			c->v = std::max(c->v, std::min(c->wait.deadline, run.sim_ns));
+			advance(*c, std::min(c->wait.deadline, run.sim_ns));
 			owe_answer(*c, TCS_WAKE_DEADLINE, c->wait.result);
 			c->publish_slice(c->cpu_at_end >= 0 ? c->cpu_at_end : c->cpu_now());
 			c->cpu_at_end = -1;

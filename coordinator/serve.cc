@@ -22,7 +22,7 @@ Result<AttachedController> attach(Run &run, const ControllerSpec &spec)
 	Controller &c = *run.ctls.back();
 	// It joins the world where it is: virtual time never runs ahead of it
 	// from here, since it is behind the next step until it has run.
-	c.v = run.sim_ns;
+	place_at(c, run.sim_ns);
 	run.idle_timer.disarm();
 	word_of_controllers(run);
 	schedule(run);
@@ -64,7 +64,7 @@ void signal_controller(Run &run, int id, int signo)
 	// A stopped one gets it when it next runs; a waiting one is looked at
 	// now, where the world is (its handler may end its wait).
 	if (waiting(c->state()))
-		c->note_signal(std::max(c->v, run.sim_ns));
+		c->note_signal(std::max(c->v(), run.sim_ns));
 	schedule(run);
 }
 

@@ -44,7 +44,7 @@ void on_kill(Run &run, Controller &c, const ::tcs_msg &m)
 	restart_slice(run, c, m.cpu);
 	c.wait.seq = m.seq;
 	pid_t sender_pgid = getpgid(c.pid);
-	int64_t at = std::max(c.v, m.v);
+	int64_t at = std::max(c.v(), m.v);
 	for (auto &o : run.ctls)
 		if (o.get() != &c && waiting(o->state()) && reaches(o->pid, m.arg, sender_pgid))
 			o->note_signal(at);

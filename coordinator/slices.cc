@@ -83,7 +83,7 @@ void trace_slice_end(Run &run, Controller &c, const char *why, int64_t cpu, int6
 		return;
 	Trace::Slice s;
 	s.v_start = c.trace_v_start;
-	s.v_end = c.v;
+	s.v_end = c.v();
 	s.charged_ns = c.charged - c.trace_charged_start;
 	s.cpu_ns = std::max<int64_t>(cpu - c.trace_cpu_start, 0);
 	s.wall_start = c.trace_wall_start - run.wall_start;
@@ -133,20 +133,20 @@ int64_t charge_point(Run &run, Controller &c, int64_t claimed)
 int64_t request_v(Run &run, Controller &c, const ::tcs_msg &m)
 {
 	if (c.state() != CtlState::Running)
-		return c.v;
+		return c.v();
 	if (run.cfg.mode == TCS_MODE_LOCKSTEP)
-		return std::clamp(m.v, c.v, c.spun());
+		return std::clamp(m.v, c.v(), c.spun());
 	int64_t heard = c.v_at_cpu(charge_point(run, c, m.cpu));
-	return std::clamp(m.v, c.v, std::max(c.v, heard));
+	return std::clamp(m.v, c.v(), std::max(c.v(), heard));
 }
 
 // Not to where the scheduler would stop it to let another run: that
 // depends on how many cores there are, and its virtual time must not.
 int64_t spin_limit(const Run &run, const Controller &c)
 {
-	int64_t limit = std::min(tcs_ns_add(c.v - c.v % run.cfg.step_ns, run.cfg.step_ns), c.next_timer());
+	int64_t limit = std::min(tcs_ns_add(c.v() - c.v() % run.cfg.step_ns, run.cfg.step_ns), c.next_timer());
 	for (const Request &w : c.side_waits)
-		if (w.deadline > c.v)
+		if (w.deadline > c.v())
 			limit = std::min(limit, w.deadline);
 	return limit;
 }
@@ -170,10 +170,10 @@ void resume(Run &run, Controller &c, int64_t target, int lane)
 	if (run.trace.is_open()) {
 		c.trace_cpu_start = cpu;
 		c.trace_wall_start = c.resumed_wall;
-		c.trace_v_start = c.v;
+		c.trace_v_start = c.v();
 		c.trace_charged_start = c.charged;
 	}
-	run.wires.advance(c.v, run.sim_ns, run.world.get());
+	run.wires.advance(c.v(), run.sim_ns, run.world.get());
 	deliver(c); // what its sensors have due by now is in their fds
 	c.hook_marks_return = c.wait.owed && !c.multithreaded(); // (roundtrip.c)
 	c.woke_unheld = false;

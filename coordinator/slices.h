@@ -35,8 +35,8 @@ int64_t spin_limit(const Run &run, const Controller &c);
 // since the slice began by this much (the hook's part before we ran).
 int64_t charge_point(Run &run, Controller &c, int64_t claimed);
 // When a request of a running controller's thread was made: its own
-// claim, no earlier than c.v nor later than its process's time as the
-// request is heard (other threads may have run since). c.v unless
+// claim, no earlier than c.v() nor later than its process's time as the
+// request is heard (other threads may have run since). c.v() unless
 // running in cpu mode.
 int64_t request_v(Run &run, Controller &c, const ::tcs_msg &m);
 

@@ -95,7 +95,7 @@ bool side_wait(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	// check finds them all waiting (block_if_all_waiting).
 	if (c.state() == CtlState::Running && runnable_threads(run, c, tid) == 0)
 		return false;
-	// (Its time may be past c.v: a running controller's is settled only as
+	// (Its time may be past c.v(): a running controller's is settled only as
 	// its slice ends.)
 	c.side_waits.push_back(request_of(m, fd, tid, request_v(run, c, m), run.sim_ns, run.cfg.slack));
 	if (c.state() == CtlState::Running) {
@@ -255,7 +255,7 @@ static void choose_raiser(Run &run, Controller &c, int64_t at)
 // nothing is due and no thread woke by itself: it stays Blocked.
 bool wake_threads(Run &run, Controller &c, int64_t at)
 {
-	int64_t v = std::max(c.v, at);
+	int64_t v = std::max(c.v(), at);
 	bool woke_alone = c.others_asleep && runnable_threads(run, c, 0) > 0;
 	bool timer = c.next_timer() <= v;
 	if (timer && raise_timers_in_read(c, v))
@@ -278,17 +278,17 @@ bool wake_threads(Run &run, Controller &c, int64_t at)
 	if (timer && !c.sync)
 		choose_raiser(run, c, v);
 	if (timer && c.wait.active && !c.sync) {
-		c.v = v;
+		advance(c, v);
 		wake(run, c, v, TCS_WAKE_SIGNAL, (int64_t)c.take_due_timer_signals());
 	} else if (own) {
 		bool due = c.wait.deadline <= v;
 		wake(run, c, v, due || c.wait.devices ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK);
 	} else if (!c.sync) {
 		own_wait_beside(run, c);
-		c.v = v;
+		advance(c, v);
 		move(run, c, CtlMove::SetAside);
 	} else {
-		c.v = v;
+		advance(c, v);
 		move(run, c, CtlMove::Wake); // a device read: complete_sync decides
 	}
 	c.wait.rechecked_at = run.sim_ns;
@@ -301,11 +301,11 @@ void answer_side(Run &run, Controller &c, const Request &w)
 	c.channel_state(w.fd).unanswered = 0;
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_WAKE, w.seq);
 	m.kind = w.reason;
-	m.v = c.v;
+	m.v = c.v();
 	m.arg = w.result;
 	send_answer(run, c, w.fd, m, -1);
 	if (run.trace.is_open())
-		run.trace.wait(c.id, w.kind, w.requested_at, w.asked, c.v, w.absolute());
+		run.trace.wait(c.id, w.kind, w.requested_at, w.asked, c.v(), w.absolute());
 }
 
 // Ends the side waits due at c's time (as it is resumed, its sensors'
@@ -314,15 +314,15 @@ void end_side_waits(Run &run, Controller &c)
 {
 	for (size_t i = 0; i < c.side_waits.size();) {
 		Request &w = c.side_waits[i];
-		if (!c.side_due(w, c.v, run.sim_ns)) {
+		if (!c.side_due(w, c.v(), run.sim_ns)) {
 			if (w.flags & TCS_BLOCK_RECHECK)
 				w.rechecked_at = run.sim_ns;
 			i++;
 			continue;
 		}
 		if (w.reason == 0)
-			w.reason = w.deadline <= c.v || (w.flags & TCS_BLOCK_DEVICES) ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK;
-		if (w.deadline != TCS_NEVER && w.deadline <= c.v)
+			w.reason = w.deadline <= c.v() || (w.flags & TCS_BLOCK_DEVICES) ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK;
+		if (w.deadline != TCS_NEVER && w.deadline <= c.v())
 			w.reason = TCS_WAKE_DEADLINE;
 		Request done = w;
 		c.side_waits.erase(c.side_waits.begin() + (long)i);

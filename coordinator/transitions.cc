@@ -20,6 +20,16 @@ bool move(Run &run, Controller &c, CtlMove m)
 	return false;
 }
 
+void advance(Controller &c, int64_t at)
+{
+	c.v_ = std::max(c.v_, at);
+}
+
+void place_at(Controller &c, int64_t at)
+{
+	c.v_ = at;
+}
+
 void owe_answer(Controller &c, uint16_t reason, int64_t result)
 {
 	c.wait.owed = true;
@@ -29,7 +39,7 @@ void owe_answer(Controller &c, uint16_t reason, int64_t result)
 
 void wake(Run &run, Controller &c, int64_t v, uint16_t reason, int64_t result)
 {
-	c.v = std::max(c.v, v);
+	advance(c, v);
 	move(run, c, CtlMove::Wake);
 	c.wait.recheck = false;
 	c.wait.signalled_at = TCS_NEVER;

@@ -47,7 +47,7 @@ void send_wake(Run &run, Controller &c)
 	struct tcs_msg m = tcs_msg_make(TCS_MSG_WAKE, c.wait.seq);
 	m.kind = c.wait.reason;
 	m.flags = TCS_WAKE_STARTS_SLICE;
-	m.v = c.v;
+	m.v = c.v();
 	m.arg = c.wait.result;
 	m.deadline = c.wait.requested_at; // (what a recording controller journals: tcs/journal.h)
 	if (&c != run.ctls.front().get() || ++run.first_wakes != run.cfg.realtime.lose_wake)
@@ -57,7 +57,7 @@ void send_wake(Run &run, Controller &c)
 		c.wait.pass_fd = -1;
 	}
 	if (c.wait.active && run.trace.is_open())
-		run.trace.wait(c.id, c.wait.kind, c.wait.requested_at, c.wait.asked, c.v, c.wait.absolute());
+		run.trace.wait(c.id, c.wait.kind, c.wait.requested_at, c.wait.asked, c.v(), c.wait.absolute());
 	c.wait.active = false;
 	c.wait.result = 0;
 	c.wait.owed = false;
@@ -81,7 +81,7 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		// Another thread ended this wait before it began.
 		st.early_before_block = 0;
 		c.stats.count_wait(m);
-		Request w = request_of(m, fd, tid, c.v, run.sim_ns, run.cfg.slack);
+		Request w = request_of(m, fd, tid, c.v(), run.sim_ns, run.cfg.slack);
 		w.reason = TCS_WAKE_EARLY;
 		answer_side(run, c, w);
 		if (c.state() == CtlState::Blocked) {
@@ -97,7 +97,7 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		c.wait.fd = fd;
 		c.wait.seq = m.seq;
 		if (m.deadline != TCS_NEVER)
-			c.v = std::max(c.v, m.deadline);
+			advance(c, m.deadline);
 		owe_answer(c, TCS_WAKE_DEADLINE, 0);
 		send_wake(run, c);
 		return;
@@ -108,7 +108,7 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 			return;
 		}
 		// A thread that was asleep outside the hooks woke and waits now.
-		c.side_waits.push_back(request_of(m, fd, tid, c.v, run.sim_ns, run.cfg.slack));
+		c.side_waits.push_back(request_of(m, fd, tid, c.v(), run.sim_ns, run.cfg.slack));
 		if (c.missed_raised_signal(m))
 			c.side_waits.back().reason = TCS_WAKE_RECHECK;
 		child_wait_begins(run, c, m, &c.side_waits.back());
@@ -154,10 +154,10 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	c.stats.count_wait(m);
 	if (m.flags & TCS_BLOCK_ABSOLUTE) {
 		c.stats.absolute_waits++;
-		if (m.deadline <= c.v)
+		if (m.deadline <= c.v())
 			c.stats.reported_misses++; // TCS_PAGE_REPORT_MISSES
 	}
-	static_cast<Request &>(c.wait) = request_of(m, fd, tid, c.v, run.sim_ns, run.cfg.slack);
+	static_cast<Request &>(c.wait) = request_of(m, fd, tid, c.v(), run.sim_ns, run.cfg.slack);
 	c.wait.active = true;
 	c.wait.recheck = (m.flags & TCS_BLOCK_RECHECK) != 0;
 	c.wait.for_child = (m.flags & TCS_BLOCK_CHILD) != 0;
@@ -167,7 +167,7 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	c.others_asleep = c.multithreaded() && proc_thread_count(c.pid) > 1 + (int)c.side_waits.size();
 	child_wait_begins(run, c, m, nullptr);
 	if (c.missed_raised_signal(m))
-		wake(run, c, c.v, TCS_WAKE_RECHECK);
+		wake(run, c, c.v(), TCS_WAKE_RECHECK);
 	hear_threads(run, c);
 	schedule(run);
 }
@@ -180,7 +180,7 @@ void on_early(Run &run, Controller &c, const ::tcs_msg &m, int fd)
 	    fd == (c.wait.fd >= 0 ? c.wait.fd : c.channel.get())) {
 		// A signal another controller sent (told before it was sent)
 		// ends the wait at the sender's time: its handler runs then.
-		int64_t at = std::max(c.v, run.sim_ns);
+		int64_t at = std::max(c.v(), run.sim_ns);
 		if (m.kind == TCS_EARLY_SIGNAL && c.wait.signalled_at != TCS_NEVER)
 			at = std::max(at, c.wait.signalled_at);
 		wake(run, c, at, TCS_WAKE_EARLY);
@@ -195,7 +195,7 @@ void on_early(Run &run, Controller &c, const ::tcs_msg &m, int fd)
 		// asks for (a wait) begins then; the read itself goes on after it
 		// (device_requests.c).
 		c.sync.reset();
-		wake(run, c, std::max(c.v, run.sim_ns), TCS_WAKE_EARLY);
+		wake(run, c, std::max(c.v(), run.sim_ns), TCS_WAKE_EARLY);
 		schedule(run);
 		return;
 	}
@@ -213,7 +213,7 @@ void on_early(Run &run, Controller &c, const ::tcs_msg &m, int fd)
 			Request done = w;
 			c.side_waits.erase(c.side_waits.begin() + (long)i);
 			answer_side(run, c, done);
-		} else if (c.state() == CtlState::Blocked && wake_threads(run, c, std::max(c.v, run.sim_ns))) {
+		} else if (c.state() == CtlState::Blocked && wake_threads(run, c, std::max(c.v(), run.sim_ns))) {
 			schedule(run);
 		}
 		return; // (Ready: answered as it resumes)

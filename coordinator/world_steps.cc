@@ -138,13 +138,13 @@ bool run_best(Run &run, Controller &best, int64_t at, int64_t until)
 	} else if (best.state() == CtlState::Blocked && best.next_timer() <= at && best.next_timer() < best.wait.deadline) {
 		// A signal timer is due in its wait: send it, and wake it to
 		// re-check (its wait ends with EINTR if a handler ran).
-		best.v = std::max(best.v, at);
+		advance(best, at);
 		best.wait.rechecked_at = run.sim_ns;
-		wake(run, best, best.v, TCS_WAKE_SIGNAL, (int64_t)best.take_due_timer_signals());
+		wake(run, best, best.v(), TCS_WAKE_SIGNAL, (int64_t)best.take_due_timer_signals());
 	} else if (best.state() == CtlState::Blocked) {
 		bool due = best.wait.deadline < target;
 		best.wait.rechecked_at = run.sim_ns;
-		wake(run, best, due ? std::max(best.v, best.wait.deadline) : at,
+		wake(run, best, due ? std::max(best.v(), best.wait.deadline) : at,
 		     due || best.wait.devices ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK);
 	}
 	if (best.sync && !complete_sync(run, best)) {
@@ -155,7 +155,7 @@ bool run_best(Run &run, Controller &best, int64_t at, int64_t until)
 		// (What they then compute before they wait again is not charged:
 		// the controller is Blocked on the read until it resumes.)
 		if (std::any_of(best.side_waits.begin(), best.side_waits.end(),
-				[&](const Request &w) { return best.side_due(w, best.v, run.sim_ns); })) {
+				[&](const Request &w) { return best.side_due(w, best.v(), run.sim_ns); })) {
 			best.publish_slice(best.cpu_at_end >= 0 ? best.cpu_at_end : best.cpu_now()); // (their clocks)
 			end_side_waits(run, best);
 		}
@@ -191,16 +191,16 @@ Contender contender_of(const Run &run, const Controller &c)
 int64_t next_run_at(const Run &run, const Controller &c)
 {
 	if (c.state() == CtlState::Ready || c.state() == CtlState::Running)
-		return c.v;
+		return c.v();
 	bool side_recheck = false, side_devices = false;
 	for (const Request &w : c.side_waits) {
 		side_recheck |= (w.flags & TCS_BLOCK_RECHECK) && w.rechecked_at < run.sim_ns;
 		side_devices |= (w.flags & TCS_BLOCK_DEVICES) != 0;
 		if (w.reason)
-			return c.v;
+			return c.v();
 	}
 	if (((c.wait.recheck || c.others_asleep) && c.wait.rechecked_at < run.sim_ns) || side_recheck)
-		return std::max(c.v, run.sim_ns);
+		return std::max(c.v(), run.sim_ns);
 	int64_t until = std::min({ c.wait.deadline, c.next_timer(), c.side_next(), c.wait.signalled_at });
 	// A read waiting on a wire waits for arrivals too: another
 	// controller's CAN frame is put on its way after the read began, so
@@ -209,7 +209,7 @@ int64_t next_run_at(const Run &run, const Controller &c)
 			       size_t(c.sync->handle) < c.devices.size() && c.devices[size_t(c.sync->handle)]->wire;
 	if (c.wait.devices || side_devices || wire_read)
 		until = std::min(until, next_record_due(c));
-	return until == TCS_NEVER ? TCS_NEVER : std::max(c.v, until);
+	return until == TCS_NEVER ? TCS_NEVER : std::max(c.v(), until);
 }
 
 bool advance_to(Run &run, int64_t next)
