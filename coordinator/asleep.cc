@@ -100,13 +100,8 @@ bool step_aside_if_asleep(Run &run, Controller &c)
 	c.publish_slice(cpu);
 	trace_slice_end(run, c, "blocked", cpu);
 	c.set_page_flag(TCS_PAGE_ASLEEP, true);
-	move(run, c, CtlMove::StepAside);
-	c.wait.deadline = TCS_NEVER;
-	c.wait.recheck = true;
-	c.wait.rechecked_at = run.sim_ns;
-	c.wait.devices = false;
-	c.wait.for_child = false; // its last wait's: it is in none of ours now
-	c.wait.active = false;
+	c.wait.active = false; // (in none of ours now)
+	block(run, c, { .recheck = true }, CtlMove::StepAside);
 	schedule(run);
 	return true;
 }

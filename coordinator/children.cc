@@ -85,9 +85,9 @@ void on_child(Run &run, Controller &parent, const ::tcs_msg &m, UniqueFd channel
 		parent_v = std::max(parent_v, parent.v_at_cpu(cpu));
 	}
 	place_at(c, std::max((m.flags & TCS_CHILD_V_KNOWN) ? m.v : parent_v, run.sim_ns));
-	c.wait.seq = m.seq;
-	move(run, c, CtlMove::Block);
-	c.wait.deadline = c.wait.asked = c.v();
+	serve_request(c, m.seq, -1);
+	c.wait.asked = c.v();
+	block(run, c, { .deadline = c.v() }); // (its first answer: at once)
 	c.wait.pass_fd = c.page_fd_for_child.release();
 	run.ctls.push_back(std::move(*made));
 	Controller *raw = run.ctls.back().get();
@@ -112,7 +112,6 @@ void on_child(Run &run, Controller &parent, const ::tcs_msg &m, UniqueFd channel
 void on_forked(Run &run, Controller &c, const ::tcs_msg &m)
 {
 	restart_slice(run, c, m.cpu);
-	c.wait.seq = m.seq;
 	pid_t pid = (pid_t)m.arg;
 	for (auto &o : run.ctls)
 		if (o->pid == pid && o->parent_id == c.id) {
@@ -185,8 +184,7 @@ void child_settled(Run &run, Controller &parent)
 	// has taken the controller's record of the last one); another thread's
 	// wait that is the controller's own now keeps its record.
 	const bool aside = set_own_wait_aside(run, parent, parent.new_child.fd >= 0 ? parent.new_child.fd : parent.channel.get());
-	parent.wait.seq = parent.new_child.seq;
-	parent.wait.fd = parent.new_child.fd;
+	serve_request(parent, parent.new_child.seq, parent.new_child.fd);
 	reply_now(run, parent, 0);
 	if (aside)
 		schedule(run);

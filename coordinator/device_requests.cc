@@ -54,7 +54,6 @@ void restart_slice(Run &run, Controller &c, int64_t request_cpu)
 void on_dev_open(Run &run, Controller &c, const ::tcs_msg &m)
 {
 	restart_slice(run, c, m.cpu);
-	c.wait.seq = m.seq;
 	if ((size_t)m.arg >= run.devices.bound().size()) {
 		reply_now(run, c, -ENOENT);
 		return;
@@ -118,7 +117,6 @@ void on_dev_sync(Run &run, Controller &c, const ::tcs_msg &m)
 		return;
 	}
 	restart_slice(run, c, m.cpu);
-	c.wait.seq = m.seq;
 	if (m.kind != TCS_SYNC_POLL && (m.arg < 0 || (size_t)m.arg >= c.devices.size())) {
 		reply_now(run, c, -EBADF);
 		return;
@@ -257,10 +255,8 @@ bool complete_sync(Run &run, Controller &c)
 		return true;
 	}
 	c.sync = sync;
-	move(run, c, CtlMove::Block);
-	c.wait.deadline = c.wait.asked = out.until;
-	c.wait.recheck = false;
-	c.wait.devices = false;
+	c.wait.asked = out.until;
+	block(run, c, { .deadline = out.until });
 	return false;
 }
 

@@ -157,10 +157,7 @@ void drop(Run &run, Controller &c, const std::string &why)
 		run.loop.remove(t->fd.get());
 	c.threads.clear();
 	c.side_waits.clear();
-	move(run, c, CtlMove::Drop);
-	c.wait.deadline = TCS_NEVER;
-	c.wait.recheck = false;
-	c.wait.devices = false;
+	move(run, c, CtlMove::Drop); // (never scheduled again: what it waited in is moot)
 	c.sync.reset();
 	schedule(run);
 }

@@ -25,6 +25,7 @@
 #include "tcs/msg_io.h"
 #include "tcs/protocol.h"
 #include "threads.h"
+#include "transitions.h"
 #include "waits.h"
 #include "world_steps.h"
 
@@ -131,8 +132,10 @@ void on_message(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 {
 	if (c.state() == CtlState::Asleep)
 		wake_from_asleep(run, c); // it woke by itself and asks something
-	if (m.type != TCS_MSG_BLOCK && m.type != TCS_MSG_EARLY)
-		c.wait.fd = fd; // a request answered at once, on its thread's channel
+	// A request answered at once (a HELLO is not answered), on its
+	// thread's channel.
+	if (m.type != TCS_MSG_BLOCK && m.type != TCS_MSG_EARLY && m.type != TCS_MSG_HELLO)
+		serve_request(c, m.seq, fd);
 	switch (m.type) {
 	case TCS_MSG_HELLO:
 		if (fd != c.channel.get()) {

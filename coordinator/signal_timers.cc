@@ -19,7 +19,6 @@ namespace tcs {
 void on_timer(Run &run, Controller &c, const ::tcs_msg &m)
 {
 	restart_slice(run, c, m.cpu);
-	c.wait.seq = m.seq;
 	SignalTimer &t = c.timers[m.flags];
 	t.signo = m.kind;
 	t.tid = (int)m.v;

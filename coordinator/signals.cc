@@ -42,7 +42,6 @@ bool reaches(pid_t pid, int64_t target, pid_t sender_pgid)
 void on_kill(Run &run, Controller &c, const ::tcs_msg &m)
 {
 	restart_slice(run, c, m.cpu);
-	c.wait.seq = m.seq;
 	pid_t sender_pgid = getpgid(c.pid);
 	int64_t at = std::max(c.v(), m.v);
 	for (auto &o : run.ctls)

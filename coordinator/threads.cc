@@ -352,11 +352,9 @@ bool block_if_all_waiting(Run &run, Controller &c)
 	c.publish_slice(cpu);
 	trace_slice_end(run, c, "blocked", cpu);
 	c.cpu_at_end = cpu;
-	move(run, c, CtlMove::Block);
-	c.wait.active = false;
 	own_wait_beside(run, c);
+	block(run, c, {});
 	c.others_asleep = proc_thread_count(c.pid) > (int)c.side_waits.size();
-	c.wait.rechecked_at = run.sim_ns;
 	schedule(run);
 	return true;
 }

@@ -30,6 +30,24 @@ void place_at(Controller &c, int64_t at)
 	c.v_ = at;
 }
 
+void serve_request(Controller &c, uint32_t seq, int fd)
+{
+	c.wait.seq = seq;
+	c.wait.fd = fd;
+}
+
+void block(Run &run, Controller &c, const WaitEnds &ends, CtlMove how)
+{
+	if (!move(run, c, how))
+		return;
+	c.wait.deadline = ends.deadline;
+	c.wait.recheck = ends.recheck;
+	c.wait.devices = ends.devices;
+	c.wait.for_child = ends.for_child;
+	c.wait.rechecked_at = run.sim_ns;
+	c.wait.signalled_at = TCS_NEVER;
+}
+
 void owe_answer(Controller &c, uint16_t reason, int64_t result)
 {
 	c.wait.owed = true;

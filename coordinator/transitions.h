@@ -9,6 +9,19 @@ namespace tcs {
 // Makes move m of c, if the table allows it from c's state; else says so
 // once (a defect of tcs) and leaves c as it is. True if made.
 bool move(Run &run, Controller &c, CtlMove m);
+// c serves request seq of the thread on channel fd (-1: the main one): its
+// answer goes back there, at once or later.
+void serve_request(Controller &c, uint32_t seq, int fd);
+// What ends a waiting controller's wait, besides an answer to its request.
+struct WaitEnds {
+	int64_t deadline = TCS_NEVER; // its timeout
+	bool recheck = false;         // a re-check at each step
+	bool devices = false;         // a record due on one of its sensors
+	bool for_child = false;       // a child's end
+};
+// c waits until `ends` says (Blocked; Asleep, moved by StepAside), looked
+// at last now.
+void block(Run &run, Controller &c, const WaitEnds &ends, CtlMove how = CtlMove::Block);
 // c's request is answered, for `reason` (TCS_WAKE_*) with `result`: its
 // WAKE is owed (sent as it resumes, or now by answer()).
 void owe_answer(Controller &c, uint16_t reason, int64_t result);

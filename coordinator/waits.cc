@@ -94,8 +94,7 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	}
 	if (run.ending) {
 		// The run is over: every wait ends at once so SIGTERM can act.
-		c.wait.fd = fd;
-		c.wait.seq = m.seq;
+		serve_request(c, m.seq, fd);
 		if (m.deadline != TCS_NEVER)
 			advance(c, m.deadline);
 		owe_answer(c, TCS_WAKE_DEADLINE, 0);
@@ -159,10 +158,11 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 	}
 	static_cast<Request &>(c.wait) = request_of(m, fd, tid, c.v(), run.sim_ns, run.cfg.slack);
 	c.wait.active = true;
-	c.wait.recheck = (m.flags & TCS_BLOCK_RECHECK) != 0;
-	c.wait.for_child = (m.flags & TCS_BLOCK_CHILD) != 0;
-	c.wait.devices = (m.flags & TCS_BLOCK_DEVICES) != 0;
-	move(run, c, CtlMove::Block);
+	block(run, c,
+	      { .deadline = c.wait.deadline,
+		.recheck = (m.flags & TCS_BLOCK_RECHECK) != 0,
+		.devices = (m.flags & TCS_BLOCK_DEVICES) != 0,
+		.for_child = (m.flags & TCS_BLOCK_CHILD) != 0 });
 	// Threads asleep outside the hooks: looked at each step (threads.cc).
 	c.others_asleep = c.multithreaded() && proc_thread_count(c.pid) > 1 + (int)c.side_waits.size();
 	child_wait_begins(run, c, m, nullptr);
