@@ -100,7 +100,6 @@ bool step_aside_if_asleep(Run &run, Controller &c)
 	c.publish_slice(cpu);
 	trace_slice_end(run, c, "blocked", cpu);
 	c.set_page_flag(TCS_PAGE_ASLEEP, true);
-	c.wait.active = false; // (in none of ours now)
 	block(run, c, { .recheck = true }, CtlMove::StepAside);
 	schedule(run);
 	return true;
@@ -159,8 +158,7 @@ void wake_from_asleep(Run &run, Controller &c)
 	c.publish_slice(cpu);
 	c.woke_unheld = true;
 	c.set_page_flag(TCS_PAGE_ASLEEP, false);
-	move(run, c, CtlMove::Awake);
-	c.wait.recheck = false;
+	awake(run, c);
 }
 
 } // namespace tcs

@@ -209,12 +209,6 @@ Request Controller::own_wait() const
 	return w;
 }
 
-void Controller::take_wait(const Request &w)
-{
-	static_cast<Request &>(wait) = w;
-	wait.active = true;
-}
-
 // After release() (an ended controller) there is no page: what follows
 // touches nothing.
 void Controller::set_page_flag(uint32_t flag, bool on)

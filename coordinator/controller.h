@@ -147,7 +147,7 @@ inline Request request_of(const ::tcs_msg &m, int fd, pid_t tid, int64_t v, int6
 // The controller's own request being served (a BLOCK, or any request
 // answered later: a device read's, a fork's) and, while it is Blocked, what
 // ends its wait. A thread's wait beside it is a plain Request (own_wait()
-// and take_wait() convert).
+// and transitions.h's own_wait_from() convert).
 struct OwnWait : Request {
 	OwnWait() { deadline = asked = 0, rechecked_at = -1, fd = -1; } // (fd -1: the main channel)
 	bool active = false;      // a BLOCK is being served (for the trace)
@@ -214,9 +214,8 @@ public:
 	// Signals raised in it by the coordinator (the page's signals_raised).
 	void count_raised_signal();
 	uint64_t raised_signals() const { return signals_raised_; }
-	// Its own wait (wait.active) as a side wait, and a side wait made its own.
+	// Its own wait (wait.active) as a side wait.
 	Request own_wait() const;
-	void take_wait(const Request &w);
 	const tcs_slice &slice() const { return slice_; }
 	// Real CPU the current slice has used up to cpu (the runtime's own cost
 	// excluded: its hooks' and its CPU-clock reads').

@@ -205,32 +205,6 @@ int runnable_threads(Run &run, Controller &c, pid_t also)
 	return runnable;
 }
 
-// The controller's own wait becomes a side wait: it goes on waiting while
-// other threads run.
-void own_wait_beside(Run &, Controller &c)
-{
-	if (c.wait.active) {
-		c.side_waits.push_back(c.own_wait());
-		c.wait.active = false;
-		c.wait.owed = false; // (it went with it)
-	}
-	c.wait.deadline = TCS_NEVER;
-	c.wait.recheck = false;
-	c.wait.devices = false;
-	c.wait.for_child = false;
-}
-
-bool set_own_wait_aside(Run &run, Controller &c, int fd)
-{
-	if (!c.wait.active || fd == (c.wait.fd >= 0 ? c.wait.fd : c.channel.get()))
-		return false;
-	own_wait_beside(run, c);
-	if (c.state() == CtlState::Blocked) {
-		move(run, c, CtlMove::SetAside);
-	}
-	return true;
-}
-
 // Someone must raise c's timer signals due at `at` inside a wait: the
 // thread a timer names, if it waits, else its own wait's, else the first
 // waiting one. A signal raised into another waiting thread would end that
@@ -247,7 +221,7 @@ static void choose_raiser(Run &run, Controller &c, int64_t at)
 	Request raiser = *target;
 	c.side_waits.erase(target);
 	own_wait_beside(run, c);
-	c.take_wait(raiser);
+	own_wait_from(c, raiser);
 }
 
 // c is Blocked with several waiting threads (or threads asleep outside the
@@ -271,7 +245,7 @@ bool wake_threads(Run &run, Controller &c, int64_t at)
 	// A device read waiting for its record, which is due (complete_sync).
 	bool read_due = c.sync && c.wait.deadline <= v;
 	if (!woke_alone && !timer && !own && !side && !stale && !read_due) {
-		c.wait.signalled_at = TCS_NEVER; // (the thread it reached was asleep: looked at each step)
+		forget_signal(c); // (the thread it reached was asleep: looked at each step)
 		return false;
 	}
 	c.others_asleep = false;
@@ -291,8 +265,7 @@ bool wake_threads(Run &run, Controller &c, int64_t at)
 		advance(c, v);
 		move(run, c, CtlMove::Wake); // a device read: complete_sync decides
 	}
-	c.wait.rechecked_at = run.sim_ns;
-	c.wait.signalled_at = TCS_NEVER;
+	looked_at(run, c, true);
 	return true;
 }
 

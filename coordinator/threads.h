@@ -10,13 +10,6 @@ void hear_threads(Run &run, Controller &c);
 void on_thread(Run &run, Controller &c, const ::tcs_msg &m, UniqueFd channel);
 void thread_gone(Run &run, Controller &c, ThreadChannel *t);
 bool side_wait(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid);
-void own_wait_beside(Run &run, Controller &c);
-// A request that takes the controller's record of its last request (to be
-// answered on channel fd) while another thread's wait is its own: that
-// wait becomes a side wait, keeping its channel and sequence, and the
-// controller, a thread of which runs, is no longer Blocked but Ready (to
-// be scheduled). True if so.
-bool set_own_wait_aside(Run &run, Controller &c, int fd);
 bool wake_threads(Run &run, Controller &c, int64_t at);
 void end_side_waits(Run &run, Controller &c);
 void answer_side(Run &run, Controller &c, const Request &w);

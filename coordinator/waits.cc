@@ -52,15 +52,9 @@ void send_wake(Run &run, Controller &c)
 	m.deadline = c.wait.requested_at; // (what a recording controller journals: tcs/journal.h)
 	if (&c != run.ctls.front().get() || ++run.first_wakes != run.cfg.realtime.lose_wake)
 		send_answer(run, c, fd, m, c.wait.pass_fd);
-	if (c.wait.pass_fd >= 0) {
-		close(c.wait.pass_fd);
-		c.wait.pass_fd = -1;
-	}
 	if (c.wait.active && run.trace.is_open())
 		run.trace.wait(c.id, c.wait.kind, c.wait.requested_at, c.wait.asked, c.v(), c.wait.absolute());
-	c.wait.active = false;
-	c.wait.result = 0;
-	c.wait.owed = false;
+	answered(c);
 }
 
 void answer(Run &run, Controller &c)
@@ -156,13 +150,12 @@ void on_block(Run &run, Controller &c, const ::tcs_msg &m, int fd, pid_t tid)
 		if (m.deadline <= c.v())
 			c.stats.reported_misses++; // TCS_PAGE_REPORT_MISSES
 	}
-	static_cast<Request &>(c.wait) = request_of(m, fd, tid, c.v(), run.sim_ns, run.cfg.slack);
-	c.wait.active = true;
-	block(run, c,
-	      { .deadline = c.wait.deadline,
-		.recheck = (m.flags & TCS_BLOCK_RECHECK) != 0,
-		.devices = (m.flags & TCS_BLOCK_DEVICES) != 0,
-		.for_child = (m.flags & TCS_BLOCK_CHILD) != 0 });
+	const Request r = request_of(m, fd, tid, c.v(), run.sim_ns, run.cfg.slack);
+	block_in(run, c, r,
+		 { .deadline = r.deadline,
+		   .recheck = (m.flags & TCS_BLOCK_RECHECK) != 0,
+		   .devices = (m.flags & TCS_BLOCK_DEVICES) != 0,
+		   .for_child = (m.flags & TCS_BLOCK_CHILD) != 0 });
 	// Threads asleep outside the hooks: looked at each step (threads.cc).
 	c.others_asleep = c.multithreaded() && proc_thread_count(c.pid) > 1 + (int)c.side_waits.size();
 	child_wait_begins(run, c, m, nullptr);

@@ -118,32 +118,31 @@ bool run_best(Run &run, Controller &best, int64_t at, int64_t until)
 		wake_from_asleep(run, best);
 	if (best.state() == CtlState::Asleep && still_asleep(run, best, at)) {
 		// Looked at: still asleep, its turn passes for this step.
-		best.wait.rechecked_at = run.sim_ns;
-		best.wait.signalled_at = TCS_NEVER;
+		looked_at(run, best, true);
 		return true;
 	}
 	const int64_t target = run.sim_ns + run.cfg.step_ns;
 	if (best.state() == CtlState::Blocked && (!best.side_waits.empty() || best.others_asleep)) {
 		// Several threads wait: end those due (threads.cc).
 		if (!wake_threads(run, best, at)) {
-			best.wait.rechecked_at = run.sim_ns;
+			looked_at(run, best);
 			for (Request &w : best.side_waits)
 				w.rechecked_at = run.sim_ns;
 			return true;
 		}
 	} else if (best.state() == CtlState::Blocked && best.next_timer() < best.wait.deadline &&
 		   raise_timers_in_read(best, at)) {
-		best.wait.rechecked_at = run.sim_ns;
+		looked_at(run, best);
 		return true;
 	} else if (best.state() == CtlState::Blocked && best.next_timer() <= at && best.next_timer() < best.wait.deadline) {
 		// A signal timer is due in its wait: send it, and wake it to
 		// re-check (its wait ends with EINTR if a handler ran).
 		advance(best, at);
-		best.wait.rechecked_at = run.sim_ns;
+		looked_at(run, best);
 		wake(run, best, best.v(), TCS_WAKE_SIGNAL, (int64_t)best.take_due_timer_signals());
 	} else if (best.state() == CtlState::Blocked) {
 		bool due = best.wait.deadline < target;
-		best.wait.rechecked_at = run.sim_ns;
+		looked_at(run, best);
 		wake(run, best, due ? std::max(best.v(), best.wait.deadline) : at,
 		     due || best.wait.devices ? TCS_WAKE_DEADLINE : TCS_WAKE_RECHECK);
 	}
