@@ -12,6 +12,7 @@
 #include "cli_time.h"
 #include "run_options.h"
 #include "connect_run.h"
+#include "list_signals.h"
 #include "coordinator.h"
 #include "preload_path.h"
 #include "program_check.h"
@@ -50,71 +51,62 @@ const char kUsage[] =
 	"Exit status: the program's (128+N if signal N ended it), 0 when --duration\n"
 	"ended the run, 2 for errors of tcs itself. See tcs-run(1).\n";
 
-int fail(const std::string &msg)
-{
-	return report_error("tcs-run", msg);
-}
+// A usage error: a mistake in the command line, told with where the help is.
+struct Usage {
+	std::string message;
+};
 
-int usage_error(const std::string &msg)
-{
-	return report_usage_error("tcs-run", msg);
-}
+// A step's Result that knows whether its error is a usage error.
+template <class T> class [[nodiscard]] Step : public Result<T> {
+public:
+	Step(T value) : Result<T>(std::move(value)) {}
+	Step(Error e) : Result<T>(std::move(e)) {}
+	Step(Usage u) : Result<T>(Error{ std::move(u.message) }), usage_(true) {}
+	bool usage() const { return usage_; }
 
-// --connect: the world, its mode, duration, trace and epoch are the
-// daemon's; only the program and its CPU scale are the caller's.
-int run_under_daemon(const std::string &socket, const std::vector<std::string> &given, int argc, char **argv,
-		     double cpu_scale, bool quiet)
-{
-	if (!given.empty())
-		return usage_error(given.front() + " cannot go with --connect: the world and its run are coordinatord's");
-	if (argc == 0)
-		return usage_error("--connect needs a PROGRAM to run");
-	ConnectRequest req;
-	req.socket = socket;
-	req.argv.assign(argv, argv + argc);
-	req.cpu_scale = cpu_scale;
-	req.quiet = quiet;
-	auto path = resolve_program(req.argv[0]);
-	if (!path)
-		return fail(path.error().message);
-	if (auto ok = check_preloadable(*path); !ok)
-		return fail(ok.error().message);
-	req.path = *path;
-	auto status = run_connected(req);
-	if (!status)
-		return fail(status.error().message);
-	return *status;
-}
+private:
+	bool usage_ = false;
+};
+
+// What the command line asks for.
+struct Options {
+	CoordinatorConfig cfg; // the run's options (--mode, --duration, --trace, --record, ...)
+	double cpu_scale = 1.0;
+	bool scale_given = false, quiet = false, list_signals = false, help = false, version = false;
+	std::string world_file, connect_socket, replay_file;
+	std::vector<std::string> given; // options that belong to the world's owner
+	std::vector<std::string> program; // PROGRAM [ARG...]
+};
+
+// The scenario and what the coordinator runs of it.
+struct World {
+	Scenario scenario;
+	WorldSetup setup;
+};
+
+// The run as it is put together: the coordinator's config and the controllers.
+struct Plan {
+	CoordinatorConfig cfg;
+	double cpu_scale = 1.0; // the controllers' (a replay's: the record's)
+	std::vector<std::string> program; // PROGRAM [ARG...] (a replay's without one: the record's)
+	std::vector<ControllerSpec> specs;
+	bool show_progress = false; // the progress line on stderr
+};
 
 } // namespace
 
-// The scenario's wires, for --list-signals: each bus and what is on it.
-static void print_wires(const WiresConfig &w)
+// The one place an error becomes a message: "tcs-run: what" on stderr (a
+// usage error adds where the help is), and exit status 2.
+template <class T> static int report(const Step<T> &s)
 {
-	if (w.serials.empty() && w.i2cs.empty() && w.cans.empty())
-		return;
-	printf("wires\n");
-	for (const SerialSpec &s : w.serials) {
-		printf("  %-28s serial   %lld baud\n", s.path.c_str(), (long long)s.baud);
-		for (const ServoSpec &v : s.servos)
-			printf("    servo %-3u %-12s %s\n", v.id, v.protocol.c_str(), v.joint.name.c_str());
-	}
-	for (const I2cSpec &b : w.i2cs) {
-		printf("  %-28s i2c      %lld Hz\n", ("/dev/i2c-" + std::to_string(b.bus)).c_str(), (long long)b.clock_hz);
-		for (const I2cDeviceSpec &d : b.devices)
-			printf("    0x%02x  %-12s %s\n", d.address, d.chip.c_str(), d.link.name.c_str());
-	}
-	for (const CanSpec &c : w.cans) {
-		printf("  %-28s can      %lld bit/s%s\n", c.interface.c_str(), (long long)c.bitrate,
-		       c.data_bitrate ? (", FD data " + std::to_string(c.data_bitrate) + " bit/s").c_str() : "");
-		for (const CanMotorSpec &m : c.motors)
-			printf("    motor 0x%03x %-10s %s\n", m.id, m.protocol.c_str(), m.joint.name.c_str());
-		for (const CanFrameSpec &f : c.frames)
-			printf("    frame 0x%03x %s, %zu fields\n", f.id, f.command ? "command" : "sensor", f.fields.size());
-	}
+	if (s.usage())
+		return report_usage_error("tcs-run", s.error().message);
+	return report_error("tcs-run", s.error().message);
 }
 
-int main(int argc, char **argv)
+// Reads the command line; all its errors are usage errors. --help and
+// --version end the reading where getopt meets them.
+static Step<Options> parse_options(int argc, char **argv)
 {
 	enum { OPT_CPU_SCALE = 256, OPT_EPOCH, OPT_CONNECT, OPT_LIST_SIGNALS, OPT_NO_SLACK, OPT_SPIN_COST, OPT_SEED,
 	       OPT_RECORD, OPT_REPLAY };
@@ -137,202 +129,302 @@ int main(int argc, char **argv)
 		{ "version", no_argument, nullptr, 'V' },
 		{ nullptr, 0, nullptr, 0 },
 	};
-	CoordinatorConfig cfg;
-	double cpu_scale = 1.0;
-	bool quiet = false, list_signals = false, scale_given = false;
-	std::string world_file, connect_socket, replay_file;
-	std::vector<std::string> argv_owned; // --replay without a PROGRAM: the record's
-	std::vector<std::string> given; // options that belong to the world's owner
+	Options o;
 	int opt;
 	opterr = 0;
 	while ((opt = getopt_long(argc, argv, "+:w:m:d:t:qhV", longopts, nullptr)) != -1) {
 		std::string arg = optarg ? optarg : "";
-		for (const struct option *o = longopts; o->name; o++)
-			if (o->val == opt && (opt == 'w' || opt == 'm' || opt == 'd' || opt == 't' || opt == OPT_EPOCH ||
+		for (const struct option *l = longopts; l->name; l++)
+			if (l->val == opt && (opt == 'w' || opt == 'm' || opt == 'd' || opt == 't' || opt == OPT_EPOCH ||
 					      opt == OPT_LIST_SIGNALS || opt == OPT_NO_SLACK || opt == OPT_SPIN_COST ||
 					      opt == OPT_SEED || opt == OPT_RECORD || opt == OPT_REPLAY))
-				given.push_back(std::string("--") + o->name);
+				o.given.push_back(std::string("--") + l->name);
 		if (std::string name = run_option_of(longopts, opt); !name.empty()) {
-			if (auto ok = set_run_option(name, arg, cfg); !ok)
-				return usage_error(ok.error().message);
+			if (auto ok = set_run_option(name, arg, o.cfg); !ok)
+				return Usage{ ok.error().message };
 			continue;
 		}
 		switch (opt) {
 		case 'w':
-			world_file = arg;
+			o.world_file = arg;
 			break;
 		case OPT_LIST_SIGNALS:
-			list_signals = true;
+			o.list_signals = true;
 			break;
 		case OPT_CPU_SCALE: {
 			auto v = parse_positive(arg);
 			if (!v)
-				return usage_error("--cpu-scale: " + v.error().message);
-			cpu_scale = *v;
-			scale_given = true;
+				return Usage{ "--cpu-scale: " + v.error().message };
+			o.cpu_scale = *v;
+			o.scale_given = true;
 			break;
 		}
 		case 'd': {
 			auto v = parse_duration(arg);
 			if (!v)
-				return usage_error("--duration: " + v.error().message);
+				return Usage{ "--duration: " + v.error().message };
 			if (*v <= 0)
-				return usage_error("--duration: must be longer than zero");
-			cfg.duration_ns = *v;
+				return Usage{ "--duration: must be longer than zero" };
+			o.cfg.duration_ns = *v;
 			break;
 		}
 		case 't':
-			cfg.trace_path = arg;
+			o.cfg.trace_path = arg;
 			break;
 		case OPT_RECORD:
 			if (arg.empty())
-				return usage_error("--record: the file's path is empty");
-			cfg.record_path = arg;
+				return Usage{ "--record: the file's path is empty" };
+			o.cfg.record_path = arg;
 			break;
 		case OPT_REPLAY:
 			if (arg.empty())
-				return usage_error("--replay: the file's path is empty");
-			replay_file = arg;
+				return Usage{ "--replay: the file's path is empty" };
+			o.replay_file = arg;
 			break;
 		case OPT_CONNECT:
 			if (arg.empty())
-				return usage_error("--connect: the socket's path is empty");
-			connect_socket = arg;
+				return Usage{ "--connect: the socket's path is empty" };
+			o.connect_socket = arg;
 			break;
 		case 'q':
-			quiet = true;
+			o.quiet = true;
 			break;
 		case 'h':
-			fputs(kUsage, stdout);
-			return 0;
+			o.help = true;
+			return o;
 		case 'V':
-			printf("tcs-run %s\n", TCS_VERSION);
-			return 0;
+			o.version = true;
+			return o;
 		default:
-			return usage_error(getopt_complaint(opt, argv, optind));
+			return Usage{ getopt_complaint(opt, argv, optind) };
 		}
 	}
-	if (!connect_socket.empty())
-		return run_under_daemon(connect_socket, given, argc - optind, argv + optind, scale_given ? cpu_scale : 0, quiet);
+	o.program.assign(argv + optind, argv + argc);
+	return o;
+}
+
+// --help or --version: its text on stdout.
+static void show_help_or_version(const Options &o)
+{
+	if (o.help)
+		fputs(kUsage, stdout);
+	else
+		printf("tcs-run %s\n", TCS_VERSION);
+}
+
+// A controller's command as execvp would find it (a scenario's relative one
+// not found so: relative to the scenario's folder), checked to take tcs's runtime.
+static Step<std::string> checked_program(const std::string &command, const std::string &world_file)
+{
+	auto path = resolve_program(command);
+	if (!path && !world_file.empty() && command.find('/') != std::string::npos && command[0] != '/') {
+		std::string dir = world_file.substr(0, world_file.find_last_of('/') + 1);
+		path = resolve_program(dir + command);
+	}
+	if (!path)
+		return path.error();
+	if (auto ok = check_preloadable(*path); !ok)
+		return ok.error();
+	return *path;
+}
+
+// --connect: the world, its mode, duration, trace and epoch are the
+// daemon's; only the program and its CPU scale are the caller's. The value
+// is the exit status.
+static Step<int> run_under_daemon(const Options &o)
+{
+	if (!o.given.empty())
+		return Usage{ o.given.front() + " cannot go with --connect: the world and its run are coordinatord's" };
+	if (o.program.empty())
+		return Usage{ "--connect needs a PROGRAM to run" };
+	ConnectRequest req;
+	req.socket = o.connect_socket;
+	req.argv = o.program;
+	req.cpu_scale = o.scale_given ? o.cpu_scale : 0;
+	req.quiet = o.quiet;
+	auto path = checked_program(req.argv[0], ""); // (no scenario: -w does not go with --connect)
+	if (!path)
+		return path.error();
+	req.path = *path;
+	auto status = run_connected(req);
+	if (!status)
+		return status.error();
+	return *status;
+}
+
+// The scenario (-w's, or the built-in pendulum) and its setup for the coordinator.
+static Step<World> load_world(const std::string &world_file)
+{
 	auto scenario = world_file.empty() ? default_scenario() : parse_scenario_file(world_file);
 	if (!scenario)
-		return fail(scenario.error().message);
+		return scenario.error();
 	auto setup = world_setup(*scenario);
 	if (!setup)
-		return fail(setup.error().message);
-	if (list_signals) {
-		printf("%s: signals\n", world_file.empty() ? "built-in scenario" : world_file.c_str());
-		for (const auto &line : setup->signal_lines)
-			printf("  %s\n", line.c_str());
-		printf("devices\n");
-		for (const auto &d : setup->devices) {
-			if (is_wire(d.kind))
-				continue;
-			std::string sigs;
-			for (const auto &sig : d.signals)
-				sigs += (sigs.empty() ? "" : " ") + sig;
-			printf("  %-28s %-8s %-6s %s%s\n", d.path.c_str(),
-			       d.kind == TCS_DEVICE_SENSOR ? "sensor" : "actuator",
-			       d.format == TCS_FORMAT_TEXT ? "text" : "binary",
-			       d.kind == TCS_DEVICE_ACTUATOR ? "" : d.latest ? "latest " : "stream ", sigs.c_str());
-		}
-		print_wires(setup->wires);
-		return 0;
-	}
-	for (const auto &d : setup->devices)
-		cfg.record_devices.push_back(d.path);
-	if (!replay_file.empty()) {
-		auto record = read_record(replay_file);
-		if (!record)
-			return fail(record.error().message);
-		if (scale_given && cpu_scale != record->cpu_scale)
-			return usage_error(format_number("--cpu-scale %g", cpu_scale) +
-					   format_number(" differs from the record's %g (a replay takes the record's)",
-							 record->cpu_scale));
-		if (cfg.record_devices != record->devices)
-			return fail(replay_file + ": recorded in another world (its devices differ from " +
-				    (world_file.empty() ? std::string("the built-in scenario") : world_file) +
-				    "'s): replay it with the record's scenario");
-		if (optind == argc && scenario->controllers.empty()) {
-			// The recorded program, as it was run.
-			for (const auto &a : record->program)
-				argv_owned.push_back(a);
-		}
-		if (cfg.seed && cfg.seed != record->seed)
-			return usage_error("--seed differs from the record's (a replay takes the record's)");
-		if (cfg.duration_ns < 0)
-			cfg.duration_ns = record->duration_ns; // (as long as the recorded run, unless told)
-		cpu_scale = record->cpu_scale; // (each controller's own: the coordinator's add_controller)
-		cfg.replay = std::make_shared<const Record>(std::move(*record));
-	}
-	cfg.record_scale = cpu_scale;
-	cfg.models = setup->models;
-	cfg.devices = setup->devices;
-	cfg.sensors = setup->sensors;
-	cfg.wires = setup->wires;
-	cfg.step_ns = setup->step_ns;
+		return setup.error();
+	return World{ std::move(*scenario), std::move(*setup) };
+}
 
-	for (int i = optind; i < argc; i++)
-		argv_owned.push_back(argv[i]);
-	std::vector<ControllerSpec> specs;
-	if (!argv_owned.empty()) {
+// The run as the command line and the world set it: the options' config
+// with the world's models, devices, sensors, wires and step.
+static Plan world_plan(const Options &o, const WorldSetup &setup)
+{
+	Plan plan;
+	plan.cfg = o.cfg;
+	for (const auto &d : setup.devices)
+		plan.cfg.record_devices.push_back(d.path);
+	plan.cfg.models = setup.models;
+	plan.cfg.devices = setup.devices;
+	plan.cfg.sensors = setup.sensors;
+	plan.cfg.wires = setup.wires;
+	plan.cfg.step_ns = setup.step_ns;
+	plan.cpu_scale = o.cpu_scale;
+	plan.program = o.program;
+	return plan;
+}
+
+// --replay: the record, which must agree with the command line and have the
+// world's devices, gives the run its scale, seed and duration, and its
+// program when neither the command line nor the scenario names one.
+static Step<Ok> follow_replay(const Options &o, const Scenario &scenario, Plan &plan)
+{
+	if (o.replay_file.empty())
+		return Ok{};
+	auto record = read_record(o.replay_file);
+	if (!record)
+		return record.error();
+	if (o.scale_given && o.cpu_scale != record->cpu_scale)
+		return Usage{ format_number("--cpu-scale %g", o.cpu_scale) +
+			      format_number(" differs from the record's %g (a replay takes the record's)", record->cpu_scale) };
+	if (plan.cfg.record_devices != record->devices)
+		return Error{ o.replay_file + ": recorded in another world (its devices differ from " +
+			      (o.world_file.empty() ? std::string("the built-in scenario") : o.world_file) +
+			      "'s): replay it with the record's scenario" };
+	if (o.program.empty() && scenario.controllers.empty())
+		plan.program = record->program; // the recorded program, as it was run
+	if (plan.cfg.seed && plan.cfg.seed != record->seed)
+		return Usage{ "--seed differs from the record's (a replay takes the record's)" };
+	if (plan.cfg.duration_ns < 0)
+		plan.cfg.duration_ns = record->duration_ns; // (as long as the recorded run, unless told)
+	plan.cpu_scale = record->cpu_scale; // (each controller's own: the coordinator's add_controller)
+	plan.cfg.replay = std::make_shared<const Record>(std::move(*record));
+	return Ok{};
+}
+
+// The controllers: PROGRAM, or else the scenario's [[controller]]s (each at
+// its own cpu_scale unless --cpu-scale is given); what --record keeps of them.
+static Step<Ok> choose_controllers(const Options &o, const Scenario &scenario, Plan &plan)
+{
+	plan.cfg.record_scale = plan.cpu_scale;
+	if (!plan.program.empty()) {
 		ControllerSpec spec;
-		spec.argv = argv_owned;
-		spec.cpu_scale = cpu_scale;
-		specs.push_back(spec);
-		cfg.record_program = spec.argv;
-	} else {
-		for (const auto &entry : scenario->controllers) {
-			ControllerSpec spec;
-			spec.argv = entry.argv;
-			spec.cpu_scale = entry.cpu_scale && !scale_given ? *entry.cpu_scale : cpu_scale;
-			specs.push_back(spec);
-		}
-		if (specs.empty())
-			return usage_error("no PROGRAM to run" +
-					   std::string(world_file.empty() ? "" : " (and " + world_file + " names no [[controller]])"));
+		spec.argv = plan.program;
+		spec.cpu_scale = plan.cpu_scale;
+		plan.specs.push_back(spec);
+		plan.cfg.record_program = spec.argv;
+		return Ok{};
 	}
+	for (const auto &entry : scenario.controllers) {
+		ControllerSpec spec;
+		spec.argv = entry.argv;
+		spec.cpu_scale = entry.cpu_scale && !o.scale_given ? *entry.cpu_scale : plan.cpu_scale;
+		plan.specs.push_back(spec);
+	}
+	if (plan.specs.empty())
+		return Usage{ "no PROGRAM to run" +
+			      std::string(o.world_file.empty() ? "" : " (and " + o.world_file + " names no [[controller]])") };
+	return Ok{};
+}
+
+// Each controller's program found and able to take tcs's runtime, before any starts.
+static Step<Ok> check_programs(const std::string &world_file, std::vector<ControllerSpec> &specs)
+{
 	for (auto &spec : specs) {
-		auto path = resolve_program(spec.argv[0]);
-		if (!path && !world_file.empty() && spec.argv[0].find('/') != std::string::npos &&
-		    spec.argv[0][0] != '/') {
-			// A scenario's relative command: relative to the scenario's folder.
-			std::string dir = world_file.substr(0, world_file.find_last_of('/') + 1);
-			path = resolve_program(dir + spec.argv[0]);
-		}
+		auto path = checked_program(spec.argv[0], world_file);
 		if (!path)
-			return fail(path.error().message);
+			return path.error();
 		spec.path = *path;
-		if (auto ok = check_preloadable(spec.path); !ok)
-			return fail(ok.error().message);
 	}
+	return Ok{};
+}
+
+// The rest of the coordinator's config: the runtime it preloads, the
+// real-time wish, and the progress line and warnings it shows on stderr.
+static Step<Ok> finish_config(bool quiet, Plan &plan)
+{
 	auto preload = find_preload();
 	if (!preload)
-		return fail(preload.error().message);
-	cfg.preload = *preload;
-	cfg.realtime = realtime_wish_from_env();
+		return preload.error();
+	plan.cfg.preload = *preload;
+	plan.cfg.realtime = realtime_wish_from_env();
 
-	bool show_progress = !quiet && isatty(STDERR_FILENO);
-	if (show_progress)
-		cfg.on_progress = [](int64_t v, int64_t wall) {
+	plan.show_progress = !quiet && isatty(STDERR_FILENO);
+	if (plan.show_progress)
+		plan.cfg.on_progress = [](int64_t v, int64_t wall) {
 			fprintf(stderr, "\r\033[K%s", progress_line(v, wall).c_str());
 		};
-	cfg.on_warning = [](const std::string &w) { fprintf(stderr, "tcs-run: warning: %s\n", w.c_str()); };
+	plan.cfg.on_warning = [](const std::string &w) { fprintf(stderr, "tcs-run: warning: %s\n", w.c_str()); };
+	return Ok{};
+}
 
-	auto co = Coordinator::create(cfg);
+// Starts the controllers beside the world and runs them to the run's end; the
+// progress line is cleared however the run ends.
+static Step<RunReport> run_controllers(const Plan &plan)
+{
+	auto co = Coordinator::create(plan.cfg);
 	if (!co)
-		return fail(co.error().message);
-	for (const auto &spec : specs)
+		return co.error();
+	for (const auto &spec : plan.specs)
 		if (auto s = (*co)->add_controller(spec); !s)
-			return fail("cannot start " + spec.argv[0] + ": " + s.error().message);
+			return Error{ "cannot start " + spec.argv[0] + ": " + s.error().message };
 	auto report = (*co)->run();
-	if (show_progress)
+	if (plan.show_progress)
 		fputs("\r\033[K", stderr);
 	if (!report)
-		return fail(report.error().message);
+		return report.error();
+	return std::move(*report);
+}
+
+// The run's summary on stderr; with -q only the controllers tcs dropped (the summary says them too).
+static void tell_outcome(const RunReport &report, bool quiet, int mode)
+{
 	if (!quiet)
-		fputs(summary(*report, cfg.mode).c_str(), stderr);
+		fputs(summary(report, mode).c_str(), stderr);
 	else
-		fputs(drops(*report).c_str(), stderr); // (the summary says them too)
-	return exit_status(*report);
+		fputs(drops(report).c_str(), stderr);
+}
+
+int main(int argc, char **argv)
+{
+	auto opts = parse_options(argc, argv);
+	if (!opts)
+		return report(opts);
+	if (opts->help || opts->version) {
+		show_help_or_version(*opts);
+		return 0;
+	}
+	if (!opts->connect_socket.empty()) {
+		auto status = run_under_daemon(*opts);
+		return status ? *status : report(status);
+	}
+	auto world = load_world(opts->world_file);
+	if (!world)
+		return report(world);
+	if (opts->list_signals) {
+		print_signals(opts->world_file, world->setup);
+		return 0;
+	}
+	Plan plan = world_plan(*opts, world->setup);
+	if (auto ok = follow_replay(*opts, world->scenario, plan); !ok)
+		return report(ok);
+	if (auto ok = choose_controllers(*opts, world->scenario, plan); !ok)
+		return report(ok);
+	if (auto ok = check_programs(opts->world_file, plan.specs); !ok)
+		return report(ok);
+	if (auto ok = finish_config(opts->quiet, plan); !ok)
+		return report(ok);
+	auto run = run_controllers(plan);
+	if (!run)
+		return report(run);
+	tell_outcome(*run, opts->quiet, plan.cfg.mode);
+	return exit_status(*run);
 }
