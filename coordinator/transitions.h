@@ -1,5 +1,7 @@
-// The one writer of a controller's state (controller_state.h's table): every
-// change of it is a move made here, checked against the table.
+// A controller's transitions: the one writer of its state (every change a
+// move checked against controller_state.h's table), of its virtual time
+// (besides account(), as a slice closes) and, but for a few fields, of the
+// request it serves and what ends its wait.
 #pragma once
 
 #include "run.h"
